@@ -1,0 +1,2 @@
+// Placeholder translation unit until the first calib sources land.
+namespace garmcap::calib {}

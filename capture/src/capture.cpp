@@ -1,0 +1,2 @@
+// Placeholder translation unit until the first capture sources land.
+namespace garmcap::capture {}

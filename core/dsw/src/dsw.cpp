@@ -1,0 +1,2 @@
+// Placeholder translation unit until the first dsw sources land.
+namespace garmcap::dsw {}

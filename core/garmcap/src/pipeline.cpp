@@ -1,0 +1,2 @@
+// Placeholder translation unit until the first pipeline sources land.
+namespace garmcap::pipeline {}

@@ -1,0 +1,17 @@
+#pragma once
+// Each module's subcommands of the `garmcap` CLI are registered by one function, defined in the
+// file named beside it, so that the main stays a thin wiring of options (rpicam-apps' apps/).
+// A subcommand's callback throws std::exception with a precise message on failure; main prints
+// it as "garmcap: error: ..." and exits 1.
+
+#include <CLI/CLI.hpp>
+
+namespace garmcap::cli {
+
+void addDraftCommands(CLI::App& app);     // draft_commands.cpp: draft, measure
+void addDswCommands(CLI::App& app);       // dsw_commands.cpp: coords, grade, sizerun
+void addCalibCommands(CLI::App& app);     // calib_commands.cpp: form, calibrate, calibrate-camera
+void addCaptureCommands(CLI::App& app);   // capture_commands.cpp: render, rig make
+void addPipelineCommands(CLI::App& app);  // pipeline_commands.cpp: capture, rig eval
+
+}  // namespace garmcap::cli

@@ -1,0 +1,7 @@
+#include "commands.h"
+
+namespace garmcap::cli {
+
+void addPipelineCommands(CLI::App& /*app*/) {}
+
+}  // namespace garmcap::cli

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# GarmCap Station: install dependencies, build, run the station on the simulated rig, run tests.
+#
+#   ./station.sh run     install + build + start the station on the simulated rig
+#   ./station.sh test    install + build + run every test (ctest --output-on-failure)
+#   ./station.sh deps    install the Debian packages only (apt-get; idempotent)
+#   ./station.sh build   configure and build into build/ (Release, -Wall -Wextra -Werror)
+#   ./station.sh asan    build into build-asan/ with ASan+UBSan and run every test
+#
+# Environment: JOBS (parallel build jobs, default: nproc), GARMCAP_PORT (default 8080),
+# GARMCAP_DATA (station data folder for `run`, default ./station-data).
+set -euo pipefail
+cd "$(dirname "$0")"
+ROOT=$PWD
+JOBS=${JOBS:-$(nproc)}
+
+# Debian bookworm packages, grouped by what needs them.
+PACKAGES=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config git clang-format
+  # drafts, core: geometry, JSON, CLI, logging
+  libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
+  # calib, core/garmcap: images
+  libopencv-dev
+  # capture: cameras and GPIO
+  libcamera-dev libgpiod-dev gpiod
+  # daemon: service, catalog, config, systemd
+  libboost-dev libsqlite3-dev sqlite3 libtoml11-dev libsystemd-dev systemd
+  # tests: unit tests, benchmarks, CGAL peer check, SVG and PDF rendering checks
+  libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev librsvg2-bin poppler-utils
+)
+
+as_root() {
+  if [ "$(id -u)" = 0 ]; then "$@"; elif command -v sudo >/dev/null; then sudo "$@"; else
+    echo "station.sh: need root (or sudo) to install packages: $*" >&2; exit 1; fi
+}
+
+deps() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -eq 0 ]; then
+    echo "station.sh: all ${#PACKAGES[@]} packages already installed"
+    return
+  fi
+  echo "station.sh: installing ${missing[*]}"
+  as_root apt-get update -q
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
+}
+
+configure_and_build() {  # $1 = build dir, rest = extra cmake args
+  local dir=$1; shift
+  cmake -S "$ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DGARMCAP_WERROR=ON "$@"
+  cmake --build "$dir" -j "$JOBS"
+}
+
+build() { configure_and_build "$ROOT/build"; }
+
+run_tests() {  # $1 = build dir
+  (cd "$1" && ctest --output-on-failure -j "$JOBS" --timeout 600)
+}
+
+run_station() {
+  local port=${GARMCAP_PORT:-8080}
+  local data=${GARMCAP_DATA:-$ROOT/station-data}
+  if [ -x build/bin/garmcapd ]; then
+    echo "GarmCap Station: http://127.0.0.1:$port/  (catalog in $data; Ctrl-C to stop)"
+    exec build/bin/garmcapd --simulated --data "$data" --listen "127.0.0.1:$port"
+  fi
+  # Until the daemon exists: draft every garment type at size 55 and write SVGs.
+  mkdir -p "$data/demo"
+  local types
+  types=$(build/bin/garmcap draft --list | python3 -c 'import json,sys; print(" ".join(t["name"] for t in json.load(sys.stdin)["types"]))')
+  for t in $types; do
+    build/bin/garmcap draft --type "$t" --size 55 --chart korean_women \
+      --out "$data/demo/$t.json" --svg "$data/demo/$t.svg"
+    echo "drafted $t -> $data/demo/$t.svg"
+  done
+}
+
+case "${1:-}" in
+  deps) deps ;;
+  build) deps; build ;;
+  test) deps; build; run_tests "$ROOT/build" ;;
+  asan) deps; configure_and_build "$ROOT/build-asan" -DGARMCAP_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
+        ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 run_tests "$ROOT/build-asan" ;;
+  run) deps; build; run_station ;;
+  *) sed -n '2,12p' "$0"; exit 2 ;;
+esac
