@@ -1,0 +1,44 @@
+#pragma once
+// Draft recipes: D(garment type, body measurements, design parameters) -> Pattern, drawn step by
+// step as a drafting book does, then panels derived from the draft.
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "garmcap/drafts/pattern.h"
+
+namespace garmcap::drafts {
+
+/// A recipe refused its input: message names the recipe and the measurement or parameter.
+class DraftError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct DesignParameter {
+  std::string name;
+  double defaultValue = 0;
+  double minValue = 0;
+  double maxValue = 0;
+  std::string description;  // units and meaning
+};
+
+struct GarmentTypeInfo {
+  std::string name;                       // "bodice", "dress", "skirt_h", ...
+  std::string description;
+  std::vector<std::string> measurements;  // required body measurements (Valentina names)
+  std::vector<DesignParameter> design;    // ease and design parameters with defaults
+};
+
+/// Every garment type with a recipe.
+const std::vector<GarmentTypeInfo>& garmentTypes();
+const GarmentTypeInfo& garmentType(const std::string& name);  // throws DraftError listing types
+
+/// Draws the draft and derives its panels. `design` overrides defaults by name (unknown names
+/// are refused). Throws DraftError for missing or absurd measurements.
+Pattern draftGarment(const std::string& type, const Measurements& body,
+                     const std::map<std::string, double>& design = {});
+
+}  // namespace garmcap::drafts
