@@ -1,0 +1,69 @@
+#pragma once
+// GarmCap: from the bare-form frame, the dressed frame and the calibration to the garment's type,
+// measurements in cm, pattern and product images (seed chapter 5). This is the entry point the
+// daemon and the CLI call; the stages live in their own units.
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "garmcap/drafts/pattern.h"
+
+namespace garmcap::pipeline {
+
+/// Why a capture cannot give a result. The daemon shows `what()` to staff, so it is a sentence.
+class CaptureError : public std::runtime_error {
+ public:
+  enum class Reason {
+    kBadInput,     // wrong frame size, unreadable image, bad calibration
+    kNoGarment,    // the dressed frame shows the bare form
+    kOffForm,      // the garment hangs off the form or is cut off by the frame
+    kCameraMoved,  // camera or form moved beyond what re-registration can absorb
+    kUnknownType,  // no garment type matches well enough (never forced)
+  };
+  CaptureError(Reason reason, const std::string& message)
+      : std::runtime_error(message), reason_(reason) {}
+  Reason reason() const { return reason_; }
+
+ private:
+  Reason reason_;
+};
+
+struct CaptureOptions {
+  bool makeProductImages = true;
+  bool makeTexture = true;
+  int productSizePx = 1600;  // square product photo edge, limited by the camera's resolution
+};
+
+struct StageTiming {
+  std::string stage;  // "registration", "masks", "grabcut", "type", "landmarks", ...
+  double ms = 0;
+};
+
+struct CaptureResult {
+  std::string type;                               // top | dress | skirt | pants
+  std::map<std::string, std::string> attributes;  // sleeve: none|short|long; skirt: a_line|h_line
+  double confidence = 0;                          // 0..1
+  std::string runnerUp;                           // second-best type
+  std::map<std::string, double> measurements;     // cm, names as in issue 6 / truth.json
+  std::vector<std::string> warnings;
+  std::vector<StageTiming> timings;
+  drafts::Pattern pattern;
+  cv::Mat cutout;      // BGRA, garment only, soft alpha edge
+  cv::Mat product;     // BGR on white, centred and cropped
+  cv::Mat silhouette;  // CV_8U garment mask, frame size
+  cv::Mat overlay;     // BGR review image with landmarks
+  cv::Mat texture;     // BGR one-repeat tile or mean-colour swatch
+
+  nlohmann::json toJson() const;  // result.json content (no images)
+};
+
+/// Runs the whole pipeline. `calibration` is the calibration JSON (docs/formats.md).
+/// Throws CaptureError with a reason; never invents a measurement.
+CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
+                         const nlohmann::json& calibration, const CaptureOptions& options = {});
+
+}  // namespace garmcap::pipeline
