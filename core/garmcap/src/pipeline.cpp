@@ -1,2 +1,0 @@
-// Placeholder translation unit until the first pipeline sources land.
-namespace garmcap::pipeline {}
