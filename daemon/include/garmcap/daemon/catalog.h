@@ -1,0 +1,206 @@
+#pragma once
+// The station catalog: one SQLite file (WAL, synchronous=FULL, foreign keys), schema versioned by
+// `PRAGMA user_version` with ordered migrations, identified by `PRAGMA application_id`, prepared
+// statements only. Images are named by sha256 (ContentStore); the catalog stores names only.
+//
+// Thread: one Catalog per process, used only from the station strand (RouteContext::withCatalog).
+// Errors: CatalogError (runtime_error) with the SQL step and SQLite's message; open() refuses a
+// file of another application or a schema newer than this code.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+struct sqlite3;
+
+namespace garmcap::daemon {
+
+class CatalogError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+inline constexpr std::int32_t kCatalogApplicationId = 0x47434150;  // "GCAP"
+inline constexpr int kCatalogSchemaVersion = 2;
+
+/// Review status of an item: a capture with low confidence or warnings starts as kNeedsReview and
+/// cannot be exported until a person approves it.
+inline constexpr const char* kStatusNeedsReview = "needs_review";
+inline constexpr const char* kStatusApproved = "approved";
+inline constexpr const char* kStatusRejected = "rejected";
+
+struct ImageRef {
+  std::string kind;  // "dressed", "empty", "cutout", "product", "silhouette", "overlay", "texture"
+  std::string sha256;     // ContentStore name
+  std::string mediaType;  // "image/png", "image/jpeg"
+};
+
+struct Item {
+  std::int64_t id = 0;
+  std::string sku;
+  std::string title;
+  std::optional<std::int64_t> priceCents;
+  std::vector<std::string> tags;
+  std::string notes;
+  std::string status = kStatusNeedsReview;  // needs_review | approved | rejected
+  std::string type;                         // top | dress | skirt | pants | "" (unknown)
+  std::map<std::string, std::string> attributes;
+  double confidence = 0;
+  std::vector<std::string> warnings;
+  std::map<std::string, double> measurementsCm;
+  std::vector<ImageRef> images;
+  std::vector<std::string> sizes;  // sizes with a stored pattern, base size first
+  std::string baseSize;            // size the garment itself was measured as ("" if unknown)
+  std::optional<std::int64_t> calibrationId;
+  std::optional<std::int64_t> jobId;
+  std::string createdAt;  // ISO 8601 UTC
+  std::string updatedAt;
+  std::optional<std::string> deletedAt;
+
+  /// API representation (docs/api.md): id, sku, title, price, tags, notes, status, type,
+  /// attributes, confidence, warnings, measurements (name -> cm), images (kind -> url), sizes...
+  nlohmann::json toJson() const;
+};
+
+/// Everything a successful dressed capture adds, committed in one transaction.
+struct NewItem {
+  std::string sku;
+  std::string title;
+  std::string type;
+  std::map<std::string, std::string> attributes;
+  double confidence = 0;
+  std::vector<std::string> warnings;
+  std::map<std::string, double> measurementsCm;
+  std::vector<ImageRef> images;                    // blobs already durable in the store
+  std::map<std::string, nlohmann::json> patterns;  // size -> pattern JSON ("base" = as measured)
+  std::string baseSize;
+  nlohmann::json sizeGuide;  // {"chart", "sizes": [...], "rows": [...]} or null
+  nlohmann::json result;     // the pipeline's result.json
+  std::optional<std::int64_t> calibrationId;
+  std::optional<std::int64_t> jobId;
+  bool needsReview = true;
+};
+
+/// Fields a PATCH may change; unset members are left alone.
+struct ItemPatch {
+  std::optional<std::string> sku, title, notes, status, type;
+  std::optional<std::optional<std::int64_t>> priceCents;  // set to nullopt to clear
+  std::optional<std::vector<std::string>> tags;
+  std::optional<std::map<std::string, std::string>> attributes;
+  std::optional<std::map<std::string, double>> measurementsCm;  // replaces listed names only
+};
+
+struct ItemQuery {
+  std::string search;    // substring of sku, title, notes or tags (case-insensitive)
+  std::string type;      // exact type filter, "" = any
+  std::string status;    // exact status filter, "" = any
+  bool deleted = false;  // true: only deleted items (the bin), false: only live items
+  int offset = 0;
+  int limit = 50;  // 1..500
+};
+
+struct Calibration {
+  std::int64_t id = 0;
+  std::string createdAt;
+  std::string emptySha256;  // the bare-form frame it was made from
+  nlohmann::json json;      // calibration JSON (docs/formats.md)
+};
+
+struct Job {
+  std::int64_t id = 0;
+  std::string kind;   // "empty" | "dressed" | "rerun"
+  std::string state;  // queued | running | done | failed
+  std::string stage;
+  double progress = 0;  // 0..1
+  std::optional<std::int64_t> itemId;
+  std::optional<std::int64_t> calibrationId;
+  std::string error;
+  std::string sku;            // typed SKU given with the request, if any
+  std::string dressedSha256;  // stored frame (for re-runs)
+  std::string emptySha256;
+  std::string createdAt, updatedAt;
+
+  nlohmann::json toJson()
+      const;  // {"id", "kind", "state", "stage", "progress", "item_id", "error"}
+};
+
+class Catalog {
+ public:
+  /// Opens or creates the catalog, migrating older schemas (each step in a transaction).
+  explicit Catalog(const std::filesystem::path& file);
+  ~Catalog();
+  Catalog(const Catalog&) = delete;
+  Catalog& operator=(const Catalog&) = delete;
+
+  int schemaVersion() const;
+  /// "ok" or SQLite's list of problems.
+  std::string integrityCheck();
+
+  // --- images ------------------------------------------------------------------------------
+  /// Records a durable blob (idempotent).
+  void addImage(const std::string& sha256, const std::string& mediaType, std::int64_t bytes);
+  std::optional<std::string> imageMediaType(const std::string& sha256);
+  /// Every blob name a row refers to (for the start-up orphan sweep).
+  std::set<std::string> referencedImages();
+
+  // --- calibrations --------------------------------------------------------------------------
+  std::int64_t addCalibration(const std::string& emptySha256, const nlohmann::json& json);
+  std::optional<Calibration> latestCalibration();
+  std::optional<Calibration> calibration(std::int64_t id);
+
+  // --- jobs ----------------------------------------------------------------------------------
+  std::int64_t addJob(const std::string& kind, const std::string& sku);
+  std::optional<Job> job(std::int64_t id);
+  void updateJob(std::int64_t id, const std::string& state, const std::string& stage,
+                 double progress);
+  void setJobFrames(std::int64_t id, const std::string& emptySha256,
+                    const std::string& dressedSha256);
+  void failJob(std::int64_t id, const std::string& error);
+  void finishJob(std::int64_t id, std::optional<std::int64_t> itemId,
+                 std::optional<std::int64_t> calibrationId);
+  /// Marks queued/running jobs failed ("interrupted: ..."); returns their ids. Start-up only.
+  std::vector<std::int64_t> failInterruptedJobs(const std::string& reason);
+  std::vector<Job> recentJobs(int limit);
+
+  // --- items ---------------------------------------------------------------------------------
+  /// Inserts the item, measurements, images, patterns, size guide and finishes `jobId`, in one
+  /// transaction. Returns the new id.
+  std::int64_t addItem(const NewItem& item);
+  /// Replaces the pipeline outputs of an existing item (re-run), one transaction.
+  void replaceItemResults(std::int64_t id, const NewItem& results);
+  std::optional<Item> item(std::int64_t id, bool includeDeleted = false);
+  std::pair<std::vector<Item>, std::int64_t> items(const ItemQuery& query);  // page, total
+  /// Throws CatalogError on a bad status value. Returns false if no such live item.
+  bool patchItem(std::int64_t id, const ItemPatch& patch);
+  bool deleteItem(std::int64_t id);  // soft delete (restorable)
+  bool restoreItem(std::int64_t id);
+  std::optional<nlohmann::json> pattern(std::int64_t itemId, const std::string& size);
+  std::optional<nlohmann::json> sizeGuide(std::int64_t itemId);
+  std::optional<nlohmann::json> result(std::int64_t itemId);
+
+  /// Low-level handle for tests and migrations.
+  sqlite3* handle() { return db_; }
+
+ private:
+  class Statement;
+  friend class Statement;
+  void exec(const char* sql);
+  void migrate();
+  void loadItemDetails(Item& item);
+  std::string now() const;
+
+  sqlite3* db_ = nullptr;
+  std::filesystem::path file_;
+};
+
+/// The schema of version `version` (1 or 2) as SQL, for fixtures in tests.
+std::string catalogSchemaSql(int version);
+
+}  // namespace garmcap::daemon
