@@ -16,7 +16,10 @@ inline constexpr double kDefaultChordToleranceCm = 0.01;
 
 /// Cubic Bézier p0 (start), p1, p2 (control points), p3 (end); t in [0, 1].
 struct CubicBezier {
-  Point2 p0, p1, p2, p3;
+  Point2 p0 = Point2::Zero();
+  Point2 p1 = Point2::Zero();
+  Point2 p2 = Point2::Zero();
+  Point2 p3 = Point2::Zero();
   Point2 at(double t) const;
   Point2 derivative(double t) const;  // d/dt
   /// The two halves at parameter t (de Casteljau).
