@@ -111,6 +111,7 @@ class FormModel {
   FormSidecar sidecar_;
   double minY_ = 0, maxY_ = 0, axisX_ = 0, axisZ_ = 0;
   FormLandmarks landmarks_;
+  std::optional<double> bustPointHeight_;  // front-most point of the chest
   drafts::Measurements measurements_;
 };
 

@@ -37,7 +37,7 @@ TriMesh readPly(const std::filesystem::path& path);
 /// readObj or readPly by extension (.obj / .ply, case-insensitive); other extensions throw.
 TriMesh readMesh(const std::filesystem::path& path);
 
-/// Writes OBJ with 6 significant decimals (enough for 1e-4 cm at form scale), atomically.
+/// Writes OBJ with 4 decimals (1e-4 cm for a form in cm), atomically.
 void writeObj(const std::filesystem::path& path, const TriMesh& mesh, const std::string& comment);
 
 /// Edge-manifold check of a closed surface: the number of undirected edges not shared by exactly

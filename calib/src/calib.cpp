@@ -1,2 +1,0 @@
-// Placeholder translation unit until the first calib sources land.
-namespace garmcap::calib {}
