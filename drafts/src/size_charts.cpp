@@ -1,0 +1,185 @@
+// Built-in size charts. Numbers and completion rules are documented in docs/size_charts.md.
+
+#include "garmcap/drafts/size_charts.h"
+
+#include <stdexcept>
+
+namespace garmcap::drafts {
+
+namespace {
+
+// ---- completion rules ------------------------------------------------------------------------
+// Measurements a chart lacks are completed from the ones it has by proportion to a reference
+// body with every measurement published: size 44 of Donnanno's Italian women's chart (bust 96,
+// stature 168; the chart is built in below). Widths and girths of the upper body scale with the
+// bust, vertical lengths with the stature. The bi-shoulder width is built the way the Aldrich
+// block builds the back shoulder line: two shoulder lengths plus two back neck widths of
+// N/5 - 0.2 (research/drafting_blocks.md §1.2, step 3).
+constexpr double kRefBust = 96.0;
+constexpr double kRefHeight = 168.0;
+constexpr double kRefNeck = 38.0;
+constexpr double kRefAcrossChest = 38.9;
+constexpr double kRefAcrossBack = 37.9;
+constexpr double kRefShoulder = 13.5;
+constexpr double kRefUpperArm = 30.0;
+constexpr double kRefRise = 24.6;
+constexpr double kRefWaistToFloor = 105.0;
+constexpr double kRefWaistToKnee = 59.5;
+
+double biShoulder(double shoulderLength, double neckCirc) {
+  return 2 * shoulderLength + 2 * (neckCirc / 5 - 0.2);
+}
+
+void setIfMissing(Measurements& m, const std::string& name, double value) {
+  if (!m.has(name))
+    m.set(name, value);
+}
+
+// Fills every measurement a recipe or the grading tests need and the chart does not give.
+void complete(Measurements& m) {
+  const double bust = m.get("bust_circ");
+  const double height = m.get("height");
+  const double b = bust / kRefBust;
+  const double h = height / kRefHeight;
+  setIfMissing(m, "neck_circ", kRefNeck * b);
+  setIfMissing(m, "across_chest_f", kRefAcrossChest * b);
+  setIfMissing(m, "across_back_b", kRefAcrossBack * b);
+  setIfMissing(m, "shoulder_length", kRefShoulder * b);
+  setIfMissing(m, "arm_upper_circ", kRefUpperArm * b);
+  setIfMissing(m, "shoulder_tip_to_shoulder_tip_b",
+               biShoulder(m.get("shoulder_length"), m.get("neck_circ")));
+  setIfMissing(m, "rise_length_side", kRefRise * h);
+  setIfMissing(m, "leg_waist_side_to_floor", kRefWaistToFloor * h);
+  setIfMissing(m, "leg_waist_side_to_knee", kRefWaistToKnee * h);
+  if (m.has("front_armhole_circ") && m.has("back_armhole_circ")) {
+    setIfMissing(m, "armscye_circ", m.get("front_armhole_circ") + m.get("back_armhole_circ"));
+  }
+}
+
+// One row per measurement, one column per size.
+struct Row {
+  const char* name;
+  std::vector<double> values;
+};
+
+std::vector<Measurements> bodiesFromRows(const std::vector<Row>& rows, size_t sizes) {
+  std::vector<Measurements> bodies(sizes);
+  for (const auto& row : rows) {
+    for (size_t i = 0; i < sizes; ++i)
+      bodies[i].set(row.name, row.values.at(i));
+  }
+  return bodies;
+}
+
+SizeChart koreanWomen() {
+  SizeChart c;
+  c.name = "korean_women";
+  c.sizes = {"44", "55", "66", "77", "88"};
+  c.source =
+      "Korean women's sizes 44-88 from the dissertation (seed): sizes 44, 55, 66, 77 are the "
+      "bodies of its grading experiment, Table 4.2 (all 13 rows); size 88 takes bust 98, waist "
+      "78, hip 104, waist back length 42, BP-BP 18.8 and neck point-BP 26.8 from Table 3.1, and "
+      "its height, hip length, skirt length, armholes, sleeve length and wrist continue Table "
+      "4.2's constant per-size steps (77 + one step). The two tables DISAGREE on sizes 44 and 66 "
+      "(Table 3.1: 44 = bust 82 / waist 62 / hip 88 / WBL 38 / NP-BP 24.4, 66 = 90 / 70 / 96 / "
+      "40 / 25.6; Table 4.2: 44 = 80 / 60 / 85 / 38.4 / 23.2, 66 = 90 / 70 / 95 / 39.6 / 24.8); "
+      "this chart uses Table 4.2 for 44-77 (the bodies DSW was evaluated on). Table 4.2's "
+      "heights (169.5-174 cm) are the seed's, not the 1981 KS label's 150-165 cm. Measurements "
+      "the tables lack (neck, across chest/back, shoulder length, upper arm, bi-shoulder width, "
+      "rise, waist to floor/knee) are completed by proportion to Donnanno's Italian size 44 "
+      "(widths with the bust, lengths with the height; bi-shoulder = 2 shoulder lengths + 2 "
+      "Aldrich back neck widths N/5 - 0.2); armscye_circ = front + back armhole. See "
+      "docs/size_charts.md.";
+  const std::vector<Row> rows = {
+      {"bust_circ", {80.0, 85.0, 90.0, 95.0, 98.0}},
+      {"waist_circ", {60.0, 65.0, 70.0, 75.0, 78.0}},
+      {"hip_circ", {85.0, 90.0, 95.0, 100.0, 104.0}},
+      {"neck_back_to_waist_b", {38.4, 39.0, 39.6, 40.2, 42.0}},
+      {"bustpoint_to_bustpoint", {16.4, 17.0, 17.6, 18.2, 18.8}},
+      {"bustpoint_to_neck_side", {23.2, 24.0, 24.8, 25.6, 26.8}},
+      {"skirt_length", {53.4, 55.3, 57.2, 59.1, 61.0}},
+      {"waist_to_hip_b", {18.4, 19.0, 19.6, 20.2, 20.8}},
+      {"height", {169.5, 171.0, 172.5, 174.0, 175.5}},
+      {"front_armhole_circ", {19.6, 20.2, 20.8, 21.4, 22.0}},
+      {"back_armhole_circ", {20.8, 21.4, 22.0, 22.6, 23.2}},
+      {"arm_shoulder_tip_to_wrist", {56.4, 57.0, 57.6, 58.2, 58.8}},
+      {"arm_wrist_circ", {19.4, 20.0, 20.6, 21.2, 21.8}},
+  };
+  c.bodies = bodiesFromRows(rows, c.sizes.size());
+  for (auto& b : c.bodies)
+    complete(b);
+  return c;
+}
+
+SizeChart italianWomen() {
+  SizeChart c;
+  c.name = "italian_women";
+  c.sizes = {"40", "42", "44", "46", "48", "50"};
+  c.source =
+      "Italian women's sizes 40-50 from A. Donnanno, Fashion Patternmaking Techniques vol. 1 "
+      "(women's size chart, 21 measurements), as transcribed in the OpenPattern project's "
+      "measurements/DonnannoW.csv; bust, waist and stature rows cross-checked against "
+      "research/anchors_drafting.md §4.1. Published values are kept as published, including "
+      "steps of 0 (wrist 44/46 and 48/50, BP span 48/50, shoulder 42/44, sleeve 48/50). Not in "
+      "the chart and completed: shoulder_tip_to_shoulder_tip_b = 2 shoulder lengths + 2 Aldrich "
+      "back neck widths N/5 - 0.2. Mapping of Donnanno's rows to Valentina names in "
+      "docs/size_charts.md.";
+  const std::vector<Row> rows = {
+      {"highbust_circ", {84, 86, 89, 92, 96, 100}},
+      {"bust_circ", {89, 92, 96, 100, 105, 110}},
+      {"waist_circ", {66, 68, 72, 76, 81, 86}},
+      {"hip_circ", {89, 92, 96, 100, 105, 110}},
+      {"across_chest_f", {36.1, 37.1, 38.9, 40.5, 42.5, 44.5}},
+      {"across_back_b", {35.2, 36.5, 37.9, 39.5, 41.5, 43.5}},
+      {"neck_circ", {36, 37, 38, 39, 40, 41}},
+      {"height", {164, 166, 168, 170, 172, 174}},
+      {"bustpoint_to_bustpoint", {17, 18, 19, 20, 21, 21}},
+      {"shoulder_length", {12, 13.5, 13.5, 14, 14.5, 15}},
+      {"neck_back_to_waist_b", {39.1, 40, 40.9, 41.8, 42.7, 43.6}},
+      {"neck_side_to_waist_bustpoint_f", {40.4, 41.5, 42.6, 43.7, 44.8, 45.9}},
+      {"bustpoint_to_neck_side", {21.8, 22.5, 23.2, 23.9, 24.6, 25.1}},
+      {"waist_to_hip_b", {19.6, 20, 20.4, 20.8, 21.2, 21.6}},
+      {"rise_length_side", {23.5, 24, 24.6, 25.2, 25.8, 26.5}},
+      {"leg_waist_side_to_knee", {57.5, 58.5, 59.5, 60.5, 61.5, 62.5}},
+      {"leg_waist_side_to_floor", {102, 104, 105, 106, 107, 108}},
+      {"arm_upper_circ", {28, 29, 30, 31.5, 33, 35}},
+      {"arm_wrist_circ", {18, 19, 20, 20, 21, 21}},
+      {"arm_shoulder_tip_to_wrist", {57, 58, 59, 60, 61, 61}},
+  };
+  c.bodies = bodiesFromRows(rows, c.sizes.size());
+  for (auto& b : c.bodies)
+    complete(b);
+  return c;
+}
+
+}  // namespace
+
+const Measurements& SizeChart::body(const std::string& size) const {
+  for (size_t i = 0; i < sizes.size(); ++i) {
+    if (sizes[i] == size)
+      return bodies.at(i);
+  }
+  std::string known;
+  for (const auto& s : sizes)
+    known += (known.empty() ? "" : ", ") + s;
+  throw std::invalid_argument("size chart '" + name + "' has no size '" + size +
+                              "' (sizes: " + known + ")");
+}
+
+const std::vector<SizeChart>& sizeCharts() {
+  static const std::vector<SizeChart> kCharts = {koreanWomen(), italianWomen()};
+  return kCharts;
+}
+
+const SizeChart& sizeChart(const std::string& name) {
+  for (const auto& c : sizeCharts()) {
+    if (c.name == name)
+      return c;
+  }
+  std::string known;
+  for (const auto& c : sizeCharts())
+    known += (known.empty() ? "" : ", ") + c.name;
+  throw std::invalid_argument("unknown size chart '" + name + "' (known charts: " + known + ")");
+}
+
+}  // namespace garmcap::drafts
