@@ -1,0 +1,91 @@
+#include "garmcap/dsw/coordinates.h"
+
+#include "garmcap/dsw/green_coordinates.h"
+#include "garmcap/dsw/mean_value_coordinates.h"
+#include "garmcap/dsw/triangle_coordinates.h"
+#include "garmcap/dsw/wachspress_coordinates.h"
+
+namespace garmcap::dsw {
+
+std::optional<CoordMethod> parseCoordMethod(std::string_view name) {
+  if (name == "mvc")
+    return CoordMethod::kMeanValue;
+  if (name == "wachspress")
+    return CoordMethod::kWachspress;
+  if (name == "green")
+    return CoordMethod::kGreen;
+  if (name == "tbc")
+    return CoordMethod::kTriangle;
+  return std::nullopt;
+}
+
+std::string_view coordMethodName(CoordMethod method) {
+  switch (method) {
+    case CoordMethod::kMeanValue:
+      return "mvc";
+    case CoordMethod::kWachspress:
+      return "wachspress";
+    case CoordMethod::kGreen:
+      return "green";
+    case CoordMethod::kTriangle:
+      return "tbc";
+  }
+  return "mvc";
+}
+
+Expected<Encoding> encodePoints(CoordMethod method, const Points& polygon, const Points& points) {
+  Encoding enc;
+  enc.method = method;
+  switch (method) {
+    case CoordMethod::kMeanValue: {
+      auto w = meanValueCoordinates(polygon, points);
+      if (!w)
+        return w.error();
+      enc.weights = std::move(w).value();
+      break;
+    }
+    case CoordMethod::kWachspress: {
+      auto w = wachspressCoordinates(polygon, points);
+      if (!w)
+        return w.error();
+      enc.weights = std::move(w).value();
+      break;
+    }
+    case CoordMethod::kTriangle: {
+      auto w = triangleCoordinates(polygon, points);
+      if (!w)
+        return w.error();
+      enc.weights = std::move(w).value();
+      break;
+    }
+    case CoordMethod::kGreen: {
+      auto gc = greenCoordinates(polygon, points);
+      if (!gc)
+        return gc.error();
+      GreenCoordinates g = std::move(gc).value();
+      enc.weights = std::move(g.vertexWeights);
+      enc.edgeWeights = std::move(g.edgeWeights);
+      enc.edgeLengthsCm = std::move(g.edgeLengthsCm);
+      enc.orientation = g.orientation;
+      break;
+    }
+  }
+  return enc;
+}
+
+Expected<Points> decodePoints(const Encoding& encoding, const Points& target) {
+  if (target.rows() != encoding.weights.cols())
+    return Error{"decode: target polygon has " + std::to_string(target.rows()) +
+                 " vertices, the encoding " + std::to_string(encoding.weights.cols())};
+  if (auto problem = pointsProblem(target))
+    return Error{"decode: target polygon " + *problem};
+  if (encoding.method == CoordMethod::kGreen) {
+    GreenCoordinates g{encoding.weights, encoding.edgeWeights, encoding.edgeLengthsCm,
+                       encoding.orientation};
+    return greenDecode(g, target);
+  }
+  Points out = encoding.weights * target;
+  return out;
+}
+
+}  // namespace garmcap::dsw

@@ -1,2 +1,0 @@
-// Placeholder translation unit until the first dsw sources land.
-namespace garmcap::dsw {}
