@@ -152,7 +152,14 @@ bool isKnownMeasurement(const std::string& name) {
 // ---- measurements JSON ---------------------------------------------------------------------
 
 Measurements measurementsFromJson(const std::string& text, const std::string& what) {
-  const nlohmann::json doc = parseJson(text, what);
+  nlohmann::json doc;
+  try {
+    doc = parseJson(text, what);
+  } catch (const nlohmann::json::exception& e) {
+    // parseJson turns syntax errors into ParseError; a number too large for a double
+    // ("1e999") reaches us as nlohmann's out_of_range.
+    throw ParseError(what + ": malformed JSON: " + e.what());
+  }
   if (!doc.is_object())
     throw ParseError(what + ": expected a JSON object at the top level");
   for (const auto& [key, value] : doc.items()) {

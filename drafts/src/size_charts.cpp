@@ -2,6 +2,7 @@
 
 #include "garmcap/drafts/size_charts.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace garmcap::drafts {
@@ -30,9 +31,10 @@ double biShoulder(double shoulderLength, double neckCirc) {
   return 2 * shoulderLength + 2 * (neckCirc / 5 - 0.2);
 }
 
+// Completed values are rounded to 1 mm, the precision of a tape measure and of the charts.
 void setIfMissing(Measurements& m, const std::string& name, double value) {
   if (!m.has(name))
-    m.set(name, value);
+    m.set(name, std::round(value * 10.0) / 10.0);
 }
 
 // Fills every measurement a recipe or the grading tests need and the chart does not give.
