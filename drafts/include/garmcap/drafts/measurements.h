@@ -53,8 +53,9 @@ Measurements readMeasurementsJson(const std::filesystem::path& path);
 std::string measurementsToJson(const Measurements& m);
 void writeMeasurementsJson(const std::filesystem::path& path, const Measurements& m);
 
-/// Valentina individual measurement file (.vit, XML, version 0.6.x as written by Valentina
-/// 0.7.52). mm and inch files are converted to cm.
+/// Valentina individual measurement file (.vit, XML). Reads format versions 0.2.0-0.6.x
+/// (Valentina 0.4 to 1.x); writes 0.5.1 (what Valentina 0.7.x writes). mm and inch files are
+/// converted to cm. Readers throw ParseError naming the file, line and column.
 Measurements measurementsFromVit(const std::string& xml, const std::string& what);
 Measurements readVit(const std::filesystem::path& path);
 std::string measurementsToVit(const Measurements& m);
