@@ -28,6 +28,8 @@ PACKAGES=(
   libboost-dev libsqlite3-dev sqlite3 libtoml11-dev libsystemd-dev systemd
   # tests: unit tests, benchmarks, CGAL peer check, SVG and PDF rendering checks
   libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev librsvg2-bin poppler-utils
+  # web UI browser test (headless chromium), Valentina .vit interop test, ZIP check
+  chromium valentina unzip
 )
 
 as_root() {

@@ -1,0 +1,527 @@
+// GarmCap Station web UI: plain JavaScript, no build step, no dependencies. Talks to the HTTP API
+// of garmcapd (docs/api.md): status and job progress through server-sent events (/api/events),
+// live preview as MJPEG (/stream.mjpg), the catalog through /api/items, exports via /api/export.
+'use strict';
+
+const $ = (sel, root = document) => root.querySelector(sel);
+const $$ = (sel, root = document) => Array.from(root.querySelectorAll(sel));
+
+const TYPE_NAMES = { top: 'Top', dress: 'Dress', skirt: 'Skirt', pants: 'Pants', '': 'Unknown type' };
+const STATUS_NAMES = { needs_review: 'Needs review', approved: 'Approved', rejected: 'Rejected' };
+const STATE_NAMES = {
+  ready: 'Ready', capturing: 'Capturing…', processing: 'Processing…', uncalibrated: 'Not calibrated',
+  error: 'Error', stopping: 'Stopping', offline: 'Station offline', unknown: 'Connecting…',
+};
+const MEAS_NAMES = {
+  bust_circ: 'Bust', waist_circ: 'Waist', hip_circ: 'Hip', hem_circ: 'Hem', garment_length: 'Length',
+  skirt_length: 'Skirt length', sleeve_length: 'Sleeve length', outseam: 'Outseam', inseam: 'Inseam',
+  leg_opening_circ: 'Leg opening',
+};
+const MEAS_ORDER = Object.keys(MEAS_NAMES);
+const STAGE_NAMES = {
+  queued: 'Waiting', capture: 'Taking the photo', registration: 'Checking the camera',
+  masks: 'Finding the garment', grabcut: 'Cutting out', type: 'Recognising the type',
+  landmarks: 'Finding landmarks', measure: 'Measuring', garmcap: 'Measuring', pattern: 'Drafting the pattern',
+  grading: 'Grading sizes', images: 'Making product photos', store: 'Saving', calibration: 'Calibrating',
+};
+
+const ui = {
+  status: null,
+  job: null,          // the job in hand (latest job event)
+  lastItemId: null,
+  catalog: { q: '', type: '', status: '', offset: 0, total: 0 },
+  item: null,
+  itemSize: 'base',
+  photoKind: null,
+};
+
+// --- API -----------------------------------------------------------------------------------
+function token() { return localStorage.getItem('garmcap.token') || ''; }
+
+async function api(method, path, body) {
+  const opts = { method, headers: {} };
+  if (token()) opts.headers.Authorization = 'Bearer ' + token();
+  if (body !== undefined) {
+    opts.headers['Content-Type'] = 'application/json';
+    opts.body = JSON.stringify(body);
+  }
+  let res;
+  try {
+    res = await fetch(path, opts);
+  } catch (e) {
+    throw new Error('The station does not answer. Is garmcapd running?');
+  }
+  const text = await res.text();
+  let data = null;
+  try { data = text ? JSON.parse(text) : null; } catch (e) { data = null; }
+  if (res.status === 401) {
+    const t = prompt('This station needs its access token (see the station config):');
+    if (t) { localStorage.setItem('garmcap.token', t.trim()); return api(method, path, body); }
+  }
+  if (!res.ok) {
+    const msg = (data && data.error) || text || res.statusText;
+    const err = new Error(msg);
+    err.status = res.status;
+    throw err;
+  }
+  return data;
+}
+
+// --- helpers -------------------------------------------------------------------------------
+function el(tag, attrs = {}, ...children) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (k === 'class') e.className = v;
+    else if (k === 'text') e.textContent = v;
+    else if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
+    else if (v !== undefined && v !== null && v !== false) e.setAttribute(k, v === true ? '' : v);
+  }
+  for (const c of children) if (c !== null && c !== undefined) e.append(c);
+  return e;
+}
+
+let toastTimer = null;
+function toast(msg, bad = false) {
+  const t = $('#toast');
+  t.textContent = msg;
+  t.classList.toggle('bad', bad);
+  t.hidden = false;
+  clearTimeout(toastTimer);
+  toastTimer = setTimeout(() => { t.hidden = true; }, bad ? 6000 : 3000);
+}
+
+function measName(n) { return MEAS_NAMES[n] || n.replace(/_/g, ' ').replace(/^./, (c) => c.toUpperCase()); }
+function cm(v) { return (Math.round(v * 10) / 10).toFixed(1); }
+function sortedMeas(m) {
+  return Object.keys(m || {}).sort((a, b) => {
+    const ia = MEAS_ORDER.indexOf(a), ib = MEAS_ORDER.indexOf(b);
+    return (ia < 0 ? 99 : ia) - (ib < 0 ? 99 : ib) || a.localeCompare(b);
+  });
+}
+function measTable(table, m) {
+  table.replaceChildren(...sortedMeas(m).map((n) =>
+    el('tr', {}, el('td', { text: measName(n) }), el('td', { text: cm(m[n]) + ' cm' }))));
+}
+function imageUrl(item, kinds) {
+  for (const k of kinds) if (item.images && item.images[k]) return item.images[k].url;
+  return null;
+}
+function itemTitle(it) { return it.title || it.sku || 'Item ' + it.id; }
+
+// --- station status, errors, events ---------------------------------------------------------
+function showBanner(title, detail, kind = 'bad', action = null) {
+  const b = $('#banner');
+  b.classList.toggle('warn', kind === 'warn');
+  $('#banner-title').textContent = title;
+  $('#banner-detail').textContent = detail || '';
+  const btn = $('#banner-action');
+  if (action) {
+    btn.textContent = action.label;
+    btn.onclick = action.run;
+    btn.hidden = false;
+  } else {
+    btn.hidden = true;
+  }
+  b.hidden = false;
+}
+function hideBanner() { $('#banner').hidden = true; }
+
+function applyStatus(s) {
+  ui.status = Object.assign(ui.status || {}, s);
+  const st = ui.status;
+  const state = st.state || 'unknown';
+  $('#state').dataset.state = state;
+  $('#state-text').textContent = STATE_NAMES[state] || state;
+  const cam = st.camera || {};
+  const busy = state === 'capturing' || state === 'processing';
+  $('#btn-capture').disabled = !st.calibrated || cam.open === false || state === 'error' || state === 'stopping';
+  $('#btn-empty').disabled = cam.open === false || state === 'stopping';
+  $('#btn-capture').textContent = busy ? 'Capture garment (queued)' : 'Capture garment';
+  if (cam.open === false) {
+    showBanner('Camera not found.', (cam.error ? cam.error + ' — ' : '') +
+      'Check the camera cable and power, then wait: the station retries by itself.');
+  } else if (!st.calibrated) {
+    showBanner('Form not calibrated.', 'Take the bare form off-garment and capture it once before capturing garments.',
+      'warn', { label: 'Capture bare form', run: captureEmpty });
+  } else if (state === 'error' && st.last_error) {
+    showBanner('Station error.', st.last_error);
+  } else {
+    hideBanner();
+  }
+  if (st.job) applyJob(st.job);
+}
+
+function applyJob(job) {
+  if (!job || !job.id) return;
+  if (ui.job && ui.job.id > job.id) return;  // an older job's late event
+  ui.job = Object.assign({}, ui.job && ui.job.id === job.id ? ui.job : {}, job);
+  const j = ui.job;
+  const box = $('#job');
+  box.hidden = false;
+  box.classList.toggle('failed', j.state === 'failed');
+  box.classList.toggle('done', j.state === 'done');
+  const kind = j.kind === 'empty' ? 'Bare-form capture' : j.kind === 'rerun' ? 'Re-run' : 'Garment capture';
+  $('#job-title').textContent = kind + ' #' + j.id;
+  const stage = j.state === 'done' ? 'Done' : j.state === 'failed' ? 'Failed'
+    : j.state === 'queued' ? 'Waiting' : (STAGE_NAMES[j.stage] || j.stage || 'Working');
+  $('#job-stage').textContent = stage;
+  const p = j.state === 'done' ? 1 : Math.max(0, Math.min(1, j.progress || 0));
+  $('#job-bar').style.width = Math.round(p * 100) + '%';
+  const err = $('#job-error');
+  err.hidden = j.state !== 'failed';
+  err.textContent = j.error || '';
+  if (j.state === 'done' && j.item_id && j.item_id !== ui.lastItemId) {
+    ui.lastItemId = j.item_id;
+    showLastResult(j.item_id);
+    if (currentView() === 'catalog') loadCatalog(true);
+  }
+  if (j.state === 'done' && j.kind === 'empty' && !j.notified) {
+    j.notified = true;
+    toast('Form calibrated. Ready for garments.');
+    refreshStatus();
+  }
+}
+
+async function refreshStatus() {
+  try {
+    applyStatus(await api('GET', '/api/status'));
+  } catch (e) {
+    applyStatus({ state: 'offline' });
+    showBanner('Station offline.', e.message);
+  }
+}
+
+let events = null;
+function connectEvents() {
+  if (events) events.close();
+  events = new EventSource('/api/events');
+  events.addEventListener('status', (e) => applyStatus(JSON.parse(e.data)));
+  events.addEventListener('state', (e) => applyStatus(JSON.parse(e.data)));
+  events.addEventListener('job', (e) => applyJob(JSON.parse(e.data)));
+  events.onerror = () => {
+    if (events.readyState === EventSource.CLOSED) setTimeout(connectEvents, 3000);
+    refreshStatus();
+  };
+}
+
+// Job polling as a fallback: events may be lost behind a proxy; the job's state is what counts.
+setInterval(async () => {
+  if (!ui.job || ui.job.state === 'done' || ui.job.state === 'failed') return;
+  try { applyJob(await api('GET', '/api/jobs/' + ui.job.id)); } catch (e) { /* status shows it */ }
+}, 1500);
+
+// --- capture --------------------------------------------------------------------------------
+async function captureGarment() {
+  const sku = $('#sku').value.trim();
+  if (sku && !/^[A-Za-z0-9._-]{1,64}$/.test(sku)) {
+    toast('A SKU may hold only letters, digits, dot, dash and underscore.', true);
+    return;
+  }
+  try {
+    const r = await api('POST', '/api/capture', sku ? { sku } : {});
+    applyJob({ id: r.job, state: 'queued', kind: 'dressed', progress: 0 });
+    $('#sku').value = '';
+  } catch (e) {
+    toast(e.status === 409 ? 'Form not calibrated: capture the bare form first.' : e.message, true);
+  }
+}
+async function captureEmpty() {
+  try {
+    const r = await api('POST', '/api/capture/empty');
+    applyJob({ id: r.job, state: 'queued', kind: 'empty', progress: 0 });
+    location.hash = '#/capture';
+  } catch (e) { toast(e.message, true); }
+}
+
+async function showLastResult(id) {
+  try {
+    const it = await api('GET', '/api/items/' + id);
+    $('#last').hidden = false;
+    $('#last-img').src = imageUrl(it, ['cutout', 'product']) || '';
+    const attrs = Object.entries(it.attributes || {}).filter(([k]) => k !== 'color').map(([k, v]) => v.replace(/_/g, '-') + ' ' + k);
+    $('#last-type').textContent = (TYPE_NAMES[it.type] || it.type) + (attrs.length ? ' · ' + attrs.join(', ') : '') +
+      (it.confidence ? ' · ' + Math.round(it.confidence * 100) + '%' : '');
+    $('#last-sku').textContent = (it.sku ? 'SKU ' + it.sku + ' · ' : '') + (STATUS_NAMES[it.status] || it.status);
+    measTable($('#last-meas'), it.measurements);
+    $('#last-warn').replaceChildren(...(it.warnings || []).map((w) => el('li', { text: w })));
+    $('#last-approve').hidden = it.status === 'approved';
+    $('#last-approve').onclick = async () => {
+      try { await api('PATCH', '/api/items/' + id, { status: 'approved' }); toast('Approved'); showLastResult(id); } catch (e) { toast(e.message, true); }
+    };
+    $('#last-open').onclick = () => { location.hash = '#/item/' + id; };
+  } catch (e) { toast(e.message, true); }
+}
+
+// --- catalog --------------------------------------------------------------------------------
+let searchTimer = null;
+async function loadCatalog(reset) {
+  const c = ui.catalog;
+  if (reset) c.offset = 0;
+  const params = new URLSearchParams({ limit: '24', offset: String(c.offset) });
+  if (c.q) params.set('q', c.q);
+  if (c.type) params.set('type', c.type);
+  if (c.status) params.set('status', c.status);
+  try {
+    const r = await api('GET', '/api/items?' + params);
+    c.total = r.total;
+    const tiles = r.items.map(tile);
+    if (reset) $('#grid').replaceChildren(...tiles); else $('#grid').append(...tiles);
+    c.offset += r.items.length;
+    if (reset && !r.items.length)
+      $('#grid').replaceChildren(el('div', { class: 'empty', text: c.q || c.type || c.status ? 'No item matches.' : 'The catalog is empty. Capture a garment to start.' }));
+    $('#count').textContent = r.total + (r.total === 1 ? ' item' : ' items');
+    $('#more').hidden = c.offset >= r.total;
+  } catch (e) { toast(e.message, true); }
+}
+function tile(it) {
+  const src = imageUrl(it, ['product', 'cutout', 'dressed']);
+  return el('a', { class: 'tile', href: '#/item/' + it.id, 'data-id': it.id },
+    el('div', { class: 'img' }, src ? el('img', { src, alt: itemTitle(it), loading: 'lazy' }) : el('span', { class: 'muted', text: 'No photo' })),
+    el('div', { class: 'txt' },
+      el('div', { class: 't', text: itemTitle(it) }),
+      el('div', { class: 's' }, el('span', { text: (TYPE_NAMES[it.type] || it.type) + (it.sku ? ' · ' + it.sku : '') }),
+        el('span', { class: 'badge ' + it.status, text: STATUS_NAMES[it.status] || it.status }))));
+}
+
+// --- item page ------------------------------------------------------------------------------
+async function loadItem(id) {
+  let it;
+  try { it = await api('GET', '/api/items/' + id); } catch (e) {
+    toast(e.status === 404 ? 'Item ' + id + ' does not exist (deleted?).' : e.message, true);
+    location.hash = '#/catalog';
+    return;
+  }
+  ui.item = it;
+  $('#item-title').textContent = itemTitle(it);
+  const badge = $('#item-status');
+  badge.className = 'badge ' + it.status;
+  badge.textContent = STATUS_NAMES[it.status] || it.status;
+  $('#f-title').value = it.title || '';
+  $('#f-sku').value = it.sku || '';
+  $('#f-price').value = it.price_cents == null ? '' : (it.price_cents / 100).toFixed(2);
+  $('#f-tags').value = (it.tags || []).join(', ');
+  $('#f-notes').value = it.notes || '';
+  $('#f-approve').hidden = it.status === 'approved';
+  $('#f-msg').textContent = '';
+  $('#item-meta').textContent = [TYPE_NAMES[it.type] || it.type,
+    ...Object.entries(it.attributes || {}).map(([k, v]) => k + ': ' + v),
+    it.confidence ? 'confidence ' + Math.round(it.confidence * 100) + '%' : null,
+    it.base_size ? 'measured as size ' + it.base_size : null,
+    'captured ' + (it.created_at || '').replace('T', ' ').replace('Z', ' UTC')].filter(Boolean).join(' · ');
+  $('#item-warn').replaceChildren(...(it.warnings || []).map((w) => el('li', { text: w })));
+  // Photos
+  const kinds = ['product', 'cutout', 'dressed', 'overlay', 'texture'].filter((k) => it.images && it.images[k]);
+  ui.photoKind = kinds[0] || null;
+  $('#thumbs').replaceChildren(...kinds.map((k) => el('button', {
+    type: 'button', class: k === ui.photoKind ? 'on' : '', onclick: () => { ui.photoKind = k; showPhoto(); },
+  }, el('img', { src: it.images[k].url, alt: k }), k)));
+  showPhoto();
+  // Sizes
+  const sizes = it.sizes && it.sizes.length ? it.sizes : [];
+  const sel = $('#size-select');
+  sel.replaceChildren(...sizes.map((s) => el('option', { value: s, text: s === 'base' ? 'as measured' + (it.base_size ? ' (' + it.base_size + ')' : '') : s })));
+  ui.itemSize = sizes.includes(ui.itemSize) ? ui.itemSize : (sizes[0] || 'base');
+  sel.value = ui.itemSize;
+  showPattern();
+  loadSizeGuide(it);
+}
+function showPhoto() {
+  const it = ui.item;
+  $$('#thumbs button').forEach((b) => b.classList.toggle('on', b.textContent === ui.photoKind));
+  $('#photos').replaceChildren(ui.photoKind ? el('img', { src: it.images[ui.photoKind].url, alt: ui.photoKind + ' photo' })
+    : el('span', { class: 'muted', text: 'No photos' }));
+}
+function showPattern() {
+  const it = ui.item;
+  const size = ui.itemSize;
+  const base = '/api/items/' + it.id;
+  const q = '?size=' + encodeURIComponent(size);
+  if (!it.sizes || !it.sizes.length) {
+    $('#panels').replaceChildren(el('span', { class: 'muted', text: 'No pattern for this item' }));
+    $('#pattern-links').replaceChildren();
+    return;
+  }
+  const img = el('img', { src: base + '/pattern.svg' + q, alt: 'Pattern panels, size ' + size });
+  img.onerror = () => $('#panels').replaceChildren(el('span', { class: 'muted', text: 'The pattern cannot be drawn in this build.' }));
+  $('#panels').replaceChildren(img);
+  const links = [
+    ['DXF-AAMA', '/pattern.dxf' + q], ['PDF A4 tiled', '/pattern.pdf' + q], ['SVG 1:1', '/pattern.svg' + q],
+    ['GarmentCode', '/garmentcode.json' + q], ['Valentina .vit', '/measurements.vit'],
+  ];
+  if (it.sizes.filter((s) => s !== 'base').length >= 2)
+    links.push(['Graded DXF', '/pattern_graded.dxf'], ['Grade rules .RUL', '/pattern_graded.rul']);
+  $('#pattern-links').replaceChildren(...links.map(([t, p]) =>
+    el('a', { class: 'btn small secondary', href: base + p, download: '' , text: t })));
+}
+async function loadSizeGuide(it) {
+  const box = $('#sizeguide');
+  let g = null;
+  try { g = await api('GET', '/api/items/' + it.id + '/sizeguide.json'); } catch (e) { g = null; }
+  if (g && g.sizes && g.measurements) {
+    const names = sortedMeas(g.measurements);
+    box.replaceChildren(el('table', { class: 'guide' },
+      el('thead', {}, el('tr', {}, el('th', { text: 'Size' }), ...names.map((n) => el('th', { text: measName(n) })))),
+      el('tbody', {}, ...g.sizes.map((s) => el('tr', { class: s === it.base_size ? 'base' : '' },
+        el('td', { text: s + (s === it.base_size ? ' (this one)' : '') }),
+        ...names.map((n) => el('td', { text: g.measurements[n][s] == null ? '–' : cm(g.measurements[n][s]) })))))));
+  } else {
+    const m = it.measurements || {};
+    const names = sortedMeas(m);
+    box.replaceChildren(
+      el('p', { class: 'muted', text: 'Not graded yet: the garment as measured.' }),
+      el('table', { class: 'guide' },
+        el('thead', {}, el('tr', {}, el('th', { text: 'Measurement' }), el('th', { text: 'cm' }))),
+        el('tbody', {}, ...names.map((n) => el('tr', {}, el('td', { text: measName(n) }), el('td', { text: cm(m[n]) }))))));
+  }
+}
+
+async function saveItem(ev) {
+  ev.preventDefault();
+  const it = ui.item;
+  const body = {
+    title: $('#f-title').value.trim(),
+    notes: $('#f-notes').value,
+    tags: $('#f-tags').value.split(',').map((t) => t.trim()).filter(Boolean),
+  };
+  const sku = $('#f-sku').value.trim();
+  if (sku !== (it.sku || '')) {
+    if (sku && !/^[A-Za-z0-9._-]{1,64}$/.test(sku)) { toast('A SKU may hold only letters, digits, dot, dash and underscore.', true); return; }
+    body.sku = sku;
+  }
+  const price = $('#f-price').value.trim().replace(',', '.');
+  if (price === '') body.price_cents = null;
+  else if (!/^\d+(\.\d{1,2})?$/.test(price)) { toast('Price: a number like 49.90', true); return; }
+  else body.price_cents = Math.round(parseFloat(price) * 100);
+  try {
+    await api('PATCH', '/api/items/' + it.id, body);
+    $('#f-msg').textContent = 'Saved ✓';
+    toast('Saved');
+    loadItem(it.id);
+  } catch (e) { toast(e.message, true); }
+}
+
+// --- export ---------------------------------------------------------------------------------
+const SETTINGS = ['base', 'store', 'currency', 'vendor'];
+function loadSettings() {
+  for (const k of SETTINGS) {
+    const v = localStorage.getItem('garmcap.export.' + k);
+    if (v !== null) $('#s-' + k).value = v;
+  }
+  $('#s-legacy').checked = localStorage.getItem('garmcap.export.legacy') === '1';
+}
+function exportQuery(extra = {}) {
+  const p = new URLSearchParams();
+  const base = $('#s-base').value.trim(), store = $('#s-store').value.trim();
+  if (base) p.set('base_url', base);
+  if (store) p.set('store_url', store);
+  const cur = $('#s-currency').value.trim().toUpperCase();
+  if (cur) p.set('currency', cur);
+  const vendor = $('#s-vendor').value.trim();
+  if (vendor) p.set('vendor', vendor);
+  for (const [k, v] of Object.entries(extra)) p.set(k, v);
+  const s = p.toString();
+  return s ? '?' + s : '';
+}
+function updateExportLinks() {
+  for (const k of SETTINGS) localStorage.setItem('garmcap.export.' + k, $('#s-' + k).value.trim());
+  localStorage.setItem('garmcap.export.legacy', $('#s-legacy').checked ? '1' : '0');
+  $('#x-shopify').href = '/api/export/shopify.csv' + exportQuery($('#s-legacy').checked ? { legacy: '1' } : {});
+  $('#x-woo').href = '/api/export/woocommerce.csv' + exportQuery();
+  $('#x-merchant').href = '/api/export/merchant.tsv' + exportQuery();
+  $('#x-zip').href = '/api/export/catalog.zip' + exportQuery();
+}
+async function loadExportCounts() {
+  try {
+    const [a, r] = await Promise.all([api('GET', '/api/items?status=approved&limit=1'), api('GET', '/api/items?status=needs_review&limit=1')]);
+    $('#export-count').textContent = a.total + ' approved item' + (a.total === 1 ? '' : 's') + ' will be exported' +
+      (r.total ? '; ' + r.total + ' waiting for review are left out until approved.' : '.');
+  } catch (e) { $('#export-count').textContent = e.message; }
+}
+// Downloads through fetch so that an error (e.g. a bad URL option) shows as a message instead
+// of a saved error file.
+async function download(ev) {
+  ev.preventDefault();
+  const a = ev.currentTarget;
+  const headers = token() ? { Authorization: 'Bearer ' + token() } : {};
+  try {
+    const res = await fetch(a.href, { headers });
+    if (!res.ok) {
+      let msg = res.statusText;
+      try { msg = (await res.json()).error || msg; } catch (e) { /* not JSON */ }
+      throw new Error(msg);
+    }
+    const blob = await res.blob();
+    const cd = res.headers.get('Content-Disposition') || '';
+    const m = /filename="([^"]+)"/.exec(cd);
+    const url = URL.createObjectURL(blob);
+    const link = el('a', { href: url, download: m ? m[1] : 'export' });
+    document.body.append(link);
+    link.click();
+    link.remove();
+    setTimeout(() => URL.revokeObjectURL(url), 10000);
+    toast('Downloaded ' + (m ? m[1] : 'file'));
+  } catch (e) { toast('Export failed: ' + e.message, true); }
+}
+
+// --- routing --------------------------------------------------------------------------------
+function currentView() { return (location.hash.match(/^#\/(\w+)/) || [])[1] || 'capture'; }
+function route() {
+  const view = currentView();
+  $$('.view').forEach((v) => { v.hidden = v.dataset.view !== view; });
+  $$('.tabs a').forEach((a) => a.classList.toggle('on', a.dataset.tab === view || (view === 'item' && a.dataset.tab === 'catalog')));
+  const preview = $('#preview');
+  if (view === 'capture') {
+    if (!preview.getAttribute('src')) preview.src = '/stream.mjpg';
+  } else if (preview.getAttribute('src')) {
+    preview.removeAttribute('src');  // closes the MJPEG stream while it is not seen
+  }
+  if (view === 'catalog') loadCatalog(true);
+  if (view === 'item') loadItem((location.hash.match(/^#\/item\/(\d+)/) || [])[1]);
+  if (view === 'export') { updateExportLinks(); loadExportCounts(); }
+}
+
+function init() {
+  $('#btn-capture').addEventListener('click', captureGarment);
+  $('#btn-empty').addEventListener('click', captureEmpty);
+  // A USB barcode scanner types the SKU and Enter: that is a capture.
+  $('#sku').addEventListener('keydown', (e) => { if (e.key === 'Enter') { e.preventDefault(); if (!$('#btn-capture').disabled) captureGarment(); } });
+  $('#preview').addEventListener('error', () => { $('#preview-off').hidden = false; setTimeout(() => { if (currentView() === 'capture') { $('#preview').src = '/stream.mjpg?t=' + Date.now(); } }, 3000); });
+  $('#preview').addEventListener('load', () => { $('#preview-off').hidden = true; });
+  $('#search').addEventListener('input', () => {
+    clearTimeout(searchTimer);
+    searchTimer = setTimeout(() => { ui.catalog.q = $('#search').value.trim(); loadCatalog(true); }, 250);
+  });
+  $$('#type-filter .chip').forEach((b) => b.addEventListener('click', () => {
+    $$('#type-filter .chip').forEach((x) => x.classList.toggle('on', x === b));
+    ui.catalog.type = b.dataset.type;
+    loadCatalog(true);
+  }));
+  $('#status-filter').addEventListener('change', (e) => { ui.catalog.status = e.target.value; loadCatalog(true); });
+  $('#more').addEventListener('click', () => loadCatalog(false));
+  $('#item-form').addEventListener('submit', saveItem);
+  $('#f-approve').addEventListener('click', async () => {
+    try { await api('PATCH', '/api/items/' + ui.item.id, { status: 'approved' }); toast('Approved'); loadItem(ui.item.id); } catch (e) { toast(e.message, true); }
+  });
+  $('#size-select').addEventListener('change', (e) => { ui.itemSize = e.target.value; showPattern(); });
+  $('#btn-rerun').addEventListener('click', async () => {
+    try {
+      const r = await api('POST', '/api/items/' + ui.item.id + '/rerun');
+      applyJob({ id: r.job, state: 'queued', kind: 'rerun', progress: 0 });
+      toast('Re-run queued (job ' + r.job + ')');
+    } catch (e) { toast(e.message, true); }
+  });
+  $('#btn-delete').addEventListener('click', async () => {
+    if (!confirm('Delete "' + itemTitle(ui.item) + '"? It can be restored from the API.')) return;
+    try { await api('DELETE', '/api/items/' + ui.item.id); toast('Deleted'); location.hash = '#/catalog'; } catch (e) { toast(e.message, true); }
+  });
+  $('#export-settings').addEventListener('input', updateExportLinks);
+  $('#export-settings').addEventListener('submit', (e) => e.preventDefault());
+  $$('.export-buttons a').forEach((a) => a.addEventListener('click', download));
+  loadSettings();
+  window.addEventListener('hashchange', route);
+  route();
+  refreshStatus();
+  connectEvents();
+}
+
+document.addEventListener('DOMContentLoaded', init);
