@@ -1,0 +1,35 @@
+#pragma once
+// Segmenting the bare form (or anything) in front of the green screen (seed §5.2.1).
+//
+// Keying works on greenness g = G - max(R, B), a linear function of the pixel colour as long as
+// green dominates, so an edge pixel that mixes screen and form has g between the two and its
+// coverage is recovered by unmixing: alpha = (g_screen - g) / (g_screen - g_form). The screen's
+// greenness is estimated per pixel from the visible screen (smooth normalised convolution), so
+// an unevenly lit screen keys as well as an even one; the form's greenness likewise from nearby
+// form pixels. The screen colour is first checked on the frame border.
+
+#include <opencv2/core.hpp>
+
+namespace garmcap::calib {
+
+struct KeyOptions {
+  double borderFraction = 0.02;          // width of the border ring sampled for the screen colour
+  double minForegroundFraction = 0.002;  // less than this of the frame: "no form in frame"
+  int edgeBandPx = 2;                    // soft alpha only within this distance of the binary edge
+};
+
+struct KeyResult {
+  cv::Mat1f alpha;      // foreground coverage 0..1 (the largest foreground component only)
+  cv::Mat1b mask;       // alpha > 0.5, 0/255
+  cv::Mat3b despilled;  // the frame with green spill removed from the foreground (G <= max(R,B))
+  cv::Vec3b screenBgr;  // median border colour
+  double screenHueDeg = 0;  // its hue, 0..360
+};
+
+/// Keys `frameBgr` (8-bit BGR). Throws CalibError kNotGreenScreen when the border is not a
+/// saturated green, kNoFormInFrame when the foreground is smaller than minForegroundFraction, and
+/// kFormCutOff when the foreground touches the frame edge. `what` names the frame in messages.
+KeyResult keyGreenScreen(const cv::Mat3b& frameBgr, const std::string& what,
+                         const KeyOptions& options = {});
+
+}  // namespace garmcap::calib

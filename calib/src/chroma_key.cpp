@@ -1,0 +1,190 @@
+#include "garmcap/calib/chroma_key.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "garmcap/calib/errors.h"
+
+namespace garmcap::calib {
+
+namespace {
+
+// Normalised convolution: the weighted average of `value` over a Gaussian neighbourhood, using
+// only pixels with weight > 0; computed on a reduced image because the screen varies slowly.
+cv::Mat1f smoothFill(const cv::Mat1f& value, const cv::Mat1f& weight, double sigmaFraction,
+                     double minWeight) {
+  const int maxDim = std::max(value.cols, value.rows);
+  const double f = std::min(1.0, 256.0 / maxDim);
+  cv::Mat1f v, w;
+  cv::Mat1f vw = value.mul(weight);
+  cv::resize(vw, v, cv::Size(), f, f, cv::INTER_AREA);
+  cv::resize(weight, w, cv::Size(), f, f, cv::INTER_AREA);
+  const double sigma = std::max(1.0, sigmaFraction * std::max(v.cols, v.rows));
+  cv::GaussianBlur(v, v, cv::Size(), sigma, sigma, cv::BORDER_REPLICATE);
+  cv::GaussianBlur(w, w, cv::Size(), sigma, sigma, cv::BORDER_REPLICATE);
+  cv::Mat1f out = v / cv::max(w, minWeight);
+  cv::Mat1f full;
+  cv::resize(out, full, value.size(), 0, 0, cv::INTER_LINEAR);
+  return full;
+}
+
+}  // namespace
+
+KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const KeyOptions& opt) {
+  if (frame.empty())
+    throw CalibError(CalibErrorKind::kNoFormInFrame, what + ": empty image");
+  KeyResult r;
+  // 1. The screen colour from the border ring.
+  const int ring =
+      std::max(3, static_cast<int>(opt.borderFraction * std::min(frame.cols, frame.rows)));
+  std::vector<cv::Vec3b> border;
+  for (int y = 0; y < frame.rows; ++y) {
+    const bool edgeRow = y < ring || y >= frame.rows - ring;
+    for (int x = 0; x < frame.cols; x += (edgeRow ? 1 : 1)) {
+      if (!edgeRow && x == ring)
+        x = frame.cols - ring;
+      border.push_back(frame(y, x));
+    }
+  }
+  auto median = [&](int c) {
+    std::vector<int> v;
+    v.reserve(border.size());
+    for (const auto& p : border)
+      v.push_back(p[c]);
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  r.screenBgr = cv::Vec3b(static_cast<uchar>(median(0)), static_cast<uchar>(median(1)),
+                          static_cast<uchar>(median(2)));
+  cv::Mat3b one(1, 1, r.screenBgr), hsv;
+  cv::cvtColor(one, hsv, cv::COLOR_BGR2HSV_FULL);
+  r.screenHueDeg = hsv(0, 0)[0] * 360.0 / 256.0;
+  const double sat = hsv(0, 0)[1] / 255.0;
+  std::size_t greenBorder = 0;
+  for (const auto& p : border) {
+    if (p[1] > std::max(p[0], p[2]) + 20)
+      ++greenBorder;
+  }
+  const double greenShare = static_cast<double>(greenBorder) / static_cast<double>(border.size());
+  if (r.screenHueDeg < 75 || r.screenHueDeg > 165 || sat < 0.25 || greenShare < 0.6) {
+    std::ostringstream msg;
+    msg << what << ": the background is not a green screen (border median BGR("
+        << int(r.screenBgr[0]) << "," << int(r.screenBgr[1]) << "," << int(r.screenBgr[2])
+        << "), hue " << std::round(r.screenHueDeg) << " deg, saturation " << std::round(sat * 100)
+        << "%, green share of the border " << std::round(greenShare * 100)
+        << "%); light the screen evenly and fill the frame border with it";
+    throw CalibError(CalibErrorKind::kNotGreenScreen, msg.str());
+  }
+
+  // 2. Greenness and the screen's greenness per pixel.
+  cv::Mat3f f;
+  frame.convertTo(f, CV_32F);
+  std::vector<cv::Mat1f> ch;
+  cv::split(f, ch);
+  cv::Mat1f g = ch[1] - cv::max(ch[0], ch[2]);
+  const float gBorder = static_cast<float>(r.screenBgr[1]) -
+                        static_cast<float>(std::max(r.screenBgr[0], r.screenBgr[2]));
+  cv::Mat1f screenW = cv::Mat1f::zeros(g.size());
+  screenW.setTo(1.0f, g > 0.5f * gBorder);
+  cv::Mat1f gScreen = smoothFill(g, screenW, 0.08, 1e-3);
+  gScreen = cv::max(gScreen, 0.25f * gBorder);
+
+  // 3. Binary mask: nearer to the form than to the screen; largest component only.
+  cv::Mat1f ratio = g / gScreen;
+  cv::Mat1b mask = ratio < 0.5f;
+  cv::morphologyEx(mask, mask, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
+  cv::Mat1i labels;
+  cv::Mat stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+  int best = 0, bestArea = 0;
+  for (int i = 1; i < n; ++i) {
+    const int a = stats.at<int>(i, cv::CC_STAT_AREA);
+    if (a > bestArea)
+      best = i, bestArea = a;
+  }
+  const double minArea = opt.minForegroundFraction * frame.total();
+  if (best == 0 || bestArea < minArea) {
+    std::ostringstream msg;
+    msg << what << ": no form in the frame (largest foreground region " << bestArea
+        << " px, at least " << static_cast<long>(minArea) << " px expected)";
+    throw CalibError(CalibErrorKind::kNoFormInFrame, msg.str());
+  }
+  mask = labels == best;
+  // Fill small holes (noise, specular spots) but keep real openings such as the gap between an
+  // arm and the torso.
+  {
+    cv::Mat1b inv = ~mask;
+    cv::Mat1i hl;
+    cv::Mat hs, hc;
+    const int hn = cv::connectedComponentsWithStats(inv, hl, hs, hc, 4, CV_32S);
+    for (int i = 1; i < hn; ++i) {
+      const int x = hs.at<int>(i, cv::CC_STAT_LEFT), y = hs.at<int>(i, cv::CC_STAT_TOP);
+      const int w = hs.at<int>(i, cv::CC_STAT_WIDTH), h = hs.at<int>(i, cv::CC_STAT_HEIGHT);
+      const bool touchesBorder = x == 0 || y == 0 || x + w == frame.cols || y + h == frame.rows;
+      if (!touchesBorder && hs.at<int>(i, cv::CC_STAT_AREA) < 0.001 * bestArea) {
+        mask.setTo(255, hl == i);
+      }
+    }
+  }
+  const int l = stats.at<int>(best, cv::CC_STAT_LEFT), t = stats.at<int>(best, cv::CC_STAT_TOP);
+  const int w = stats.at<int>(best, cv::CC_STAT_WIDTH), h = stats.at<int>(best, cv::CC_STAT_HEIGHT);
+  if (l == 0 || t == 0 || l + w == frame.cols || t + h == frame.rows) {
+    std::ostringstream msg;
+    msg << what << ": the form is cut off by the frame edge (its silhouette touches the "
+        << (t == 0                ? "top"
+            : t + h == frame.rows ? "bottom"
+            : l == 0              ? "left"
+                                  : "right")
+        << " edge); move the camera back or zoom out so the whole form is in view";
+    throw CalibError(CalibErrorKind::kFormCutOff, msg.str());
+  }
+
+  // 4. Soft alpha in a band around the edge: unmix with the local form greenness.
+  const int band = std::max(1, opt.edgeBandPx);
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * band + 1, 2 * band + 1});
+  cv::Mat1b inner, outer;
+  cv::erode(mask, inner, kernel);
+  cv::dilate(mask, outer, kernel);
+  cv::Mat1f formW = cv::Mat1f::zeros(g.size());
+  formW.setTo(1.0f, inner);
+  // The form's own greenness near its edge; a fine blur because the form's colour varies.
+  cv::Mat1f gw = g.mul(formW), ww = formW.clone();
+  const double s = 3.0 * band;
+  cv::GaussianBlur(gw, gw, cv::Size(), s, s);
+  cv::GaussianBlur(ww, ww, cv::Size(), s, s);
+  cv::Mat1f gForm = gw / cv::max(ww, 1e-4f);
+  gForm = cv::min(gForm, 0.5f * gScreen);
+  r.alpha = cv::Mat1f::zeros(g.size());
+  for (int y = 0; y < g.rows; ++y) {
+    const uchar* in = inner.ptr(y);
+    const uchar* out = outer.ptr(y);
+    float* a = r.alpha.ptr<float>(y);
+    for (int x = 0; x < g.cols; ++x) {
+      if (in[x]) {
+        a[x] = 1.0f;
+      } else if (out[x]) {
+        const float gs = gScreen(y, x), gf = gForm(y, x);
+        a[x] = std::clamp((gs - g(y, x)) / (gs - gf), 0.0f, 1.0f);
+      }
+    }
+  }
+  r.mask = r.alpha > 0.5f;
+
+  // 5. Spill suppression on the foreground: green may not exceed the larger of red and blue.
+  r.despilled = frame.clone();
+  for (int y = 0; y < frame.rows; ++y) {
+    const uchar* m = outer.ptr(y);
+    for (int x = 0; x < frame.cols; ++x) {
+      if (!m[x])
+        continue;
+      cv::Vec3b& p = r.despilled(y, x);
+      p[1] = std::min(p[1], std::max(p[0], p[2]));
+    }
+  }
+  return r;
+}
+
+}  // namespace garmcap::calib
