@@ -59,6 +59,91 @@ std::optional<std::string> exactRow(const Points& polygon, double x, double y, E
          "): mean value weights cannot be normalised (point too far from the polygon)";
 }
 
+// One edge (i -> i+1) for all points: reads s_i, r_i (a*) and t_{i-1} (tPrev), computes s_{i+1},
+// r_{i+1} into b* (unless `next` is given: the wrap-around to vertex 0), t_i, and column i =
+// (t_{i-1} + t_i) / r_i. Plain loops over restrict pointers so that GCC vectorises them; built
+// for AVX2 as well where the CPU has it (ifunc dispatch), SSE2 otherwise.
+__attribute__((target_clones("avx2", "default"))) void edgeColumns(
+    Eigen::Index m, const double* __restrict px, const double* __restrict py, double vx, double vy,
+    const double* __restrict sxa, const double* __restrict sya, const double* __restrict ra,
+    double* __restrict sxb, double* __restrict syb, double* __restrict rb, double* __restrict tPrev,
+    double* __restrict col, double* __restrict sum) {
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const double bx = vx - px[k];
+    const double by = vy - py[k];
+    const double rn = std::sqrt(bx * bx + by * by);
+    sxb[k] = bx;
+    syb[k] = by;
+    rb[k] = rn;
+    const double det = sxa[k] * by - sya[k] * bx;
+    const double dot = sxa[k] * bx + sya[k] * by;
+    const double rr = ra[k] * rn;
+    // Both candidate forms are computed, then selected: branch-free, so it vectorises.
+    const double plus = rr + dot;
+    const double minus = rr - dot;
+    const bool pos = dot >= 0;
+    const double num = pos ? det : minus;
+    const double den = pos ? plus : det;
+    const double t = num / den;
+    const double w = (tPrev[k] + t) / ra[k];
+    col[k] = w;
+    sum[k] += w;
+    tPrev[k] = t;
+  }
+}
+
+// First edge (0 -> 1) and the starting arrays: s_0, r_0 into a*, s_1, r_1 into b*, t_0 into
+// tPrev and tFirst.
+__attribute__((target_clones("avx2", "default"))) void firstEdge(
+    Eigen::Index m, const double* __restrict px, const double* __restrict py, double v0x,
+    double v0y, double v1x, double v1y, double* __restrict sxa, double* __restrict sya,
+    double* __restrict ra, double* __restrict sxb, double* __restrict syb, double* __restrict rb,
+    double* __restrict tPrev, double* __restrict tFirst, double* __restrict sum) {
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const double ax = v0x - px[k];
+    const double ay = v0y - py[k];
+    const double r0 = std::sqrt(ax * ax + ay * ay);
+    const double bx = v1x - px[k];
+    const double by = v1y - py[k];
+    const double r1 = std::sqrt(bx * bx + by * by);
+    sxa[k] = ax;
+    sya[k] = ay;
+    ra[k] = r0;
+    sxb[k] = bx;
+    syb[k] = by;
+    rb[k] = r1;
+    const double det = ax * by - ay * bx;
+    const double dot = ax * bx + ay * by;
+    const double rr = r0 * r1;
+    // Both candidate forms are computed, then selected: branch-free, so it vectorises.
+    const double plus = rr + dot;
+    const double minus = rr - dot;
+    const bool pos = dot >= 0;
+    const double num = pos ? det : minus;
+    const double den = pos ? plus : det;
+    const double t = num / den;
+    tPrev[k] = t;
+    tFirst[k] = t;
+    sum[k] = 0;
+  }
+}
+
+// Closes the ring: column 0 = (t_{n-1} + t_0) / r_0, then normalises every column.
+__attribute__((target_clones("avx2", "default"))) void closeAndNormalise(
+    Eigen::Index m, Eigen::Index n, const double* __restrict r0, const double* __restrict tPrev,
+    const double* __restrict tFirst, double* __restrict weights, double* __restrict sum) {
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const double w = (tPrev[k] + tFirst[k]) / r0[k];
+    weights[k] = w;
+    sum[k] = 1.0 / (sum[k] + w);
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double* __restrict col = weights + i * m;
+    for (Eigen::Index k = 0; k < m; ++k)
+      col[k] *= sum[k];
+  }
+}
+
 }  // namespace
 
 std::optional<std::string> meanValueCoordinatesUnchecked(const Points& polygon,
@@ -67,104 +152,46 @@ std::optional<std::string> meanValueCoordinatesUnchecked(const Points& polygon,
   const Eigen::Index n = polygon.rows();
   const Eigen::Index m = points.rows();
   weights.resize(m, n);
-  if (m == 0)
-    return std::nullopt;
+  if (m == 0 || n < 2)
+    return n < 2 ? std::optional<std::string>("polygon has fewer than 2 vertices") : std::nullopt;
   const double* px = points.col(0).data();
   const double* py = points.col(1).data();
-
-  // Scratch columns: s and r of vertex i and i+1, tan(α/2) of the previous edge.
-  Eigen::ArrayXXd scratch(m, 9);
-  double* sx0 = &scratch(0, 0);
-  double* sy0 = &scratch(0, 1);
-  double* r0 = &scratch(0, 2);
-  double* sxa = &scratch(0, 3);
-  double* sya = &scratch(0, 4);
-  double* ra = &scratch(0, 5);
-  double* tFirst = &scratch(0, 6);
-  double* tPrev = &scratch(0, 7);
-  double* sum = &scratch(0, 8);
-  Eigen::ArrayXXd scratchB(m, 3);
-  double* sxb = &scratchB(0, 0);
-  double* syb = &scratchB(0, 1);
-  double* rb = &scratchB(0, 2);
-
-  const double vx0 = polygon(0, 0);
-  const double vy0 = polygon(0, 1);
+  // Scratch: s and r of vertex 0, of the current vertex i and of i+1 (ping-pong), t_{i-1},
+  // t_0 and the row sums.
+  Eigen::ArrayXXd scratch(m, 12);
+  auto colPtr = [&](int c) { return &scratch(0, c); };
+  double* sxa = colPtr(0);
+  double* sya = colPtr(1);
+  double* ra = colPtr(2);
+  double* sxb = colPtr(3);
+  double* syb = colPtr(4);
+  double* rb = colPtr(5);
+  double* sx0 = colPtr(6);
+  double* sy0 = colPtr(7);
+  double* r0 = colPtr(8);
+  double* tPrev = colPtr(9);
+  double* tFirst = colPtr(10);
+  double* sum = colPtr(11);
+  firstEdge(m, px, py, polygon(0, 0), polygon(0, 1), polygon(1, 0), polygon(1, 1), sx0, sy0, r0,
+            sxa, sya, ra, tPrev, tFirst, sum);
+  // Edges 1 .. n-1; edge n-1 wraps to vertex 0, whose s and r are recomputed into b (cheaper
+  // than a special loop, and bit-identical).
+  for (Eigen::Index i = 1; i < n; ++i) {
+    const Eigen::Index j = (i + 1) % n;
+    edgeColumns(m, px, py, polygon(j, 0), polygon(j, 1), sxa, sya, ra, sxb, syb, rb, tPrev,
+                weights.col(i).data(), sum);
+    std::swap(sxa, sxb);
+    std::swap(sya, syb);
+    std::swap(ra, rb);
+  }
+  closeAndNormalise(m, n, r0, tPrev, tFirst, weights.data(), sum);
+  // Rows whose sum was not a finite non-zero number are the special points: on a vertex or an
+  // edge, or with overflowing weights. sum now holds 1/Σw.
   for (Eigen::Index k = 0; k < m; ++k) {
-    sx0[k] = vx0 - px[k];
-    sy0[k] = vy0 - py[k];
-    r0[k] = std::sqrt(sx0[k] * sx0[k] + sy0[k] * sy0[k]);
-    sxa[k] = sx0[k];
-    sya[k] = sy0[k];
-    ra[k] = r0[k];
-    sum[k] = 0;
-  }
-  // Walk the edges i -> i+1; column i gets (t_{i-1} + t_i) / r_i once t_i is known. Column 0
-  // is finished last, when t_{n-1} is known.
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const bool last = i + 1 == n;
-    const double* sxn = last ? sx0 : sxb;
-    const double* syn = last ? sy0 : syb;
-    const double* rn = last ? r0 : rb;
-    if (!last) {
-      const double vx = polygon(i + 1, 0);
-      const double vy = polygon(i + 1, 1);
-      for (Eigen::Index k = 0; k < m; ++k) {
-        sxb[k] = vx - px[k];
-        syb[k] = vy - py[k];
-        rb[k] = std::sqrt(sxb[k] * sxb[k] + syb[k] * syb[k]);
-      }
+    if (!std::isfinite(sum[k]) || sum[k] == 0) {
+      if (auto problem = exactRow(polygon, px[k], py[k], k, weights))
+        return problem;
     }
-    double* col = weights.col(i).data();
-    double* tOut = i == 0 ? tFirst : tPrev;
-    for (Eigen::Index k = 0; k < m; ++k) {
-      const double det = sxa[k] * syn[k] - sya[k] * sxn[k];
-      const double dot = sxa[k] * sxn[k] + sya[k] * syn[k];
-      const double rr = ra[k] * rn[k];
-      const bool pos = dot >= 0;
-      const double num = pos ? det : rr - dot;
-      const double den = pos ? rr + dot : det;
-      const double t = num / den;
-      if (i > 0) {
-        const double w = (tPrev[k] + t) / ra[k];
-        col[k] = w;
-        sum[k] += w;
-      }
-      tOut[k] = t;
-    }
-    if (i == 0) {
-      // t_0 is in tFirst; tPrev must hold t_0 for column 1.
-      for (Eigen::Index k = 0; k < m; ++k)
-        tPrev[k] = tFirst[k];
-    }
-    if (last) {
-      double* col0 = weights.col(0).data();
-      for (Eigen::Index k = 0; k < m; ++k) {
-        const double w = (tPrev[k] + tFirst[k]) / r0[k];
-        col0[k] = w;
-        sum[k] += w;
-      }
-    } else {
-      std::swap(sxa, sxb);
-      std::swap(sya, syb);
-      std::swap(ra, rb);
-    }
-  }
-  // Normalise; rows whose sum is not a finite non-zero number are the special points.
-  std::vector<Eigen::Index> special;
-  for (Eigen::Index k = 0; k < m; ++k) {
-    if (!std::isfinite(sum[k]) || sum[k] == 0)
-      special.push_back(k);
-    sum[k] = 1.0 / sum[k];
-  }
-  for (Eigen::Index i = 0; i < n; ++i) {
-    double* col = weights.col(i).data();
-    for (Eigen::Index k = 0; k < m; ++k)
-      col[k] *= sum[k];
-  }
-  for (const Eigen::Index k : special) {
-    if (auto problem = exactRow(polygon, px[k], py[k], k, weights))
-      return problem;
   }
   return std::nullopt;
 }
