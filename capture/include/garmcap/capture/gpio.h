@@ -65,7 +65,9 @@ struct DebounceConfig {
 /// than the last one is clamped to it.
 class Debouncer {
  public:
-  explicit Debouncer(DebounceConfig config = {});
+  /// `initiallyPressed`: the line's level at start-up (a button held while the station starts
+  /// is not a press, and never becomes a long press).
+  explicit Debouncer(DebounceConfig config = {}, bool initiallyPressed = false);
 
   /// Feeds one raw edge; returns the events it settles (the previous level may become stable).
   std::vector<ButtonEvent> feed(const ButtonEdge& edge);

@@ -1,2 +1,0 @@
-// Placeholder translation unit until the first capture sources land.
-namespace garmcap::capture {}
