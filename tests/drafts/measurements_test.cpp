@@ -312,5 +312,48 @@ TEST(MeasurementsVit, MalformedFilesNameFileAndPlace) {
   EXPECT_THROW(readVit("/nonexistent/garmcap/body.vit"), FileError);
 }
 
+// Mutated files (bytes flipped, deleted, duplicated, truncated) are either read or refused
+// with a ParseError; nothing else escapes and nothing crashes (run under ASan in CI).
+TEST(MeasurementsVit, MutatedInputIsReadOrRefusedCleanly) {
+  std::mt19937 gen(11);
+  const std::string vit = kValentinaMm;
+  const std::string json = measurementsToJson(sample());
+  const std::string alphabet = "<>/=\"'&;#x!-?[] \n@amv0123456789.e";
+  int refused = 0;
+  for (int k = 0; k < 1500; ++k) {
+    std::string text = (k % 2 == 0) ? vit : json;
+    const int edits = 1 + int(gen() % 4);
+    for (int e = 0; e < edits && !text.empty(); ++e) {
+      const size_t at = gen() % text.size();
+      switch (gen() % 4) {
+        case 0:
+          text[at] = alphabet[gen() % alphabet.size()];
+          break;
+        case 1:
+          text.erase(at, 1 + gen() % 8);
+          break;
+        case 2:
+          text.insert(at, text.substr(at / 2, gen() % 16));
+          break;
+        default:
+          text.resize(at);
+          break;
+      }
+    }
+    try {
+      const Measurements m = (k % 2 == 0) ? measurementsFromVit(text, "fuzz.vit")
+                                          : measurementsFromJson(text, "fuzz.json");
+      for (const auto& [name, v] : m.values()) {
+        EXPECT_TRUE(isKnownMeasurement(name));
+        EXPECT_TRUE(std::isfinite(v) && v >= 0);
+      }
+    } catch (const ParseError& e) {
+      ++refused;
+      EXPECT_THAT(e.what(), HasSubstr((k % 2 == 0) ? "fuzz.vit" : "fuzz.json"));
+    }
+  }
+  EXPECT_GT(refused, 500);
+}
+
 }  // namespace
 }  // namespace garmcap::drafts
