@@ -15,15 +15,17 @@ const std::vector<std::string> kMeasurementOrder = {
     "bust_circ",    "waist_circ",    "hip_circ", "hem_circ", "garment_length",
     "skirt_length", "sleeve_length", "outseam",  "inseam",   "leg_opening_circ"};
 
+// One decimal, halves rounded away from zero (58.25 -> 58.3) as people and spreadsheets do;
+// printf alone rounds exact binary halves to even.
 std::string formatCm(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
+  std::snprintf(buf, sizeof buf, "%.1f", std::round(v * 10.0) / 10.0);
   return buf;
 }
 
 std::string formatPrice(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f", v);
+  std::snprintf(buf, sizeof buf, "%.2f", std::round(v * 100.0) / 100.0);
   return buf;
 }
 

@@ -485,8 +485,8 @@ function init() {
   $('#btn-empty').addEventListener('click', captureEmpty);
   // A USB barcode scanner types the SKU and Enter: that is a capture.
   $('#sku').addEventListener('keydown', (e) => { if (e.key === 'Enter') { e.preventDefault(); if (!$('#btn-capture').disabled) captureGarment(); } });
-  $('#preview').addEventListener('error', () => { $('#preview-off').hidden = false; setTimeout(() => { if (currentView() === 'capture') { $('#preview').src = '/stream.mjpg?t=' + Date.now(); } }, 3000); });
-  $('#preview').addEventListener('load', () => { $('#preview-off').hidden = true; });
+  $('#preview').addEventListener('error', () => { $('#preview-off').hidden = false; $('#preview').style.visibility = 'hidden'; setTimeout(() => { if (currentView() === 'capture') { $('#preview').src = '/stream.mjpg?t=' + Date.now(); } }, 3000); });
+  $('#preview').addEventListener('load', () => { $('#preview-off').hidden = true; $('#preview').style.visibility = ''; });
   $('#search').addEventListener('input', () => {
     clearTimeout(searchTimer);
     searchTimer = setTimeout(() => { ui.catalog.q = $('#search').value.trim(); loadCatalog(true); }, 250);

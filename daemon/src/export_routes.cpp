@@ -1,0 +1,486 @@
+// HTTP routes of the exports (issue 8): shop files of the approved catalog, pattern files of one
+// item, and the image files the shop CSVs link to. Catalog reads run on the station strand, file
+// building on the worker pool; the pure builders live in export_shop/export_pattern/export_zip.
+//
+//   GET /api/export/shopify.csv?base_url=&legacy=1   GET /api/export/woocommerce.csv?base_url=
+//   GET /api/export/merchant.tsv?base_url=&store_url=   GET /api/export/catalog.zip?base_url=
+//   GET /api/export/files/images/{id}-{kind}.{jpg,png}  (the default public base URL's images)
+//   GET /api/items/{id}/pattern.dxf?size=   pattern.pdf?size=   garmentcode.json?size=
+//   GET /api/items/{id}/pattern_graded.dxf   pattern_graded.rul   measurements.vit
+//
+// Only approved items are exported to shops (a capture waiting for review is not). Options come
+// from the query (the web UI keeps them per browser); without base_url the images are linked
+// through this station's own /api/export/files/ (reachable on the shop's LAN only).
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <memory>
+
+#include "garmcap/daemon/catalog.h"
+#include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/export_pattern.h"
+#include "garmcap/daemon/export_shop.h"
+#include "garmcap/daemon/export_zip.h"
+#include "garmcap/daemon/http_router.h"
+#include "garmcap/drafts/measurements.h"
+#include "garmcap/drafts/pattern_io.h"
+
+namespace garmcap::daemon {
+namespace {
+
+constexpr int kMaxExportItems = 2000;
+// Image kinds that go to shops, in the order shops show them.
+const std::vector<std::string> kShopImageKinds = {"product", "cutout"};
+
+std::string extensionOf(const std::string& mediaType) {
+  if (mediaType == "image/jpeg")
+    return "jpg";
+  if (mediaType == "image/png")
+    return "png";
+  return "";
+}
+
+std::string imagePath(std::int64_t id, const std::string& kind, const std::string& mediaType) {
+  return "images/" + std::to_string(id) + "-" + kind + "." + extensionOf(mediaType);
+}
+
+// A URL given as an option: http(s), printable ASCII without spaces or quotes, bounded.
+std::string urlOption(const RouteMatch& m, const std::string& key, const std::string& fallback) {
+  auto v = m.queryValue(key);
+  if (!v || v->empty())
+    return fallback;
+  const std::string& s = *v;
+  if (s.size() > 500)
+    throw BadRequest("query '" + key + "' is longer than 500 bytes");
+  if (s.rfind("http://", 0) != 0 && s.rfind("https://", 0) != 0)
+    throw BadRequest("query '" + key + "' must start with http:// or https://, got '" + s + "'");
+  for (unsigned char c : s)
+    if (c <= 32 || c >= 127 || c == '"' || c == '\'' || c == '<' || c == '>' || c == '\\')
+      throw BadRequest("query '" + key + "' holds a character not allowed in a URL");
+  return s;
+}
+
+std::string shortOption(const RouteMatch& m, const std::string& key, const std::string& fallback,
+                        size_t maxLen) {
+  auto v = m.queryValue(key);
+  if (!v || v->empty())
+    return fallback;
+  if (v->size() > maxLen)
+    throw BadRequest("query '" + key + "' is longer than " + std::to_string(maxLen) + " bytes");
+  for (unsigned char c : *v)
+    if (c < 32 || c == 127)
+      throw BadRequest("query '" + key + "' holds a control character");
+  return *v;
+}
+
+ShopOptions shopOptions(const Request& req, const RouteMatch& m) {
+  ShopOptions o;
+  std::string host(req[http::field::host]);
+  bool hostOk =
+      !host.empty() && host.size() <= 255 &&
+      std::all_of(host.begin(), host.end(), [](unsigned char c) {
+        return std::isalnum(c) || c == '.' || c == ':' || c == '-' || c == '[' || c == ']';
+      });
+  const std::string self = hostOk ? "http://" + host : "http://127.0.0.1";
+  o.publicBaseUrl = urlOption(m, "base_url", self + "/api/export/files");
+  o.storeUrl = urlOption(m, "store_url", self);
+  o.vendor = shortOption(m, "vendor", o.vendor, 100);
+  o.currency = shortOption(m, "currency", o.currency, 3);
+  o.sizeSystem = shortOption(m, "size_system", o.sizeSystem, 4);
+  o.gender = shortOption(m, "gender", o.gender, 10);
+  o.legacyShopifyHeader = m.queryValue("legacy").value_or("0") == "1";
+  return o;
+}
+
+// What the export needs from the catalog, copied on the strand.
+struct CatalogSnapshot {
+  std::vector<Item> items;
+  std::vector<std::optional<nlohmann::json>> sizeGuides;
+  std::vector<std::map<std::string, nlohmann::json>> patterns;  // size -> pattern JSON
+};
+
+CatalogSnapshot snapshot(Catalog& c, bool withPatterns) {
+  CatalogSnapshot s;
+  ItemQuery q;
+  q.status = kStatusApproved;
+  q.limit = 500;
+  while (static_cast<int>(s.items.size()) < kMaxExportItems) {
+    auto [page, total] = c.items(q);
+    for (auto& it : page)
+      s.items.push_back(std::move(it));
+    q.offset += static_cast<int>(page.size());
+    if (page.empty() || q.offset >= total)
+      break;
+  }
+  for (const auto& it : s.items) {
+    s.sizeGuides.push_back(c.sizeGuide(it.id));
+    std::map<std::string, nlohmann::json> pats;
+    if (withPatterns)
+      for (const auto& size : it.sizes)
+        if (auto p = c.pattern(it.id, size))
+          pats[size] = *p;
+    s.patterns.push_back(std::move(pats));
+  }
+  return s;
+}
+
+// Catalog item -> shop item. The size guide ({"units", "sizes", "measurements": {name: {size:
+// cm}}}) gives the graded run; without one the item sells as one size.
+ExportItem toExportItem(const Item& it, const std::optional<nlohmann::json>& guide) {
+  ExportItem e;
+  e.id = std::to_string(it.id);
+  e.sku = it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
+  e.title = it.title.empty() ? "Item " + std::to_string(it.id) : it.title;
+  e.description = it.notes;
+  e.type = it.type;
+  e.attributes = it.attributes;
+  if (it.priceCents)
+    e.price = static_cast<double>(*it.priceCents) / 100.0;
+  e.tags = it.tags;
+  e.published = true;
+  e.measurementsCm = it.measurementsCm;
+  e.sampleSize = it.baseSize;
+  if (guide && guide->is_object() && guide->contains("sizes") && guide->contains("measurements")) {
+    for (const auto& sz : guide->at("sizes")) {
+      ExportSize s;
+      s.label = sz.get<std::string>();
+      for (const auto& [name, values] : guide->at("measurements").items())
+        if (values.contains(s.label) && values[s.label].is_number())
+          s.measurementsCm[name] = values[s.label].get<double>();
+      e.sizes.push_back(std::move(s));
+    }
+  }
+  for (const auto& kind : kShopImageKinds)
+    for (const auto& im : it.images)
+      if (im.kind == kind && !extensionOf(im.mediaType).empty())
+        e.images.push_back({imagePath(it.id, im.kind, im.mediaType), ""});
+  return e;
+}
+
+Response fileResponse(const std::string& type, std::string body, const std::string& name) {
+  Response r = textResponse(http::status::ok, type, std::move(body));
+  r.set(http::field::content_disposition, "attachment; filename=\"" + name + "\"");
+  r.set(http::field::cache_control, "no-store");
+  return r;
+}
+
+std::string sizeLabel(const Item& it, const std::string& size) {
+  return size == "base" && !it.baseSize.empty() ? it.baseSize : size;
+}
+
+std::string sizeParam(const RouteMatch& m) {
+  auto size = m.queryValue("size").value_or("base");
+  if (size.empty() || size.size() > 16 || !std::all_of(size.begin(), size.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+      }))
+    throw BadRequest("query 'size' must be a size name like 55 or M, got '" + size + "'");
+  return size;
+}
+
+// The graded run of an item: every stored size but "base", in size-guide order when there is
+// one; the sample size is the one the garment was measured as.
+std::optional<GradedRun> gradedRun(const Item& it, const std::optional<nlohmann::json>& guide,
+                                   const std::map<std::string, nlohmann::json>& patterns) {
+  std::vector<std::string> sizes;
+  if (guide && guide->is_object() && guide->contains("sizes"))
+    for (const auto& s : guide->at("sizes"))
+      sizes.push_back(s.get<std::string>());
+  if (sizes.empty())
+    for (const auto& s : it.sizes)
+      if (s != "base")
+        sizes.push_back(s);
+  GradedRun run;
+  run.style = it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
+  for (const auto& s : sizes) {
+    auto p = patterns.find(s);
+    if (p == patterns.end())
+      continue;
+    run.sizes.push_back(s);
+    run.patterns.push_back(
+        drafts::patternFromJsonValue(p->second, "item " + std::to_string(it.id) + " size " + s));
+  }
+  if (run.sizes.size() < 2)
+    return std::nullopt;
+  run.sampleSize = std::find(run.sizes.begin(), run.sizes.end(), it.baseSize) != run.sizes.end()
+                       ? it.baseSize
+                       : run.sizes[run.sizes.size() / 2];
+  return run;
+}
+
+// The body measurements for Valentina: the pattern's (the body it was drafted for), else the
+// item's measurements that are Valentina known names.
+drafts::Measurements vitMeasurements(const Item& it, const std::optional<nlohmann::json>& base) {
+  if (base) {
+    auto p = drafts::patternFromJsonValue(*base, "item " + std::to_string(it.id) + " pattern");
+    if (!p.measurements.empty())
+      return p.measurements;
+  }
+  drafts::Measurements m;
+  for (const auto& [n, v] : it.measurementsCm)
+    if (drafts::isKnownMeasurement(n))
+      m.set(n, v);
+  return m;
+}
+
+void addExportRoutes(Router& router, RouteContext& ctx) {
+  using V = http::verb;
+  RouteContext* c = &ctx;
+
+  // Shop files: snapshot on the strand, build on the pool.
+  auto shopRoute =
+      [c](std::string name, std::string type,
+          std::function<std::string(const std::vector<ExportItem>&, const ShopOptions&)> build) {
+        return [c, name, type, build](const Request& req, const RouteMatch& m, Reply reply) {
+          const ShopOptions o = shopOptions(req, m);
+          c->withCatalog([c, reply, o, name, type, build](Catalog& cat) {
+            auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, false));
+            c->offload([reply, o, name, type, build, snap] {
+              try {
+                std::vector<ExportItem> items;
+                for (size_t i = 0; i < snap->items.size(); ++i)
+                  items.push_back(toExportItem(snap->items[i], snap->sizeGuides[i]));
+                reply(fileResponse(type, build(items, o), name));
+              } catch (const ExportError& e) {
+                reply(jsonError(http::status::unprocessable_entity, e.what()));
+              } catch (const std::exception& e) {
+                reply(jsonError(http::status::internal_server_error, e.what()));
+              }
+            });
+          });
+        };
+      };
+  router.add(V::get, "/api/export/shopify.csv",
+             shopRoute("shopify.csv", "text/csv; charset=utf-8", shopifyCsv));
+  router.add(V::get, "/api/export/woocommerce.csv",
+             shopRoute("woocommerce.csv", "text/csv; charset=utf-8", wooCommerceCsv));
+  router.add(V::get, "/api/export/merchant.tsv",
+             shopRoute("merchant.tsv", "text/tab-separated-values; charset=utf-8", merchantTsv));
+
+  router.add(
+      V::get, "/api/export/catalog.zip", [c](const Request& req, const RouteMatch& m, Reply reply) {
+        const ShopOptions o = shopOptions(req, m);
+        c->withCatalog([c, reply, o](Catalog& cat) {
+          auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, true));
+          c->offload([c, reply, o, snap] {
+            try {
+              std::vector<ExportItem> items;
+              std::vector<ZipEntry> files;
+              std::vector<std::string> notes;
+              for (size_t i = 0; i < snap->items.size(); ++i) {
+                const Item& it = snap->items[i];
+                items.push_back(toExportItem(it, snap->sizeGuides[i]));
+                for (const auto& im : it.images) {
+                  const std::string ext = extensionOf(im.mediaType);
+                  if (ext.empty() || std::find(kShopImageKinds.begin(), kShopImageKinds.end(),
+                                               im.kind) == kShopImageKinds.end())
+                    continue;
+                  auto bytes = c->store().read(im.sha256);
+                  if (!bytes)
+                    throw ExportError("image " + im.sha256 + " is missing from the store");
+                  files.push_back({imagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
+                }
+                const std::string dir = "patterns/" + std::to_string(it.id) + "/";
+                const auto& pats = snap->patterns[i];
+                for (const auto& [size, json] : pats) {
+                  try {
+                    auto p = drafts::patternFromJsonValue(json, "item " + std::to_string(it.id));
+                    const PieceText t{items.back().sku, sizeLabel(it, size)};
+                    files.push_back({dir + size + ".dxf", patternDxf(p, t)});
+                    files.push_back({dir + size + ".svg", patternSvg(p, t)});
+                    if (size == "base")
+                      files.push_back({dir + "garmentcode.json", garmentCodeJson(p, t)});
+                  } catch (const std::exception& e) {
+                    notes.push_back("item " + std::to_string(it.id) + " size " + size + ": " +
+                                    e.what());
+                  }
+                }
+                try {
+                  if (auto run = gradedRun(it, snap->sizeGuides[i], pats)) {
+                    files.push_back({dir + "graded.dxf", gradedDxf(*run)});
+                    files.push_back({dir + "graded.rul", gradeRuleTable(*run)});
+                  }
+                  auto base = pats.find("base");
+                  auto vm = vitMeasurements(
+                      it, base == pats.end() ? std::nullopt : std::optional(base->second));
+                  if (!vm.empty())
+                    files.push_back({dir + "measurements.vit", drafts::measurementsToVit(vm)});
+                } catch (const std::exception& e) {
+                  notes.push_back("item " + std::to_string(it.id) + ": " + e.what());
+                }
+              }
+              files.push_back({"shopify.csv", shopifyCsv(items, o)});
+              files.push_back({"woocommerce.csv", wooCommerceCsv(items, o)});
+              files.push_back({"merchant.tsv", merchantTsv(items, o)});
+              std::string readme =
+                  "GarmCap Station catalog export: " + std::to_string(items.size()) +
+                  " approved items.\nUpload the folder so that images/ is reachable at " +
+                  o.publicBaseUrl +
+                  "/images/ before importing the CSVs.\nPatterns: patterns/<item id>/ (DXF in mm, "
+                  "SVG 1:1, GarmentCode JSON, Valentina .vit, graded DXF + RUL when graded).\n";
+              for (const auto& n : notes)
+                readme += "Not exported: " + n + "\n";
+              files.push_back({"README.txt", readme});
+              reply(fileResponse("application/zip", storeZip(files), "catalog.zip"));
+            } catch (const ExportError& e) {
+              reply(jsonError(http::status::unprocessable_entity, e.what()));
+            } catch (const std::exception& e) {
+              reply(jsonError(http::status::internal_server_error, e.what()));
+            }
+          });
+        });
+      });
+
+  // The images the default base URL links to: "<id>-<kind>" names only, resolved through the
+  // catalog (never through the file system).
+  auto imageFile = [c](std::string ext) {
+    return [c, ext](const Request&, const RouteMatch& m, Reply reply) {
+      const std::string name = m.param("name");
+      const auto dash = name.find('-');
+      if (dash == std::string::npos || dash == 0)
+        throw BadRequest("image name must be <item id>-<kind>, got '" + name + "'");
+      RouteMatch idOnly;
+      idOnly.params["id"] = name.substr(0, dash);
+      const std::int64_t id = idOnly.id("id");
+      const std::string kind = name.substr(dash + 1);
+      c->withCatalog([c, reply, id, kind, ext](Catalog& cat) {
+        auto it = cat.item(id);
+        if (!it || it->status != kStatusApproved)
+          return reply(
+              jsonError(http::status::not_found, "no approved item " + std::to_string(id)));
+        for (const auto& im : it->images)
+          if (im.kind == kind && extensionOf(im.mediaType) == ext) {
+            const ImageRef ref = im;
+            return c->offload([c, reply, ref] {
+              auto bytes = c->store().read(ref.sha256);
+              if (!bytes)
+                return reply(jsonError(http::status::internal_server_error,
+                                       "image " + ref.sha256 + " is missing from the store"));
+              Response r = textResponse(http::status::ok, ref.mediaType, std::move(*bytes));
+              r.set(http::field::cache_control, "public, max-age=86400");
+              reply(std::move(r));
+            });
+          }
+        reply(jsonError(http::status::not_found,
+                        "item " + std::to_string(id) + " has no " + ext + " image '" + kind + "'"));
+      });
+    };
+  };
+  router.add(V::get, "/api/export/files/images/{name}.jpg", imageFile("jpg"));
+  router.add(V::get, "/api/export/files/images/{name}.png", imageFile("png"));
+
+  // Pattern files of one item. `build` gets the item, its patterns and the size asked for.
+  using PatternBuild =
+      std::function<Response(const Item&, const std::optional<nlohmann::json>&,
+                             const std::map<std::string, nlohmann::json>&, const std::string&)>;
+  auto patternRoute = [c](PatternBuild build) {
+    return [c, build](const Request&, const RouteMatch& m, Reply reply) {
+      const auto id = m.id("id");
+      const std::string size = sizeParam(m);
+      c->withCatalog([c, reply, id, size, build](Catalog& cat) {
+        auto it = cat.item(id);
+        if (!it)
+          return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+        auto guide = cat.sizeGuide(id);
+        std::map<std::string, nlohmann::json> pats;
+        for (const auto& s : it->sizes)
+          if (auto p = cat.pattern(id, s))
+            pats[s] = *p;
+        c->offload([reply, item = *it, guide, pats, size, build] {
+          try {
+            reply(build(item, guide, pats, size));
+          } catch (const ExportError& e) {
+            reply(jsonError(http::status::unprocessable_entity, e.what()));
+          } catch (const std::exception& e) {
+            reply(jsonError(http::status::internal_server_error, e.what()));
+          }
+        });
+      });
+    };
+  };
+  auto onePattern = [](const Item& it, const std::map<std::string, nlohmann::json>& pats,
+                       const std::string& size) -> std::optional<drafts::Pattern> {
+    auto p = pats.find(size);
+    if (p == pats.end())
+      return std::nullopt;
+    return drafts::patternFromJsonValue(p->second,
+                                        "item " + std::to_string(it.id) + " pattern " + size);
+  };
+  auto noPattern = [](const Item& it, const std::string& size) {
+    return jsonError(http::status::not_found,
+                     "item " + std::to_string(it.id) + " has no pattern for size '" + size + "'");
+  };
+  auto style = [](const Item& it) {
+    return it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
+  };
+  auto fileBase = [](const Item& it, const std::string& size) {
+    return (it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku) + "_" + size;
+  };
+
+  router.add(
+      V::get, "/api/items/{id}/pattern.dxf",
+      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
+                       const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
+        auto p = onePattern(it, pats, size);
+        if (!p)
+          return noPattern(it, size);
+        return fileResponse("application/dxf", patternDxf(*p, {style(it), sizeLabel(it, size)}),
+                            fileBase(it, size) + ".dxf");
+      }));
+  router.add(
+      V::get, "/api/items/{id}/pattern.pdf",
+      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
+                       const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
+        auto p = onePattern(it, pats, size);
+        if (!p)
+          return noPattern(it, size);
+        return fileResponse("application/pdf", patternPdfA4(*p, {style(it), sizeLabel(it, size)}),
+                            fileBase(it, size) + "_A4.pdf");
+      }));
+  router.add(
+      V::get, "/api/items/{id}/garmentcode.json",
+      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
+                       const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
+        auto p = onePattern(it, pats, size);
+        if (!p)
+          return noPattern(it, size);
+        return fileResponse("application/json",
+                            garmentCodeJson(*p, {style(it), sizeLabel(it, size)}),
+                            fileBase(it, size) + "_specification.json");
+      }));
+  auto graded = [=](bool rul) {
+    return patternRoute([=](const Item& it, const std::optional<nlohmann::json>& guide,
+                            const std::map<std::string, nlohmann::json>& pats, const std::string&) {
+      auto run = gradedRun(it, guide, pats);
+      if (!run)
+        return jsonError(http::status::not_found,
+                         "item " + std::to_string(it.id) +
+                             " has no graded size run (fewer than two graded sizes stored)");
+      return rul ? fileResponse("text/plain; charset=us-ascii", gradeRuleTable(*run),
+                                style(it) + ".rul")
+                 : fileResponse("application/dxf", gradedDxf(*run), style(it) + ".dxf");
+    });
+  };
+  router.add(V::get, "/api/items/{id}/pattern_graded.dxf", graded(false));
+  router.add(V::get, "/api/items/{id}/pattern_graded.rul", graded(true));
+  router.add(
+      V::get, "/api/items/{id}/measurements.vit",
+      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
+                       const std::map<std::string, nlohmann::json>& pats, const std::string&) {
+        auto base = pats.find("base");
+        auto m =
+            vitMeasurements(it, base == pats.end() ? std::nullopt : std::optional(base->second));
+        if (m.empty())
+          return jsonError(
+              http::status::not_found,
+              "item " + std::to_string(it.id) + " has no body measurements Valentina knows");
+        return fileResponse("application/xml", drafts::measurementsToVit(m),
+                            fileBase(it, "body") + ".vit");
+      }));
+}
+
+}  // namespace
+
+GARMCAP_ROUTE_MODULE(exports, addExportRoutes)
+
+}  // namespace garmcap::daemon
