@@ -1,0 +1,25 @@
+#pragma once
+// SVG export of a pattern at true scale: width/height are given in cm and the viewBox is in cm,
+// so printing at 100 % gives real size. Draft construction lines are grey, draft contours black,
+// panels are drawn distinctly on top (light fill, blue outline, dashed seam-allowance line) with
+// their name, cut count, grainline (arrowed), notches and darts. A 10 cm scale bar is included.
+
+#include <filesystem>
+#include <string>
+
+#include "garmcap/drafts/pattern.h"
+
+namespace garmcap::drafts {
+
+struct SvgOptions {
+  bool drawDraft = true;        // construction lines and contours of the draft
+  bool drawPanels = true;       // panels with annotations
+  bool drawPointNames = false;  // names of the draft points (busy; for debugging recipes)
+  double marginCm = 3.0;        // blank border around the drawing
+};
+
+std::string patternToSvg(const Pattern& pattern, const SvgOptions& options = {});
+void writePatternSvg(const std::filesystem::path& path, const Pattern& pattern,
+                     const SvgOptions& options = {});
+
+}  // namespace garmcap::drafts

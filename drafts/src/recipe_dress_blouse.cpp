@@ -1,0 +1,186 @@
+// One-piece dress (research/drafting_blocks.md §3: bodice + skirt joined by a waist seam, seed
+// table 5.1 inputs), the woven blouse (§6.2 "Bunka blouse") and the high-waist skirt (§2.3).
+#include <algorithm>
+#include <cmath>
+
+#include "recipe_blocks.h"
+#include "recipe_list.h"
+
+namespace garmcap::drafts::detail {
+namespace {
+
+SleeveOptions sleeveFor(DraftBuilder& b, const BodiceDraft& d, double capFactor) {
+  SleeveOptions o;
+  o.fah = d.fah;
+  o.bah = d.bah;
+  o.capHeight = bunkaCapHeight(d, capFactor);
+  o.capEase = b.design("sleeve_cap_ease");
+  o.armLength = b.measurement("arm_shoulder_tip_to_wrist");
+  o.lengthFactor = b.design("sleeve_length");
+  o.wristOpening = b.measurement("arm_wrist_circ") + b.design("ease_wrist");
+  o.origin = Point2(d.bw + 6 + d.fah, d.yS - o.capHeight);
+  return o;
+}
+
+void addSleeveTo(DraftBuilder& b, const BodiceDraft& d, double capFactor) {
+  if (b.design("sleeve_length") <= 0)
+    return;  // sleeveless
+  const SleeveDraft s = draftSleeve(b, sleeveFor(b, d, capFactor));
+  addSleevePanel(b, s, "bodice_back", d.spB, d.side, "bodice_front", d.spF, d.side);
+}
+
+}  // namespace
+
+void recipeDress(DraftBuilder& b) {
+  BodiceOptions o;
+  o.easeBust = b.design("ease_bust");
+  o.easeWaist = b.design("ease_waist");
+  o.bustpointToBustpoint = b.measurement("bustpoint_to_bustpoint");
+  o.shoulderTipToTip = b.measurement("shoulder_tip_to_shoulder_tip_b");
+  const BodiceDraft d = draftBodiceBlock(b, b.measurement("bust_circ"), b.measurement("waist_circ"),
+                                         b.measurement("neck_back_to_waist_b"), o);
+  addBodicePanels(b, d);
+  SkirtOptions s;
+  const double half = (b.measurement("hip_circ") + b.design("ease_hip")) / 2;
+  s.cbX = 0;
+  s.cfX = d.bw;
+  s.waistY = d.wbl;
+  s.hipLength = b.measurement("waist_to_hip_b");
+  s.length = b.design("skirt_length");
+  s.hipBack = half / 2 - 1;
+  s.hipFront = half / 2 + 1;
+  s.waistBack = bodiceWaistBack(d);
+  s.waistFront = bodiceWaistFront(d);
+  s.hemFlare = b.design("hem_flare");
+  // Skirt darts under the bodice darts (back under e and d, front under b and a).
+  s.backDartX = std::vector<double>{d.backDarts[0].x, d.backDarts[1].x};
+  s.frontDartX = std::vector<double>{d.frontDarts[0].x, d.frontDarts[1].x};
+  const SkirtDraft sk = draftSkirt(b, s);
+  Pattern& p = b.pattern();
+  addSeam(p, "waist_back", "bodice_back", d.cbWaist, d.sideWaistBack, "skirt_back", sk.cbWaist,
+          sk.sideWaistBack);
+  addSeam(p, "waist_front", "bodice_front", d.sideWaistFront, d.cfWaist, "skirt_front",
+          sk.sideWaistFront, sk.cfWaist);
+  addSleeveTo(b, d, 1.0);
+}
+
+void recipeBlouse(DraftBuilder& b) {
+  BodiceOptions o;
+  o.easeBust = b.design("ease_bust");
+  o.easeWaist = b.design("ease_waist");
+  o.bustpointToBustpoint = b.measurement("bustpoint_to_bustpoint");
+  o.bustpointToNeckSide = b.measurement("bustpoint_to_neck_side");
+  o.underarmDrop = b.design("underarm_drop");
+  o.waistDarts = false;
+  const double B = b.measurement("bust_circ"), W = b.measurement("waist_circ");
+  const double H = b.measurement("hip_circ"), hl = b.measurement("waist_to_hip_b");
+  const BodiceDraft d = draftBodiceBlock(b, B, W, b.measurement("neck_back_to_waist_b"), o);
+  const double wbl = d.wbl, yHem = wbl + b.design("blouse_length"), yHip = wbl + hl;
+  b.point("level_hip", Point2(0, yHip));
+  b.construction("hip_line", Point2(0, yHip), Point2(d.bw, yHip));
+  b.construction("hem_line", Point2(0, yHem), Point2(d.bw, yHem));
+  b.construction("centre_back_extension", Point2(0, wbl), Point2(0, yHem));
+  // Waist shaping: half the suppression at the side, a quarter in each fish-eye dart (front
+  // under the bust point, back at the back-width line), darts at least 0.2 cm.
+  const double dTot = d.bw - (W + o.easeWaist) / 2;
+  const double dart = std::max(0.25 * dTot, 0.2);
+  const double cw = (dTot - 2 * dart) / 2;  // per side seam edge (negative: flares out)
+  const double delta = ((H + b.design("ease_hip")) / 2 - d.bw) / 2;
+  const Point2 wsB = b.point("waist_side_back_blouse", Point2(d.side.x() - cw, wbl));
+  const Point2 wsF = b.point("waist_side_front_blouse", Point2(d.side.x() + cw, wbl));
+  const Point2 hipB(d.side.x() + delta, yHip), hipF(d.side.x() - delta, yHip);
+  b.point("hip_side_back", hipB);
+  b.point("hip_side_front", hipF);
+  // The hem side point lies on the waist -> hip line (extended below the hip), so the hip
+  // girth is kept whatever the blouse length.
+  auto onSide = [&](const Point2& w, const Point2& h) {
+    return Point2(pointAtFraction(w, h, (yHem - wbl) / (yHip - wbl)));
+  };
+  const Point2 hemB = b.point("hem_side_back", onSide(wsB, hipB));
+  const Point2 hemF = b.point("hem_side_front", onSide(wsF, hipF));
+  const Point2 cbHem = b.point("hem_cb", Point2(0, yHem));
+  const Point2 cfHem = b.point("hem_cf", Point2(d.bw, yHem));
+  b.require(yHem > wbl + 3, "blouse_length must reach at least 3 cm below the waist");
+  const double lowApex = wbl + std::min(0.6 * hl, yHem - wbl - 2);
+  auto fishEye = [&](const std::string& name, double x, double topY) {
+    DraftLine l{"dart:" + name,
+                Polyline{Point2(x, topY), Point2(x + dart / 2, wbl), Point2(x, lowApex),
+                         Point2(x - dart / 2, wbl), Point2(x, topY)},
+                false};
+    b.contour("dart_" + name, l.points);
+    return l;
+  };
+  const double backX = d.backDarts[1].x;  // under the back-width line (Bunka dart d)
+  // The back dart stops at the bust level so that the bust keeps all of ease_bust.
+  const DraftLine dartBack = fishEye("back_waist", backX, d.yS);
+  const DraftLine dartFront = fishEye("front_waist", d.bp.x(), std::max(d.bp.y() + 2.5, d.yS));
+  b.contour("side_back_blouse", Polyline{d.side, wsB, hemB});
+  b.contour("side_front_blouse", Polyline{d.side, wsF, hemF});
+  b.contour("hem_back", Polyline{cbHem, hemB});
+  b.contour("hem_front", Polyline{hemF, cfHem});
+  b.contour("centre_back", Polyline{d.cbNeck, cbHem});
+  b.contour("centre_front", Polyline{d.fnp, cfHem});
+
+  Pattern& p = b.pattern();
+  Polyline back;
+  append(back, d.backNeck);
+  append(back, Polyline{d.shoulderDart.leg1, d.shoulderDart.apex, d.shoulderDart.leg2, d.spB});
+  append(back, d.backArmhole);
+  append(back, Polyline{wsB, hemB, cbHem});
+  Panel pb = makePanel("bodice_back", back);
+  pb.darts.push_back(d.shoulderDart);
+  pb.internalLines.push_back(dartBack);
+  pb.grainline = grainline(Point2(4, 4), Point2(4, yHem - 3));
+  pb.cutOnFold = true;
+  pb.notches.push_back(
+      Notch{"armhole_back", pointAlong(d.backArmhole, polylineLength(d.backArmhole) - 8)});
+  Polyline front;
+  append(front, d.fnp);
+  append(front, reversed(d.frontNeck));
+  append(front, d.spF);
+  append(front, d.frontArmholeUpper);
+  append(front, d.bp);
+  append(front, d.frontArmholeLower);
+  append(front, Polyline{wsF, hemF, cfHem});
+  Panel pf = makePanel("bodice_front", front);
+  pf.darts.push_back(Dart{"bust", d.bp, d.g2, d.g});
+  pf.internalLines.push_back(dartFront);
+  pf.grainline = grainline(Point2(d.bw - 4, d.fnp.y() + 3), Point2(d.bw - 4, yHem - 3));
+  pf.cutOnFold = true;
+  pf.notches.push_back(Notch{
+      "armhole_front", pointAlong(d.frontArmholeLower, polylineLength(d.frontArmholeLower) - 7)});
+  addPanelWithRegion(p, pb);
+  addPanelWithRegion(p, pf);
+  addSeam(p, "shoulder", "bodice_back", d.snpB, d.spB, "bodice_front", d.snpF, d.spF);
+  addSeam(p, "side", "bodice_back", d.side, hemB, "bodice_front", d.side, hemF);
+  addSleeveTo(b, d, 0.85);
+}
+
+void recipeSkirtHighWaist(DraftBuilder& b) {
+  BodiceOptions bo;  // the bodice the skirt top follows (Bunka defaults)
+  const double B = b.measurement("bust_circ"), W = b.measurement("waist_circ");
+  const BodiceDraft d = draftBodiceBlock(b, B, W, b.measurement("neck_back_to_waist_b"), bo);
+  for (auto& l : b.pattern().lines)
+    l.construction = true;
+  SkirtOptions s;
+  const double half = (b.measurement("hip_circ") + b.design("ease_hip")) / 2;
+  s.cbX = 0;
+  s.cfX = d.bw;
+  s.waistY = d.wbl;
+  s.hipLength = b.measurement("waist_to_hip_b");
+  s.length = b.design("skirt_length");
+  s.hipBack = half / 2 - 1;
+  s.hipFront = half / 2 + 1;
+  const double quarterW = (W + b.design("ease_waist")) / 4;
+  s.waistBack = quarterW - 1;
+  s.waistFront = quarterW + 1;
+  s.hemFlare = b.design("hem_flare");
+  s.waistRaise = b.design("waist_raise");
+  s.bodice = &d;
+  s.backDartX = std::vector<double>{d.backDarts[0].x, d.backDarts[1].x};
+  s.frontDartX = std::vector<double>{d.frontDarts[0].x, d.frontDarts[1].x};
+  b.point("level_waist", Point2(0, d.wbl));
+  draftSkirt(b, s);
+}
+
+}  // namespace garmcap::drafts::detail

@@ -1,0 +1,256 @@
+// The skirt block (research/drafting_blocks.md §2.1, East-Asian/Bunka preset), its A-line side
+// flare (§2.2, pivot at the hip point so the hip girth is kept) and the high-waist extension
+// (§2.3) along the bodice side seam and darts.
+#include <cmath>
+
+#include "recipe_blocks.h"
+#include "recipe_list.h"
+
+namespace garmcap::drafts::detail {
+namespace {
+
+constexpr int kFine = 400;  // fine sampling of curves before darts are opened in them
+
+// Arc length along a left-to-right polyline where it crosses x.
+double arcAtX(const Polyline& pl, double x) {
+  auto hit = firstIntersection(pl, Line::vertical(x));
+  return hit ? hit->sA : 0;
+}
+
+struct Piece {
+  Polyline waist;  // left to right incl. darts
+  std::vector<Dart> darts;
+  Polyline side;  // side waist -> hip -> hem side (top to bottom)
+  Polyline hem;   // left to right
+};
+
+}  // namespace
+
+SkirtDraft draftSkirt(DraftBuilder& b, const SkirtOptions& o, bool addSideSeam) {
+  SkirtDraft r;
+  const std::string& px = o.prefix;
+  const double y0 = o.waistY, yH = o.waistY + o.hipLength, yHem = o.waistY + o.length;
+  b.require(o.length > o.hipLength + 3, "skirt_length = " + std::to_string(o.length) +
+                                            " cm must reach at least 3 cm below "
+                                            "the hip line (waist_to_hip_b = " +
+                                            std::to_string(o.hipLength) + " cm)");
+  const double high = o.waistRaise;
+  const bool isHigh = high > 0;
+  const double raise = isHigh ? 0 : o.sideRaise, drop = isHigh ? 0 : o.cbDrop;
+  // Frame.
+  const Point2 hipB = b.point(px + "_hip_side_back", Point2(o.cbX + o.hipBack, yH));
+  const Point2 hipF = b.point(px + "_hip_side_front", Point2(o.cfX - o.hipFront, yH));
+  b.point("level_hip", Point2(o.cbX, yH));
+  b.construction(px + "_hip_line", Point2(o.cbX, yH), Point2(o.cfX, yH));
+  b.construction(px + "_hem_line", Point2(o.cbX, yHem), Point2(o.cfX, yHem));
+  b.construction(px + "_waist_line", Point2(o.cbX, y0), Point2(o.cfX, y0));
+  b.construction(px + "_side_back_guide", Point2(hipB.x(), y0), Point2(hipB.x(), yHem));
+  b.construction(px + "_side_front_guide", Point2(hipF.x(), y0), Point2(hipF.x(), yHem));
+  // Suppression: side intake the same on both pieces so the side seams match.
+  const double xb = o.hipBack - o.waistBack, xf = o.hipFront - o.waistFront;
+  b.require(xb > 0.8 && xf > 0.8,
+            "waist_circ + ease_waist leaves no waist suppression against hip_circ + ease_hip "
+            "(back " +
+                std::to_string(xb) + " cm, front " + std::to_string(xf) + " cm)");
+  const double s = std::min(xb, xf) / 3;
+  const Point2 swb = b.point(px + "_waist_side_back", Point2(hipB.x() - s, y0 - raise));
+  const Point2 swf = b.point(px + "_waist_side_front", Point2(hipF.x() + s, y0 - raise));
+  const Point2 cbw = b.point(px + "_waist_cb", Point2(o.cbX, y0 + drop));
+  const Point2 cfw = b.point(px + "_waist_cf", Point2(o.cfX, y0));
+  // Side curves (convex, vertical where they meet the hip line).
+  const BezierPath sideBPath = smoothCurve(Polyline{swb, hipB}, std::nullopt, Point2(0, 1));
+  const BezierPath sideFPath = smoothCurve(Polyline{swf, hipF}, std::nullopt, Point2(0, 1));
+  const Polyline sideB = sampleByArcLength(sideBPath, kSideCurveCount);
+  const Polyline sideF = sampleByArcLength(sideFPath, kSideCurveCount);
+  // Waist curves, perpendicular to CB/CF and to the side curves.
+  const Point2 tB = sideB[1] - sideB[0];
+  const Point2 tF = sideF[1] - sideF[0];
+  Point2 wB(tB.y(), -tB.x());
+  if (wB.x() < 0)
+    wB = -wB;
+  Point2 wF(tF.y(), -tF.x());
+  if (wF.x() < 0)
+    wF = -wF;
+  const Polyline waistBFine =
+      isHigh ? Polyline{cbw, swb} : curve({{cbw, Point2(1, 0)}, {swb, wB}}, kFine);
+  const Polyline waistFFine =
+      isHigh ? Polyline{swf, cfw} : curve({{swf, wF}, {cfw, Point2(1, 0)}}, kFine);
+  // Darts: widths so that the waist seam without darts is exactly the target.
+  const double dartB = polylineLength(waistBFine) - o.waistBack;
+  const double dartF = polylineLength(waistFFine) - o.waistFront;
+  b.require(dartB > 0.3 && dartF > 0.3, "waist too close to hip for the skirt darts");
+  const double backW = hipB.x() - o.cbX, frontW = o.cfX - hipF.x();
+  std::vector<double> bx =
+      o.backDartX.value_or(std::vector<double>{o.cbX + backW / 3, o.cbX + 2 * backW / 3});
+  std::vector<double> fx =
+      o.frontDartX.value_or(std::vector<double>{o.cfX - 2 * frontW / 3, o.cfX - frontW / 3});
+  const double apexB = y0 + 0.72 * o.hipLength, apexF = y0 + 0.5 * o.hipLength;
+  auto back =
+      openDarts(waistBFine, {{px + "_back_1", arcAtX(waistBFine, bx[0]), dartB / 2, apexB},
+                             {px + "_back_2", arcAtX(waistBFine, bx[1]), dartB / 2, apexB - 1}});
+  auto front =
+      openDarts(waistFFine, {{px + "_front_side", arcAtX(waistFFine, fx[0]), 0.55 * dartF, apexF},
+                             {px + "_front_cf", arcAtX(waistFFine, fx[1]), 0.45 * dartF, apexF}});
+  if (!back || !front)
+    b.refuse("the skirt darts do not fit in the waist");
+
+  // Hem with the side flare: the hem side point turns about the hip point.
+  const double below = yHem - yH;
+  const double theta = radToDeg(std::atan2(o.hemFlare, below));
+  const Point2 hsb =
+      b.point(px + "_hem_side_back", rotateAbout(Point2(hipB.x(), yHem), hipB, -theta));
+  const Point2 hsf =
+      b.point(px + "_hem_side_front", rotateAbout(Point2(hipF.x(), yHem), hipF, theta));
+  const Point2 cbh = b.point(px + "_hem_cb", Point2(o.cbX, yHem));
+  const Point2 cfh = b.point(px + "_hem_cf", Point2(o.cfX, yHem));
+  const Point2 dB = (hsb - hipB).normalized(), dF = (hsf - hipF).normalized();
+  const Polyline hemB = curve({{cbh, Point2(1, 0)}, {hsb, Point2(dB.y(), -dB.x())}}, kHemCount);
+  const Polyline hemF = curve({{hsf, Point2(dF.y(), -dF.x())}, {cfh, Point2(1, 0)}}, kHemCount);
+
+  // Above the waist (high waist): side and darts follow the bodice, cut at the top line.
+  Polyline topB, topF;  // CB top ... side top, side top ... CF top (with dart openings)
+  std::vector<Dart> dartsB = back->darts, dartsF = front->darts;
+  Point2 sideTopB, sideTopF;
+  if (isHigh) {
+    const BodiceDraft& bd = *o.bodice;
+    const double yT = y0 - high;
+    b.point("level_top", Point2(o.cbX, yT));
+    auto upTo = [&](const Point2& from, const Point2& toward) {
+      const Point2 u = (toward - from).normalized();
+      return Point2(from + (high / std::abs(u.y())) * u);
+    };
+    sideTopB =
+        b.point(px + "_top_side_back",
+                upTo(swb, Point2(bd.side.x() - (bd.sideWaistBack.x() - swb.x()), bd.side.y())));
+    sideTopF =
+        b.point(px + "_top_side_front",
+                upTo(swf, Point2(bd.side.x() + (swf.x() - bd.sideWaistFront.x()), bd.side.y())));
+    const Point2 cbTop = b.point(px + "_top_cb", Point2(o.cbX, yT));
+    const Point2 cfTop = b.point(px + "_top_cf", Point2(o.cfX, yT));
+    // Bodice dart apexes above each skirt dart (back: e, d; front: b, a).
+    auto buildTop = [&](const Point2& left, const Point2& right, std::vector<Dart>& darts,
+                        const std::vector<BodiceDraft::WaistDart>& upper, Polyline& top,
+                        Polyline& waistOut) {
+      Polyline out;
+      Polyline waist;
+      append(out, left);
+      for (std::size_t i = 0; i < darts.size(); ++i) {
+        Dart& d = darts[i];
+        const double apexUp = upper[i].apexY;
+        const double depth = y0 - apexUp;
+        b.require(depth > high + 1, "waist_raise reaches above the bodice dart tips");
+        const double k = 1 - high / depth;
+        const double cx = (d.leg1.x() + d.leg2.x()) / 2, w = d.leg2.x() - d.leg1.x();
+        const Point2 t1(cx - k * w / 2, yT), t2(cx + k * w / 2, yT);
+        append(out, t1);
+        // The outline goes down the dart to the waist, to the skirt apex and back up.
+        append(out, Polyline{d.leg1, d.apex, d.leg2, t2});
+        d = Dart{d.name, d.apex, t1, t2};
+      }
+      append(out, right);
+      top = out;
+      waist = waistOut;
+    };
+    std::vector<BodiceDraft::WaistDart> upB = bd.backDarts, upF = bd.frontDarts;
+    Polyline dummyB = back->points, dummyF = front->points;
+    buildTop(cbTop, sideTopB, dartsB, upB, topB, dummyB);
+    buildTop(sideTopF, cfTop, dartsF, upF, topF, dummyF);
+    b.contour(px + "_top_back", Polyline{cbTop, sideTopB});
+    b.contour(px + "_top_front", Polyline{sideTopF, cfTop});
+    b.contour(px + "_side_back_upper", Polyline{sideTopB, swb});
+    b.contour(px + "_side_front_upper", Polyline{sideTopF, swf});
+  }
+
+  // Contours of the draft.
+  if (!isHigh) {
+    b.contour(px + "_waist_back", back->points);
+    b.contour(px + "_waist_front", front->points);
+  } else {
+    b.construction(px + "_waist_back", back->points);
+    b.construction(px + "_waist_front", front->points);
+  }
+  b.contour(px + "_side_back", joined(sideB, Polyline{hsb}));
+  b.contour(px + "_side_front", joined(sideF, Polyline{hsf}));
+  b.contour(px + "_hem_back", hemB);
+  b.contour(px + "_hem_front", hemF);
+  b.contour(px + "_centre_back", Polyline{isHigh ? b.at(px + "_top_cb") : cbw, cbh});
+  b.contour(px + "_centre_front", Polyline{isHigh ? b.at(px + "_top_cf") : cfw, cfh});
+
+  // Panels.
+  Pattern& p = b.pattern();
+  Polyline ob;
+  if (isHigh) {
+    append(ob, topB);
+    append(ob, swb);
+  } else {
+    append(ob, back->points);
+  }
+  append(ob, sideB);
+  append(ob, hsb);
+  append(ob, reversed(hemB));
+  Panel pb = makePanel(px + "_back", ob);
+  pb.darts = dartsB;
+  pb.grainline = grainline(Point2(o.cbX + backW / 2, y0 + 3), Point2(o.cbX + backW / 2, yHem - 3));
+  pb.cutCount = 2;
+  pb.cutOnFold = false;
+  pb.notches.push_back(Notch{"hip_back", hipB});
+  Polyline of;
+  if (isHigh) {
+    append(of, topF);
+    append(of, cfh);
+  }
+  if (!isHigh) {
+    append(of, front->points);
+    append(of, cfh);
+  }
+  append(of, reversed(hemF));
+  append(of, hsf);
+  append(of, reversed(sideF));
+  if (isHigh)
+    append(of, sideTopF);
+  Panel pf = makePanel(px + "_front", of);
+  pf.darts = dartsF;
+  pf.grainline = grainline(Point2(o.cfX - 4, y0 + 3), Point2(o.cfX - 4, yHem - 3));
+  pf.cutCount = 1;
+  pf.cutOnFold = true;
+  pf.notches.push_back(Notch{"hip_front", hipF});
+  addPanelWithRegion(p, pb);
+  addPanelWithRegion(p, pf);
+  if (addSideSeam) {
+    addSeam(p, px + "_side", px + "_back", isHigh ? sideTopB : swb, hsb, px + "_front",
+            isHigh ? sideTopF : swf, hsf);
+  }
+  r.cbWaist = cbw;
+  r.cfWaist = cfw;
+  r.sideWaistBack = swb;
+  r.sideWaistFront = swf;
+  r.hipBack = hipB;
+  r.hipFront = hipF;
+  r.hemSideBack = hsb;
+  r.hemSideFront = hsf;
+  r.cbHem = cbh;
+  r.cfHem = cfh;
+  return r;
+}
+
+void recipeSkirt(DraftBuilder& b) {
+  const double W = b.measurement("waist_circ"), H = b.measurement("hip_circ");
+  const double hl = b.measurement("waist_to_hip_b");
+  SkirtOptions o;
+  const double wd = (H + b.design("ease_hip")) / 2;
+  o.cbX = 0;
+  o.cfX = wd;
+  o.waistY = 0;
+  o.hipLength = hl;
+  o.length = b.design("skirt_length");
+  o.hipBack = wd / 2 - 1;
+  o.hipFront = wd / 2 + 1;
+  const double quarterW = (W + b.design("ease_waist")) / 4;
+  o.waistBack = quarterW - 1;
+  o.waistFront = quarterW + 1;
+  o.hemFlare = b.design("hem_flare");
+  b.point("level_waist", Point2(0, 0));
+  draftSkirt(b, o);
+}
+
+}  // namespace garmcap::drafts::detail

@@ -1,0 +1,245 @@
+// SVG at true scale: the user unit is 1 cm (viewBox in cm, width/height in cm), so stroke
+// widths and font sizes below are in cm too.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "garmcap/drafts/file_io.h"
+#include "garmcap/drafts/geometry.h"
+#include "garmcap/drafts/svg.h"
+
+namespace garmcap::drafts {
+namespace {
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(3);
+  s << (std::abs(v) < 5e-4 ? 0.0 : v);
+  return s.str();
+}
+
+std::string escape(const std::string& t) {
+  std::string out;
+  for (char c : t) {
+    switch (c) {
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string pointsAttr(const Polyline& pl) {
+  std::string s;
+  for (const auto& p : pl)
+    s += num(p.x()) + "," + num(p.y()) + " ";
+  if (!s.empty())
+    s.pop_back();
+  return s;
+}
+
+struct Box {
+  double x0 = std::numeric_limits<double>::max(), y0 = x0;
+  double x1 = -std::numeric_limits<double>::max(), y1 = x1;
+  void add(const Point2& p) {
+    x0 = std::min(x0, p.x());
+    y0 = std::min(y0, p.y());
+    x1 = std::max(x1, p.x());
+    y1 = std::max(y1, p.y());
+  }
+  void add(const Polyline& pl) {
+    for (const auto& p : pl)
+      add(p);
+  }
+  bool empty() const { return x0 > x1; }
+};
+
+// Area centroid of a polygon (falls back to the vertex mean for degenerate input).
+Point2 centroid(const Polyline& poly) {
+  double a = 0;
+  Point2 c(0, 0);
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Point2& p = poly[i];
+    const Point2& q = poly[(i + 1) % poly.size()];
+    const double cross = p.x() * q.y() - q.x() * p.y();
+    a += cross;
+    c += (p + q) * cross;
+  }
+  if (std::abs(a) < 1e-9) {
+    Point2 m(0, 0);
+    for (const auto& p : poly)
+      m += p;
+    return m / static_cast<double>(std::max<std::size_t>(poly.size(), 1));
+  }
+  return c / (3 * a);
+}
+
+// Label position: the centroid when it lies inside the outline, else the inside point of the
+// horizontal line through it that is farthest from the outline crossings.
+Point2 labelPoint(const Polyline& outline) {
+  Point2 c = centroid(outline);
+  if (pointInPolygon(c, outline))
+    return c;
+  auto hits =
+      intersectPolylineLine(joined(outline, Polyline{outline.front()}), Line::horizontal(c.y()));
+  std::vector<double> xs;
+  for (const auto& h : hits)
+    xs.push_back(h.point.x());
+  std::sort(xs.begin(), xs.end());
+  double best = -1;
+  for (std::size_t i = 0; i + 1 < xs.size(); i += 2) {
+    if (xs[i + 1] - xs[i] > best) {
+      best = xs[i + 1] - xs[i];
+      c.x() = (xs[i] + xs[i + 1]) / 2;
+    }
+  }
+  return c;
+}
+
+}  // namespace
+
+std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
+  Box box;
+  if (options.drawDraft) {
+    for (const auto& l : pattern.lines)
+      box.add(l.points);
+  }
+  for (const auto& p : pattern.panels)
+    box.add(p.outline);
+  if (box.empty()) {
+    box.add(Point2(0, 0));
+    box.add(Point2(10, 10));
+  }
+  const double m = options.marginCm;
+  const double titleH = 4.0;
+  const double x0 = box.x0 - m, y0 = box.y0 - m - titleH;
+  const double w = box.x1 - box.x0 + 2 * m, h = box.y1 - box.y0 + 2 * m + titleH + 2.0;
+  std::ostringstream s;
+  s << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << num(w)
+    << "cm\" height=\"" << num(h) << "cm\" viewBox=\"" << num(x0) << " " << num(y0) << " " << num(w)
+    << " " << num(h) << "\">\n";
+  s << "<title>" << escape(pattern.type) << " draft (1 user unit = 1 cm)</title>\n";
+  s << "<defs><marker id=\"arrow\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"6\" "
+       "markerHeight=\"6\" orient=\"auto-start-reverse\"><path d=\"M0,0 L10,5 L0,10 z\" "
+       "fill=\"#1f5fa8\"/></marker></defs>\n";
+  s << "<rect x=\"" << num(x0) << "\" y=\"" << num(y0) << "\" width=\"" << num(w) << "\" height=\""
+    << num(h) << "\" fill=\"white\"/>\n";
+  // Title: type and the body.
+  std::string body;
+  for (const auto& [k, v] : pattern.measurements.values())
+    body += k + " " + num(v).substr(0, num(v).size() - 2) + "  ";
+  s << "<g font-family=\"sans-serif\" fill=\"black\">\n"
+    << "<text x=\"" << num(x0 + 1) << "\" y=\"" << num(y0 + 1.6) << "\" font-size=\"1.2\">"
+    << escape(pattern.type) << " — draft (grey: construction, black: contour), panels (blue)"
+    << "</text>\n"
+    << "<text x=\"" << num(x0 + 1) << "\" y=\"" << num(y0 + 3.0) << "\" font-size=\"0.7\">"
+    << escape(body) << "</text>\n</g>\n";
+
+  if (options.drawPanels) {
+    s << "<g id=\"panels\">\n";
+    for (const auto& p : pattern.panels) {
+      s << "<g id=\"panel-" << escape(p.name) << "\">\n";
+      s << "<polygon points=\"" << pointsAttr(p.outline)
+        << "\" fill=\"#4a90d9\" fill-opacity=\"0.13\" stroke=\"#1f5fa8\" stroke-width=\"0.05\"/>\n";
+      for (const auto& d : p.darts) {
+        s << "<polyline points=\"" << pointsAttr(Polyline{d.leg1, d.apex, d.leg2})
+          << "\" fill=\"none\" stroke=\"#1f5fa8\" stroke-width=\"0.04\" stroke-dasharray=\"0.3 "
+             "0.2\"/>\n";
+        s << "<line x1=\"" << num((d.leg1.x() + d.leg2.x()) / 2) << "\" y1=\""
+          << num((d.leg1.y() + d.leg2.y()) / 2) << "\" x2=\"" << num(d.apex.x()) << "\" y2=\""
+          << num(d.apex.y()) << "\" stroke=\"#1f5fa8\" stroke-width=\"0.02\" "
+          << "stroke-dasharray=\"0.1 0.15\"/>\n";
+      }
+      for (const auto& l : p.internalLines) {
+        s << "<polyline points=\"" << pointsAttr(l.points)
+          << "\" fill=\"none\" stroke=\"#1f5fa8\" stroke-width=\"0.03\" stroke-dasharray=\"0.5 "
+             "0.3\"/>\n";
+      }
+      s << "<line x1=\"" << num(p.grainline.start.x()) << "\" y1=\"" << num(p.grainline.start.y())
+        << "\" x2=\"" << num(p.grainline.end.x()) << "\" y2=\"" << num(p.grainline.end.y())
+        << "\" stroke=\"#1f5fa8\" stroke-width=\"0.06\" marker-start=\"url(#arrow)\" "
+        << "marker-end=\"url(#arrow)\"/>\n";
+      for (const auto& n : p.notches) {
+        // A 0.8 cm tick across the outline at the notch.
+        const Polyline closed = joined(p.outline, Polyline{p.outline.front()});
+        const ClosestPoint cp = closestPoint(closed, n.position);
+        const auto t = tangentAtLength(closed, cp.s);
+        const Point2 nrm = perpendicularVector(t.value_or(Point2(1, 0)));
+        const Point2 a = n.position + 0.4 * nrm, b = n.position - 0.4 * nrm;
+        s << "<line x1=\"" << num(a.x()) << "\" y1=\"" << num(a.y()) << "\" x2=\"" << num(b.x())
+          << "\" y2=\"" << num(b.y()) << "\" stroke=\"#c0392b\" stroke-width=\"0.08\"/>\n";
+      }
+      const Point2 c = labelPoint(p.outline);
+      const std::string cut = "cut " + std::to_string(p.cutCount) +
+                              (p.cutOnFold ? " on fold" : "") + ", SA " +
+                              num(p.seamAllowanceCm).substr(0, 4) + " cm";
+      s << "<text x=\"" << num(c.x()) << "\" y=\"" << num(c.y() - 0.4)
+        << "\" font-family=\"sans-serif\" font-size=\"1.1\" text-anchor=\"middle\" "
+           "fill=\"#1f5fa8\">"
+        << escape(p.name) << "</text>\n";
+      s << "<text x=\"" << num(c.x()) << "\" y=\"" << num(c.y() + 0.9)
+        << "\" font-family=\"sans-serif\" font-size=\"0.7\" text-anchor=\"middle\" "
+           "fill=\"#1f5fa8\">"
+        << escape(cut) << "</text>\n";
+      s << "</g>\n";
+    }
+    s << "</g>\n";
+  }
+  if (options.drawDraft) {
+    s << "<g id=\"draft-construction\" fill=\"none\" stroke=\"#9a9a9a\" stroke-width=\"0.03\">\n";
+    for (const auto& l : pattern.lines) {
+      if (l.construction)
+        s << "<polyline points=\"" << pointsAttr(l.points) << "\"/>\n";
+    }
+    s << "</g>\n<g id=\"draft-contours\" fill=\"none\" stroke=\"black\" stroke-width=\"0.07\" "
+         "stroke-linejoin=\"round\">\n";
+    for (const auto& l : pattern.lines) {
+      if (!l.construction)
+        s << "<polyline points=\"" << pointsAttr(l.points) << "\"/>\n";
+    }
+    s << "</g>\n";
+    if (options.drawPointNames) {
+      s << "<g font-family=\"sans-serif\" font-size=\"0.45\" fill=\"#555\">\n";
+      for (const auto& [name, p] : pattern.points) {
+        s << "<circle cx=\"" << num(p.x()) << "\" cy=\"" << num(p.y()) << "\" r=\"0.12\"/>"
+          << "<text x=\"" << num(p.x() + 0.2) << "\" y=\"" << num(p.y() - 0.2) << "\">"
+          << escape(name) << "</text>\n";
+      }
+      s << "</g>\n";
+    }
+  }
+  // 10 cm scale bar under the drawing, to check the print scale.
+  const double by = box.y1 + m;
+  s << "<g stroke=\"black\" stroke-width=\"0.05\"><line x1=\"" << num(box.x0) << "\" y1=\""
+    << num(by) << "\" x2=\"" << num(box.x0 + 10) << "\" y2=\"" << num(by) << "\"/>";
+  for (int i = 0; i <= 10; ++i) {
+    s << "<line x1=\"" << num(box.x0 + i) << "\" y1=\"" << num(by - (i % 5 ? 0.2 : 0.4))
+      << "\" x2=\"" << num(box.x0 + i) << "\" y2=\"" << num(by) << "\"/>";
+  }
+  s << "</g><text x=\"" << num(box.x0 + 10.5) << "\" y=\"" << num(by)
+    << "\" font-family=\"sans-serif\" font-size=\"0.7\">10 cm</text>\n";
+  s << "</svg>\n";
+  return s.str();
+}
+
+void writePatternSvg(const std::filesystem::path& path, const Pattern& pattern,
+                     const SvgOptions& options) {
+  writeFileAtomic(path, patternToSvg(pattern, options));
+}
+
+}  // namespace garmcap::drafts
