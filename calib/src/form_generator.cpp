@@ -128,15 +128,19 @@ ParametricForm::ParametricForm(const drafts::Measurements& body) : body_(body) {
   const double wrist = optional(body, "arm_wrist_circ", 0.18 * bust);
   const double backLength = optional(body, "neck_back_to_waist_b", 0.228 * H);
   const double waistToHip = optional(body, "waist_to_hip_b", 0.11 * H);
-  const double crotch = optional(body, "leg_crotch_to_floor", 0.455 * H);
+  double crotch = optional(body, "leg_crotch_to_floor", 0.455 * H);
   const double shoulders = optional(body, "shoulder_tip_to_shoulder_tip_b", 0.225 * H);
   const double sleeve = optional(body, "arm_shoulder_tip_to_wrist", 0.333 * H);
   const double bpbp = optional(body, "bustpoint_to_bustpoint", 0.2 * bust);
   const double neckToBp = optional(body, "bustpoint_to_neck_side", 0.14 * H);
 
   height_ = H;
-  const double yWaist = optional(body, "height_waist_side", 0.615 * H);
+  const double yWaist =
+      optional(body, "height_waist_side", optional(body, "leg_waist_side_to_floor", 0.615 * H));
   const double yHip = yWaist - waistToHip;
+  if (!body.has("leg_crotch_to_floor") && body.has("rise_length_side")) {
+    crotch = yWaist - body.values().at("rise_length_side");
+  }
   const double yNeck = yWaist + backLength;
   const double neckR = neck / (2 * std::numbers::pi);
   const double dx = std::max(0.0, bpbp / 2 - neckR);

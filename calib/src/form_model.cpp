@@ -415,11 +415,22 @@ void FormModel::findLandmarks() {
   }
   auto circAt = [&](double y) { return section(y).circumferenceCm; };
 
-  // Armpit: the top of the range where the arms are separate loops beside the torso.
+  // Armpit: the top of the lowest run of heights (reaching above 30% of crotch..top) where the
+  // arms are separate loops beside the torso. Runs higher up are bumps of the arm tops sticking
+  // out of a sloping shoulder, not armpits.
   std::optional<std::size_t> armpitRow;
+  const double runTopMin = lower + 0.3 * (maxY_ - lower);
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (rows[i].armsApart && rows[i].y < minY_ + 0.9 * h)
-      armpitRow = i;
+    if (!rows[i].armsApart)
+      continue;
+    std::size_t j = i;
+    while (j + 1 < rows.size() && rows[j + 1].armsApart)
+      ++j;
+    if (rows[j].y > runTopMin && rows[j].y < minY_ + 0.9 * h) {
+      armpitRow = j;
+      break;
+    }
+    i = j;
   }
   double upper = maxY_ - 0.1 * h;
   if (armpitRow) {

@@ -188,9 +188,11 @@ void writeCalibration(const std::filesystem::path& path, const Calibration& c) {
 }
 
 Calibration readCalibration(const std::filesystem::path& path) {
+  return calibrationFromJson(drafts::readJsonFile(path), path.string());
+}
+
+Calibration calibrationFromJson(const nlohmann::json& j, const std::string& what) {
   using drafts::ParseError;
-  const std::string what = path.string();
-  const json j = drafts::readJsonFile(path);
   static const std::set<std::string> kKnown = {
       "version", "units", "form", "empty_frame",  "image_size",
       "camera",  "pose",  "fit",  "landmarks_px", "landmark_heights_cm"};

@@ -27,7 +27,8 @@ class ParametricForm {
   /// Required measurements: height, bust_circ, waist_circ, hip_circ. Optional (defaults are
   /// proportions of the required ones): neck_circ, arm_wrist_circ, neck_back_to_waist_b,
   /// waist_to_hip_b, leg_crotch_to_floor, shoulder_tip_to_shoulder_tip_b,
-  /// arm_shoulder_tip_to_wrist, bustpoint_to_bustpoint, bustpoint_to_neck_side.
+  /// arm_shoulder_tip_to_wrist, bustpoint_to_bustpoint, bustpoint_to_neck_side, and for the
+  /// vertical layout height_waist_side (or leg_waist_side_to_floor) and rise_length_side.
   /// Throws std::invalid_argument naming a missing or inconsistent measurement (e.g. waist not
   /// smaller than bust and hip, landmarks out of order).
   explicit ParametricForm(const drafts::Measurements& body);

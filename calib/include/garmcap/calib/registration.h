@@ -5,6 +5,7 @@
 // carries them (docs/formats.md "Calibration JSON").
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <utility>
@@ -69,5 +70,7 @@ std::string calibrationToJson(const Calibration& c);
 void writeCalibration(const std::filesystem::path& path, const Calibration& c);
 /// Strict reader: throws drafts::ParseError naming the file and field.
 Calibration readCalibration(const std::filesystem::path& path);
+/// The same from JSON already parsed; `what` names the source in messages.
+Calibration calibrationFromJson(const nlohmann::json& j, const std::string& what);
 
 }  // namespace garmcap::calib
