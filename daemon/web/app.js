@@ -141,7 +141,7 @@ function applyStatus(s) {
     showBanner('Camera not found.', (cam.error ? cam.error + ' — ' : '') +
       'Check the camera cable and power, then wait: the station retries by itself.');
   } else if (!st.calibrated) {
-    showBanner('Form not calibrated.', 'Take the bare form off-garment and capture it once before capturing garments.',
+    showBanner('Form not calibrated.', 'Remove any garment from the form, then capture the bare form once.',
       'warn', { label: 'Capture bare form', run: captureEmpty });
   } else if (state === 'error' && st.last_error) {
     showBanner('Station error.', st.last_error);

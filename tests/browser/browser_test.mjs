@@ -1,0 +1,182 @@
+// Browser test of the web UI: Debian's chromium driven by playwright-core against the real
+// garmcapd on the simulated rig, on a free loopback port, with a fresh catalog and profile.
+//   node browser_test.mjs GARMCAPD WEB_DIR [SCREENSHOT_DIR]
+//   node browser_test.mjs --stub WEB_DIR [SCREENSHOT_DIR]   (UI only, against stub_server.mjs)
+// Steps: calibrate (bare form), capture a garment, see it in the last result and the catalog,
+// open it, edit the title, approve it, export the Shopify CSV and read the title back from it.
+// Prints one line per step and "N passed, N failed"; exits 1 on the first failure.
+import { spawn } from 'node:child_process';
+import { mkdtempSync, readFileSync, rmSync, mkdirSync } from 'node:fs';
+import { createServer } from 'node:net';
+import { tmpdir } from 'node:os';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { parse } from 'csv-parse/sync';
+
+const [garmcapd, webDir, shotDir] = process.argv.slice(2);
+if (!garmcapd || !webDir) { console.error('usage: node browser_test.mjs GARMCAPD WEB_DIR [SCREENSHOT_DIR]'); process.exit(2); }
+const stub = garmcapd === '--stub';
+const CHROMIUM = process.env.GARMCAP_CHROMIUM || '/usr/bin/chromium';
+const JOB_TIMEOUT_MS = Number(process.env.GARMCAP_BROWSER_JOB_TIMEOUT_MS || 180000);
+
+let passed = 0;
+const step = (name) => { passed++; console.log('ok   ' + name); };
+
+function freePort() {
+  return new Promise((resolve, reject) => {
+    const s = createServer();
+    s.unref();
+    s.on('error', reject);
+    s.listen(0, '127.0.0.1', () => { const { port } = s.address(); s.close(() => resolve(port)); });
+  });
+}
+
+async function waitFor(fn, ms, what) {
+  const end = Date.now() + ms;
+  let last;
+  while (Date.now() < end) {
+    try { const v = await fn(); if (v) return v; } catch (e) { last = e; }
+    await new Promise((r) => setTimeout(r, 250));
+  }
+  throw new Error('timed out waiting for ' + what + (last ? ': ' + last.message : ''));
+}
+
+const work = mkdtempSync(join(tmpdir(), 'garmcap-browser-'));
+const port = await freePort();
+const base = `http://127.0.0.1:${port}`;
+let daemon = null, context = null, daemonLog = '';
+
+async function main() {
+  daemon = stub
+    ? spawn(process.execPath, [join(dirname(fileURLToPath(import.meta.url)), 'stub_server.mjs'), String(port), webDir],
+      { stdio: ['ignore', 'pipe', 'pipe'] })
+    : spawn(garmcapd, ['--simulated', '--data', join(work, 'data'), '--listen', `127.0.0.1:${port}`, '--web-dir', webDir],
+      { stdio: ['ignore', 'pipe', 'pipe'] });
+  daemon.stdout.on('data', (d) => { daemonLog += d; });
+  daemon.stderr.on('data', (d) => { daemonLog += d; });
+  daemon.on('exit', (code, sig) => { daemonLog += `\n[garmcapd exited: ${code ?? sig}]\n`; });
+  await waitFor(async () => (await fetch(base + '/api/status')).ok, 30000, 'garmcapd to answer');
+  step(`${stub ? 'STUB server (not garmcapd)' : 'garmcapd --simulated'} answers on ${base}`);
+
+  mkdirSync(join(work, 'profile'));
+  context = await chromium.launchPersistentContext(join(work, 'profile'), {
+    executablePath: CHROMIUM,
+    headless: true,
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+    viewport: { width: 1280, height: 800 },
+    acceptDownloads: true,
+  });
+  const page = context.pages()[0] || await context.newPage();
+  const pageErrors = [];
+  page.on('pageerror', (e) => pageErrors.push(e.message));
+  const shot = async (name) => { if (shotDir) await page.screenshot({ path: join(shotDir, name + '.png') }); };
+
+  await page.goto(base + '/#/capture');
+  await page.waitForSelector('#btn-capture');
+  await waitFor(async () => (await page.textContent('#state-text')) !== 'Connecting…', 10000, 'the status');
+  step('the capture screen loads and shows the station state: ' + await page.textContent('#state-text'));
+
+  // A fresh station is not calibrated: the UI must say so and offer the bare-form capture.
+  const status = await (await fetch(base + '/api/status')).json();
+  if (!status.calibrated) {
+    const banner = await page.textContent('#banner-title');
+    if (!/Form not calibrated/.test(banner || '')) throw new Error('expected the "Form not calibrated" banner, got ' + banner);
+    if (!(await page.isDisabled('#btn-capture'))) throw new Error('capture must be disabled before calibration');
+    step('uncalibrated: banner "Form not calibrated", capture disabled');
+  }
+  await shot('capture-uncalibrated');
+
+  await page.click('#btn-empty');
+  await waitFor(async () => !(await page.isDisabled('#btn-capture')), JOB_TIMEOUT_MS, 'calibration (bare-form job)');
+  step('bare-form capture calibrates the station');
+
+  await page.fill('#sku', 'BRW-001');
+  await page.click('#btn-capture');
+  await page.waitForSelector('#job:not([hidden])');
+  await waitFor(async () => {
+    const failed = await page.$('#job.failed');
+    if (failed) throw new Error('the capture job failed: ' + await page.textContent('#job-error'));
+    return await page.isVisible('#last');
+  }, JOB_TIMEOUT_MS, 'the capture to finish');
+  const type = await page.textContent('#last-type');
+  step('capture finished; last result shows: ' + type.trim());
+  await page.waitForTimeout(500);
+  await shot('capture-result');
+
+  await page.click('a[data-tab="catalog"]');
+  await page.waitForSelector('.tile');
+  const tiles = await page.$$('.tile');
+  if (tiles.length !== 1) throw new Error('expected 1 item in the catalog, found ' + tiles.length);
+  step('the item appears in the catalog grid');
+  await page.fill('#search', 'BRW-001');
+  await page.waitForTimeout(600);
+  if ((await page.$$('.tile')).length !== 1) throw new Error('search by SKU did not find the item');
+  await page.fill('#search', 'no-such-thing-xyz');
+  await waitFor(async () => (await page.$$('.tile')).length === 0, 5000, 'the search to filter');
+  await page.fill('#search', '');
+  await page.waitForSelector('.tile');
+  step('search filters the grid');
+  await shot('catalog');
+
+  await page.click('.tile');
+  await page.waitForSelector('#view-item:not([hidden]) #f-title');
+  const id = (await page.evaluate(() => location.hash)).match(/item\/(\d+)/)[1];
+  step('item page opens for item ' + id);
+  const newTitle = 'Sommerkleid "Été", blau';
+  await page.fill('#f-title', newTitle);
+  await page.fill('#f-price', '59.90');
+  await page.fill('#f-tags', 'linen, summer');
+  await page.click('#f-save');
+  await waitFor(async () => (await page.textContent('#item-title')) === newTitle, 10000, 'the saved title');
+  const item = await (await fetch(`${base}/api/items/${id}`)).json();
+  if (item.title !== newTitle || item.price_cents !== 5990) throw new Error('the API has ' + JSON.stringify([item.title, item.price_cents]));
+  step('title and price edited through the form and stored');
+  await page.click('#f-approve');
+  await waitFor(async () => (await page.textContent('#item-status')) === 'Approved', 10000, 'approval');
+  step('item approved');
+  await page.waitForTimeout(800);
+  await shot('item');
+
+  await page.click('a[data-tab="export"]');
+  await page.waitForSelector('#view-export:not([hidden])');
+  await waitFor(async () => /1 approved item/.test(await page.textContent('#export-count')), 5000, 'the export count');
+  await shot('export');
+  const [download] = await Promise.all([page.waitForEvent('download', { timeout: 30000 }), page.click('#x-shopify')]);
+  const csvPath = join(work, 'shopify.csv');
+  await download.saveAs(csvPath);
+  const rows = parse(readFileSync(csvPath, 'utf8'), { columns: true });
+  const product = rows.find((r) => r.Title);
+  if (!product || product.Title !== newTitle) throw new Error('the Shopify CSV holds title ' + (product && product.Title));
+  if (!rows.every((r) => r['URL handle'] === 'brw-001')) throw new Error('unexpected handles ' + rows.map((r) => r['URL handle']));
+  step(`Shopify CSV downloaded (${rows.length} rows) and its title reads back exactly`);
+
+  if (!stub) {
+  const zipRes = await fetch(`${base}/api/export/catalog.zip`);
+  const zip = Buffer.from(await zipRes.arrayBuffer());
+  if (!zipRes.ok || zip.readUInt32LE(0) !== 0x04034b50) throw new Error('catalog.zip: HTTP ' + zipRes.status + ' ' + zip.subarray(0, 200));
+  step(`catalog.zip served (${zip.length} bytes)`);
+  }
+
+  if (pageErrors.length) throw new Error('JavaScript errors on the page: ' + pageErrors.join('; '));
+  step('no JavaScript errors');
+}
+
+let code = 0;
+try {
+  await main();
+} catch (e) {
+  code = 1;
+  console.log('FAIL ' + e.message);
+  console.log('--- garmcapd log (tail) ---\n' + daemonLog.split('\n').slice(-40).join('\n'));
+} finally {
+  if (context) await context.close().catch(() => {});
+  if (daemon && daemon.exitCode === null) {
+    daemon.kill('SIGTERM');
+    await waitFor(async () => daemon.exitCode !== null || daemon.signalCode !== null, 15000, 'garmcapd to stop').catch(() => daemon.kill('SIGKILL'));
+  }
+  rmSync(work, { recursive: true, force: true });
+}
+console.log(`${passed} passed, ${code ? 1 : 0} failed`);
+process.exit(code);

@@ -1,0 +1,113 @@
+// A tiny in-memory stand-in for garmcapd's HTTP API (docs/api.md), used ONLY by the browser test
+// when it is run with --stub (no daemon built): it serves daemon/web/ and answers the calls the UI
+// makes with the same JSON shapes. It exercises the UI, not the daemon or the exports.
+//   node stub_server.mjs PORT WEB_DIR
+import { createServer } from 'node:http';
+import { readFileSync, existsSync } from 'node:fs';
+import { join, extname } from 'node:path';
+
+const [port, webDir] = [Number(process.argv[2]), process.argv[3]];
+const TYPES = { '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.css': 'text/css', '.svg': 'image/svg+xml' };
+const state = { state: 'uncalibrated', calibrated: false, camera: { open: true, backend: 'stub' }, job: null, last_error: '' };
+const jobs = [];
+const items = [];
+const sinks = new Set();
+
+function send(res, code, body, type = 'application/json') {
+  const data = typeof body === 'string' ? body : JSON.stringify(body);
+  res.writeHead(code, { 'Content-Type': type, 'Content-Length': Buffer.byteLength(data) });
+  res.end(data);
+}
+function event(name, data) { for (const s of sinks) s.write(`event: ${name}\ndata: ${JSON.stringify(data)}\n\n`); }
+function csv(v) { v = String(v ?? ''); return /[",\r\n]/.test(v) ? '"' + v.replace(/"/g, '""') + '"' : v; }
+const PRODUCT_SVG = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 160 200"><path d="M50 10l30 12 30-12 30 40-20 10v130H40V60L20 50z" fill="#4a7fb5"/></svg>';
+
+function runJob(kind, sku) {
+  const job = { id: jobs.length + 1, kind, state: 'queued', stage: 'queued', progress: 0, item_id: null, error: '' };
+  jobs.push(job);
+  const stages = kind === 'empty' ? ['capture', 'calibration'] : ['capture', 'masks', 'measure', 'pattern', 'store'];
+  let i = 0;
+  state.state = 'capturing';
+  const tick = () => {
+    if (i < stages.length) {
+      Object.assign(job, { state: 'running', stage: stages[i], progress: i / stages.length });
+      state.state = i === 0 ? 'capturing' : 'processing';
+      event('job', job);
+      i++;
+      setTimeout(tick, 150);
+      return;
+    }
+    if (kind === 'empty') {
+      state.calibrated = true;
+    } else {
+      const id = items.length + 1;
+      items.push({ id, sku: sku || 'GC-' + id, title: '', status: 'needs_review', type: 'dress', notes: '', tags: [],
+        attributes: { sleeve: 'short', skirt: 'a_line' }, confidence: 0.93, warnings: [], price_cents: null,
+        measurements: { bust_circ: 92.4, waist_circ: 76.1, hip_circ: 99.0, garment_length: 98.5 }, units: 'cm',
+        images: { product: { url: '/stub/product.svg' }, cutout: { url: '/stub/product.svg' } }, sizes: ['base'], base_size: 'M',
+        created_at: new Date().toISOString() });
+      job.item_id = id;
+    }
+    Object.assign(job, { state: 'done', stage: 'done', progress: 1 });
+    state.state = 'ready';
+    event('job', job);
+    event('state', { state: state.state, last_error: '' });
+  };
+  setTimeout(tick, 100);
+  return job;
+}
+
+createServer((req, res) => {
+  const url = new URL(req.url, 'http://x');
+  const p = url.pathname;
+  let body = '';
+  req.on('data', (c) => { body += c; });
+  req.on('end', () => {
+    const m = p.match(/^\/api\/items\/(\d+)(\/.*)?$/);
+    const item = m ? items.find((x) => x.id === Number(m[1]) && !x.deleted) : null;
+    if (p === '/api/status') return send(res, 200, { ...state, calibrated: state.calibrated });
+    if (p === '/api/events') {
+      res.writeHead(200, { 'Content-Type': 'text/event-stream', 'Cache-Control': 'no-store' });
+      res.write(`retry: 2000\n\nevent: status\ndata: ${JSON.stringify(state)}\n\n`);
+      sinks.add(res);
+      req.on('close', () => sinks.delete(res));
+      return;
+    }
+    if (p === '/stream.mjpg') return send(res, 503, { error: 'no preview in the stub' });
+    if (p === '/stub/product.svg') return send(res, 200, PRODUCT_SVG, 'image/svg+xml');
+    if (p === '/api/capture/empty' && req.method === 'POST') return send(res, 202, { job: runJob('empty').id });
+    if (p === '/api/capture' && req.method === 'POST') {
+      if (!state.calibrated) return send(res, 409, { error: 'the station is not calibrated' });
+      const sku = body ? JSON.parse(body).sku : '';
+      return send(res, 202, { job: runJob('dressed', sku).id });
+    }
+    const jm = p.match(/^\/api\/jobs\/(\d+)$/);
+    if (jm) { const j = jobs[Number(jm[1]) - 1]; return j ? send(res, 200, j) : send(res, 404, { error: 'no job' }); }
+    if (p === '/api/items') {
+      const q = (url.searchParams.get('q') || '').toLowerCase();
+      const list = items.filter((x) => !x.deleted && (!q || (x.sku + ' ' + x.title).toLowerCase().includes(q)) &&
+        (!url.searchParams.get('type') || x.type === url.searchParams.get('type')) &&
+        (!url.searchParams.get('status') || x.status === url.searchParams.get('status')));
+      return send(res, 200, { items: list, total: list.length });
+    }
+    if (m && !item) return send(res, 404, { error: 'no item ' + m[1] });
+    if (m && !m[2]) {
+      if (req.method === 'PATCH') { Object.assign(item, JSON.parse(body)); return send(res, 200, item); }
+      if (req.method === 'DELETE') { item.deleted = true; return send(res, 200, { deleted: item.id }); }
+      return send(res, 200, item);
+    }
+    if (m && m[2] === '/pattern.svg') return send(res, 200, PRODUCT_SVG, 'image/svg+xml');
+    if (m) return send(res, 404, { error: 'not in the stub' });
+    if (p === '/api/export/shopify.csv') {
+      const rows = [['Title', 'URL handle', 'SKU', 'Option1 name', 'Option1 value']];
+      for (const x of items.filter((i) => i.status === 'approved' && !i.deleted))
+        rows.push([x.title, x.sku.toLowerCase(), x.sku, 'Size', 'One size']);
+      res.writeHead(200, { 'Content-Type': 'text/csv', 'Content-Disposition': 'attachment; filename="shopify.csv"' });
+      return res.end(rows.map((r) => r.map(csv).join(',')).join('\r\n') + '\r\n');
+    }
+    if (p.startsWith('/api/')) return send(res, 404, { error: 'not in the stub' });
+    const file = join(webDir, p === '/' ? 'index.html' : p.replace(/^\/+/, ''));
+    if (!file.startsWith(webDir) || !existsSync(file)) return send(res, 404, { error: 'not found' });
+    return send(res, 200, readFileSync(file, 'utf8'), TYPES[extname(file)] || 'application/octet-stream');
+  });
+}).listen(port, '127.0.0.1');
