@@ -1,0 +1,160 @@
+// Consumer checks: the exports written by write_export_samples are read back by independent
+// parsers from npm (dxf-parser for DXF, csv-parse for CSV/TSV) and compared with truth.json.
+//   node check_exports.mjs DIR
+// Prints one line per check and a closing "N passed, N failed"; exits 1 on any failure.
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import DxfParser from 'dxf-parser';
+import { parse } from 'csv-parse/sync';
+
+const dir = process.argv[2];
+if (!dir) { console.error('usage: node check_exports.mjs DIR'); process.exit(2); }
+const truth = JSON.parse(readFileSync(join(dir, 'truth.json'), 'utf8'));
+let passed = 0, failed = 0;
+function check(name, ok, detail = '') {
+  if (ok) { passed++; console.log('ok   ' + name); } else { failed++; console.log('FAIL ' + name + (detail ? ': ' + detail : '')); }
+}
+const TOL_MM = 0.1;
+const fix1 = (v) => (Math.round(v * 10) / 10).toFixed(1);  // half away from zero, as exported
+const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
+
+// ---- DXF ------------------------------------------------------------------------------------
+function readDxf(file) {
+  return new DxfParser().parseSync(readFileSync(join(dir, file), 'utf8'));
+}
+function checkPieces(dxf, expected, label) {
+  const inserted = new Set((dxf.entities || []).filter((e) => e.type === 'INSERT').map((e) => e.name));
+  for (const [blockName, want] of Object.entries(expected)) {
+    const block = dxf.blocks[blockName];
+    check(`${label}: block ${blockName} exists`, !!block);
+    if (!block) continue;
+    check(`${label}: block ${blockName} is inserted`, inserted.has(blockName));
+    const ents = block.entities || [];
+    const boundary = ents.filter((e) => e.layer === '1' && (e.type === 'POLYLINE' || e.type === 'LWPOLYLINE'));
+    check(`${label}: ${blockName} has one layer-1 boundary`, boundary.length === 1, `found ${boundary.length}`);
+    if (boundary.length !== 1) continue;
+    const b = boundary[0];
+    check(`${label}: ${blockName} boundary closed`, b.shape === true);
+    const got = b.vertices.map((v) => [v.x, v.y]);
+    check(`${label}: ${blockName} vertex count`, got.length === want.outline.length, `${got.length} vs ${want.outline.length}`);
+    let maxErr = 0;
+    for (let i = 0; i < Math.min(got.length, want.outline.length); i++) maxErr = Math.max(maxErr, dist(got[i], want.outline[i]));
+    check(`${label}: ${blockName} outline within ${TOL_MM} mm (max ${maxErr.toFixed(4)} mm)`, maxErr <= TOL_MM);
+    const texts = ents.filter((e) => e.type === 'TEXT').map((e) => e.text);
+    for (const t of [`Piece Name: ${want.piece}`, `Size: ${want.size}`, `Quantity: ${want.quantity}`])
+      check(`${label}: ${blockName} text "${t}"`, texts.includes(t));
+    const grain = ents.filter((e) => e.layer === '7' && e.type === 'LINE');
+    check(`${label}: ${blockName} grainline on layer 7`, grain.length === 1 &&
+      dist([grain[0].vertices[0].x, grain[0].vertices[0].y], want.grainline[0]) <= TOL_MM &&
+      dist([grain[0].vertices[1].x, grain[0].vertices[1].y], want.grainline[1]) <= TOL_MM);
+    const notches = ents.filter((e) => e.layer === '4' && e.type === 'LINE').map((e) => [e.vertices[0].x, e.vertices[0].y]);
+    check(`${label}: ${blockName} notches on layer 4`, notches.length === want.notches.length &&
+      want.notches.every((n) => notches.some((g) => dist(g, n) <= TOL_MM)));
+  }
+}
+
+const single = readDxf('skirt_M.dxf');
+checkPieces(single, truth.single, 'single-size DXF');
+
+const graded = readDxf('graded.dxf');
+checkPieces(graded, truth.graded, 'graded DXF');
+check('graded DXF: one block per piece and size', Object.keys(graded.blocks).length === truth.pieces.length * truth.sizes.length,
+  `${Object.keys(graded.blocks).length} blocks`);
+const sampleBlocks = truth.pieces.map((p) => `${p}_${truth.sample_size}`);
+for (const b of sampleBlocks) {
+  const texts = graded.blocks[b].entities.filter((e) => e.type === 'TEXT').map((e) => e.text);
+  check(`graded DXF: ${b} marked as sample size`, texts.includes(`Sample Size: ${truth.sample_size}`));
+}
+
+// ---- RUL against the graded DXF: for each "# N" text in a sample block, the delta of that
+// turn point to every size's block must be the RUL's pair N. ---------------------------------
+const rul = readFileSync(join(dir, 'graded.rul'), 'latin1').split(/\r\n/);
+const sizeList = (rul.find((l) => l.startsWith('SIZE LIST:')) || '').slice(10).trim().split(/\s+/);
+check('RUL: size list', JSON.stringify(sizeList) === JSON.stringify(truth.sizes), sizeList.join(' '));
+check('RUL: sample size', rul.includes(`SAMPLE SIZE: ${truth.sample_size}`));
+const rules = {};
+for (let i = 0; i < rul.length; i++) {
+  const m = /^RULE: DELTA (\d+)$/.exec(rul[i]);
+  if (!m) continue;
+  const pairs = [];
+  for (let j = i + 1; j < rul.length && !/^(RULE|END)/.test(rul[j]); j++)
+    for (const p of rul[j].trim().split(/\s+/).filter(Boolean)) pairs.push(p.split(',').map(Number));
+  rules[m[1]] = pairs;
+}
+let ruleChecks = 0, ruleErr = 0;
+for (const piece of truth.pieces) {
+  const sample = graded.blocks[`${piece}_${truth.sample_size}`];
+  const outline = sample.entities.find((e) => e.layer === '1' && e.type === 'POLYLINE').vertices.map((v) => [v.x, v.y]);
+  for (const t of sample.entities.filter((e) => e.type === 'TEXT' && e.layer === '2' && /^# \d+$/.test(e.text))) {
+    const n = t.text.slice(2);
+    const at = [t.startPoint.x, t.startPoint.y];
+    const idx = outline.findIndex((p) => dist(p, at) < 1e-6);
+    if (idx < 0 || !rules[n] || rules[n].length !== truth.sizes.length) { ruleErr = Infinity; continue; }
+    truth.sizes.forEach((s, k) => {
+      const o = graded.blocks[`${piece}_${s}`].entities.find((e) => e.layer === '1' && e.type === 'POLYLINE').vertices;
+      const d = [o[idx].x - outline[idx][0], o[idx].y - outline[idx][1]];
+      ruleErr = Math.max(ruleErr, dist(d, rules[n][k]));
+    });
+    ruleChecks++;
+  }
+}
+check(`RUL: ${ruleChecks} rules equal the graded DXF's deltas (max err ${ruleErr.toFixed(4)} mm)`,
+  ruleChecks === Object.keys(rules).length && ruleChecks > 0 && ruleErr <= 0.002);
+
+// ---- CSV ------------------------------------------------------------------------------------
+function readCsv(file, opts = {}) {
+  return parse(readFileSync(join(dir, file), 'utf8'), { columns: true, bom: true, ...opts });
+}
+const url = (p) => truth.base_url + '/' + p.split('/').map(encodeURIComponent).join('/');
+const variantCount = (it) => Math.max(1, it.sizes.length);
+
+const shop = readCsv('shopify.csv');
+for (const it of truth.items) {
+  const rows = shop.filter((r) => r['URL handle'] === shop.find((x) => x.Title === it.title)?.['URL handle']);
+  check(`shopify: "${it.title}" found by exact title`, rows.length > 0);
+  if (!rows.length) continue;
+  const variants = rows.filter((r) => r.SKU);
+  check(`shopify: ${it.sku} has ${variantCount(it)} variants`, variants.length === variantCount(it));
+  check(`shopify: ${it.sku} option Size`, variants.every((r) => r['Option1 name'] === 'Size'));
+  if (it.sizes.length)
+    check(`shopify: ${it.sku} variant SKUs`, it.sizes.every((s) => variants.some((r) => r.SKU === `${it.sku}-${s.label}` && r['Option1 value'] === s.label)));
+  check(`shopify: ${it.sku} tags`, rows[0].Tags === it.tags.join(', '));
+  check(`shopify: ${it.sku} images`, JSON.stringify(rows.map((r) => r['Product image URL']).filter(Boolean)) === JSON.stringify(it.images.map(url)));
+  const desc = rows[0].Description;
+  const okGuide = (it.sizes.length ? it.sizes : [{ measurements: it.measurements }]).every((s) =>
+    Object.values(s.measurements).every((v) => desc.includes(`<td>${fix1(v)}</td>`)));
+  check(`shopify: ${it.sku} description holds the size guide`, okGuide);
+  if (it.price !== null) check(`shopify: ${it.sku} price`, variants.every((r) => Number(r.Price) === it.price));
+}
+const legacy = readCsv('shopify_legacy.csv');
+check('shopify legacy: Handle/Variant SKU columns', 'Handle' in legacy[0] && 'Variant SKU' in legacy[0]);
+check('shopify legacy: titles', truth.items.every((it) => legacy.some((r) => r.Title === it.title)));
+
+const woo = readCsv('woocommerce.csv');
+for (const it of truth.items) {
+  const parent = woo.find((r) => r.Type === 'variable' && r.SKU === it.sku);
+  check(`woocommerce: ${it.sku} parent with exact name`, !!parent && parent.Name === it.title);
+  if (!parent) continue;
+  const vars = woo.filter((r) => r.Type === 'variation' && r.Parent === it.sku);
+  check(`woocommerce: ${it.sku} ${variantCount(it)} variations`, vars.length === variantCount(it));
+  check(`woocommerce: ${it.sku} Attribute 1 Size`, parent['Attribute 1 name'] === 'Size' && vars.every((v) => v['Attribute 1 name'] === 'Size'));
+  for (const s of it.sizes) {
+    const v = vars.find((r) => r['Attribute 1 value(s)'] === s.label);
+    check(`woocommerce: ${it.sku} size ${s.label} Meta measurements`, !!v && Object.entries(s.measurements).every(([k, cm]) => Number(v[`Meta: ${k}_cm`]) === Math.round(cm * 10) / 10));
+  }
+  check(`woocommerce: ${it.sku} short description keeps line breaks`, parent['Short description'] === it.description);
+}
+
+const gmc = readCsv('merchant.tsv', { delimiter: '\t', quote: false });
+for (const it of truth.items) {
+  const rows = gmc.filter((r) => r.item_group_id === it.sku);
+  check(`merchant: ${it.sku} one row per size`, rows.length === variantCount(it));
+  check(`merchant: ${it.sku} apparel fields`, rows.every((r) => r.gender && r.age_group === 'adult' && r.size && r.size_system && r.color === it.color));
+  for (const s of it.sizes) {
+    const r = rows.find((x) => x.size === s.label);
+    check(`merchant: ${it.sku} ${s.label} product_detail`, !!r && Object.values(s.measurements).every((cm) => r.product_detail.includes(`:${fix1(cm)} cm`)));
+  }
+}
+
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed ? 1 : 0);
