@@ -351,7 +351,7 @@ function showPattern() {
   if (it.sizes.filter((s) => s !== 'base').length >= 2)
     links.push(['Graded DXF', '/pattern_graded.dxf'], ['Grade rules .RUL', '/pattern_graded.rul']);
   $('#pattern-links').replaceChildren(...links.map(([t, p]) =>
-    el('a', { class: 'btn small secondary', href: base + p, download: '' , text: t })));
+    el('a', { class: 'btn small secondary', href: base + p, download: '', text: t, onclick: download })));
 }
 async function loadSizeGuide(it) {
   const box = $('#sizeguide');
