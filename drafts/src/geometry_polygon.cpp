@@ -1,6 +1,9 @@
 #include "garmcap/drafts/geometry_polygon.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include "garmcap/drafts/geometry_polyline.h"
 
 namespace garmcap::drafts {
 
@@ -122,6 +125,70 @@ bool pointInPolygon(const Point2& q, const Polyline& polygon) {
     }
   }
   return inside;
+}
+
+std::optional<Polyline> offsetPolygon(const Polyline& polygon, double distanceCm,
+                                      double miterLimit) {
+  Polyline pts;
+  for (const auto& p : polygon) {
+    if (pts.empty() || (p - pts.back()).norm() >= kGeometryEpsCm)
+      pts.push_back(p);
+  }
+  while (pts.size() > 1 && (pts.front() - pts.back()).norm() < kGeometryEpsCm)
+    pts.pop_back();
+  if (!isSimplePolygon(pts) || !std::isfinite(distanceCm))
+    return std::nullopt;
+  if (distanceCm == 0)
+    return pts;
+  const size_t n = pts.size();
+  // perpendicularVector turns +90° (from +x toward +y); for signedArea > 0 that side of each
+  // edge is the inside, so the outward normal is its opposite.
+  const double outward = signedArea(pts) > 0 ? -1.0 : 1.0;
+  const double d = distanceCm * outward;
+  std::vector<Point2> normal(n);
+  for (size_t i = 0; i < n; ++i) {
+    normal[i] = perpendicularVector((pts[(i + 1) % n] - pts[i]).normalized());
+  }
+  const double limit = std::max(1.0, miterLimit) * std::abs(distanceCm);
+  const double orientation = signedArea(pts) > 0 ? 1.0 : -1.0;
+  Polyline out;
+  out.reserve(n + n / 4);
+  for (size_t i = 0; i < n; ++i) {
+    const size_t prev = (i + n - 1) % n;
+    const size_t next = (i + 1) % n;
+    const Line a{pts[prev] + d * normal[prev], pts[i] - pts[prev]};
+    const Line b{pts[i] + d * normal[i], pts[next] - pts[i]};
+    const auto miter = intersectLines(a, b);
+    // The miter grows without bound only at corners that are sharp on the side we offset
+    // toward: convex corners going outward, reflex corners going inward. Corners of the other
+    // kind always take the miter (their offset edges cross close to the vertex).
+    const bool convex = cross(pts[i] - pts[prev], pts[next] - pts[i]) * orientation > 0;
+    const bool sharpSide = convex == (distanceCm > 0);
+    if (miter && (!sharpSide || (*miter - pts[i]).norm() <= limit)) {
+      out.push_back(*miter);
+    } else {
+      // Bevel (for collinear edges both points coincide and one is dropped).
+      out.push_back(pts[i] + d * normal[prev]);
+      if ((pts[i] + d * normal[i] - out.back()).norm() >= kGeometryEpsCm) {
+        out.push_back(pts[i] + d * normal[i]);
+      }
+    }
+  }
+  if (!isSimplePolygon(out))
+    return std::nullopt;
+  // An offset wider than a feature can still come out simple (an inset square turned half
+  // round): every vertex must keep the offset distance from the original outline.
+  const Polyline ring = [&] {
+    Polyline r = pts;
+    r.push_back(pts.front());
+    return r;
+  }();
+  for (const auto& v : out) {
+    if (closestPoint(ring, v).distance < std::abs(distanceCm) * (1 - 1e-9) - kGeometryEpsCm) {
+      return std::nullopt;
+    }
+  }
+  return out;
 }
 
 }  // namespace garmcap::drafts

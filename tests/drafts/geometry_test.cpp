@@ -479,5 +479,54 @@ TEST(GeometryPolygon, Simplicity) {
   }
 }
 
+TEST(GeometryPolygon, OffsetPolygon) {
+  const Polyline sq{Point2(0, 0), Point2(2, 0), Point2(2, 2), Point2(0, 2)};
+  for (const Polyline& p : {sq, reversed(sq)}) {
+    const auto out = offsetPolygon(p, 1.0);
+    ASSERT_TRUE(out);
+    EXPECT_NEAR(polygonArea(*out), 16, 1e-9);  // (2 + 2·1)², miter corners
+    EXPECT_EQ(signedArea(*out) > 0, signedArea(p) > 0);
+    const auto in = offsetPolygon(p, -0.5);
+    ASSERT_TRUE(in);
+    EXPECT_NEAR(polygonArea(*in), 1, 1e-9);
+    EXPECT_FALSE(offsetPolygon(p, -1.5));  // wider than the polygon
+  }
+  // A sharp spike gets bevelled: no vertex farther than miterLimit·d from the outline.
+  const Polyline spike{Point2(10, 0), Point2(10, 1), Point2(0, 0.5)};
+  const auto bev = offsetPolygon(spike, 0.5, 2.0);
+  ASSERT_TRUE(bev);
+  EXPECT_GT(bev->size(), spike.size());
+  for (const auto& v : *bev)
+    EXPECT_LE(closestPoint(joined(spike, {spike.front()}), v).distance, 1.0 + 1e-9);
+  // A dart notch narrower than the offset cannot be offset simply.
+  const Polyline dart{Point2(0, 0),  Point2(4, 0),  Point2(4.2, 5), Point2(4.4, 0),
+                      Point2(10, 0), Point2(10, 8), Point2(0, 8)};
+  EXPECT_TRUE(offsetPolygon(dart, 0.05));
+  EXPECT_FALSE(offsetPolygon(dart, 1.0));
+  EXPECT_FALSE(offsetPolygon(Polyline{Point2(0, 0), Point2(2, 2), Point2(2, 0), Point2(0, 2)}, 1));
+  // Random star-shaped outlines: a small outward offset is simple, outside the outline and at
+  // the offset distance from it (up to the miter limit at convex corners).
+  Rng rng(14);
+  for (int k = 0; k < 40; ++k) {
+    Polyline star;
+    const int n = 5 + k % 30;
+    for (int i = 0; i < n; ++i) {
+      star.push_back(pointAtAngle(Point2(0, 0), 360.0 * i / n + rng.uniform(0, 200.0 / n),
+                                  rng.uniform(6, 10)));
+    }
+    const double d = 0.05;
+    const auto out = offsetPolygon(star, d);
+    ASSERT_TRUE(out) << "n=" << n;
+    EXPECT_GT(polygonArea(*out), polygonArea(star));
+    const Polyline ring = joined(star, {star.front()});
+    for (const auto& v : *out) {
+      EXPECT_FALSE(pointInPolygon(v, star));
+      const double dist = closestPoint(ring, v).distance;
+      EXPECT_GE(dist, d - 1e-9);
+      EXPECT_LE(dist, 4 * d + 1e-9);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace garmcap::drafts

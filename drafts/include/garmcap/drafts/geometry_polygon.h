@@ -30,4 +30,14 @@ bool isSimplePolygon(const Polyline& polygon);
 /// Even-odd point-in-polygon test (points on the boundary may go either way).
 bool pointInPolygon(const Point2& p, const Polyline& polygon);
 
+/// The polygon offset by `distanceCm`: outward when positive (a seam allowance / cutting line
+/// around a panel outline), inward when negative, whatever the orientation; the result keeps
+/// the input's orientation. Each vertex moves to the intersection of its two offset edges
+/// (miter); where that point would be farther than `miterLimit` * |distanceCm| from the
+/// vertex (a sharp convex corner) the corner is bevelled with two points. Repeated vertices
+/// are dropped first. std::nullopt when the input is not a simple polygon or the offset is not
+/// simple (e.g. an inward offset wider than the polygon, or a notch narrower than the offset).
+std::optional<Polyline> offsetPolygon(const Polyline& polygon, double distanceCm,
+                                      double miterLimit = 4.0);
+
 }  // namespace garmcap::drafts
