@@ -27,6 +27,28 @@ constexpr double kRefRise = 24.6;
 constexpr double kRefWaistToFloor = 105.0;
 constexpr double kRefWaistToKnee = 59.5;
 
+// Neck point to bust point (J02) by the bust, from Gilewska's French women's chart 34-48
+// ("hauteur poitrine" 25.5 -> 29 for bust 80 -> 106; research/anchors_drafting.md §4.1),
+// interpolated linearly and continued with its mean slope outside the table.
+double bustpointToNeckSide(double bust) {
+  static const std::vector<std::pair<double, double>> kTable = {
+      {80, 25.5}, {84, 26}, {88, 26.5}, {92, 27}, {96, 27.5}, {100, 28}, {104, 28.5}, {106, 29}};
+  const double slope =
+      (kTable.back().second - kTable.front().second) / (kTable.back().first - kTable.front().first);
+  if (bust <= kTable.front().first)
+    return kTable.front().second + slope * (bust - kTable.front().first);
+  if (bust >= kTable.back().first)
+    return kTable.back().second + slope * (bust - kTable.back().first);
+  for (size_t i = 1; i < kTable.size(); ++i) {
+    if (bust <= kTable[i].first) {
+      const auto [b0, v0] = kTable[i - 1];
+      const auto [b1, v1] = kTable[i];
+      return v0 + (v1 - v0) * (bust - b0) / (b1 - b0);
+    }
+  }
+  return kTable.back().second;
+}
+
 double biShoulder(double shoulderLength, double neckCirc) {
   return 2 * shoulderLength + 2 * (neckCirc / 5 - 0.2);
 }
@@ -50,6 +72,7 @@ void complete(Measurements& m) {
   setIfMissing(m, "arm_upper_circ", kRefUpperArm * b);
   setIfMissing(m, "shoulder_tip_to_shoulder_tip_b",
                biShoulder(m.get("shoulder_length"), m.get("neck_circ")));
+  setIfMissing(m, "bustpoint_to_neck_side", bustpointToNeckSide(bust));
   setIfMissing(m, "rise_length_side", kRefRise * h);
   setIfMissing(m, "leg_waist_side_to_floor", kRefWaistToFloor * h);
   setIfMissing(m, "leg_waist_side_to_knee", kRefWaistToKnee * h);
@@ -124,7 +147,9 @@ SizeChart italianWomen() {
       "research/anchors_drafting.md §4.1. Published values are kept as published, including "
       "steps of 0 (wrist 44/46 and 48/50, BP span 48/50, shoulder 42/44, sleeve 48/50). Not in "
       "the chart and completed: shoulder_tip_to_shoulder_tip_b = 2 shoulder lengths + 2 Aldrich "
-      "back neck widths N/5 - 0.2. Mapping of Donnanno's rows to Valentina names in "
+      "back neck widths N/5 - 0.2; bustpoint_to_neck_side from Gilewska's French chart by the "
+      "bust (Donnanno's bust depth is vertical: neck_side_to_bust_f). Mapping of Donnanno's rows "
+      "to Valentina names in "
       "docs/size_charts.md.";
   const std::vector<Row> rows = {
       {"highbust_circ", {84, 86, 89, 92, 96, 100}},
@@ -139,7 +164,7 @@ SizeChart italianWomen() {
       {"shoulder_length", {12, 13.5, 13.5, 14, 14.5, 15}},
       {"neck_back_to_waist_b", {39.1, 40, 40.9, 41.8, 42.7, 43.6}},
       {"neck_side_to_waist_bustpoint_f", {40.4, 41.5, 42.6, 43.7, 44.8, 45.9}},
-      {"bustpoint_to_neck_side", {21.8, 22.5, 23.2, 23.9, 24.6, 25.1}},
+      {"neck_side_to_bust_f", {21.8, 22.5, 23.2, 23.9, 24.6, 25.1}},
       {"waist_to_hip_b", {19.6, 20, 20.4, 20.8, 21.2, 21.6}},
       {"rise_length_side", {23.5, 24, 24.6, 25.2, 25.8, 26.5}},
       {"leg_waist_side_to_knee", {57.5, 58.5, 59.5, 60.5, 61.5, 62.5}},

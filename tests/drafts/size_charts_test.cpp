@@ -145,6 +145,9 @@ TEST(SizeCharts, ItalianChartIsDonnannoAsPublished) {
   EXPECT_EQ(c.body("44").get("waist_circ"), 72.0);
   EXPECT_EQ(c.body("50").get("height"), 174.0);
   EXPECT_EQ(c.body("46").get("rise_length_side"), 25.2);
+  // Donnanno's bust depth is vertical; the slanted NP-BP comes from Gilewska's chart by the bust.
+  EXPECT_EQ(c.body("44").get("neck_side_to_bust_f"), 23.2);
+  EXPECT_NEAR(c.body("44").get("bustpoint_to_neck_side"), 27.5, 1e-9);
   EXPECT_THAT(c.source, HasSubstr("Donnanno"));
 }
 
