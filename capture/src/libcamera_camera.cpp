@@ -267,6 +267,7 @@ struct LibcameraCamera::Impl {
   std::map<const lc::FrameBuffer*, std::vector<PlaneView>> planes;
   std::vector<std::pair<void*, std::size_t>> mappings;
   bool previewWanted = false;
+  bool resumePreview = false;  // the preview ran when the camera went away
   int settleLeft = 0;
   std::uint64_t sequence = 0;
 
@@ -620,6 +621,7 @@ void LibcameraCamera::close() noexcept {
   auto& d = *impl_;
   d.stop();
   d.previewWanted = false;
+  d.resumePreview = false;
   if (d.cam) {
     d.cam->requestCompleted.disconnect(&d);
     d.cam->disconnected.disconnect(&d);
@@ -755,8 +757,9 @@ bool LibcameraCamera::previewRunning() const {
 
 bool LibcameraCamera::reconnect() {
   auto& d = *impl_;
-  const bool wantPreview = d.previewWanted;
+  const bool wantPreview = d.previewWanted || d.resumePreview;
   close();
+  d.resumePreview = wantPreview;
   try {
     open();
   } catch (const CameraError& e) {
@@ -771,6 +774,7 @@ bool LibcameraCamera::reconnect() {
   if (wantPreview) {
     startPreview();
   }
+  d.resumePreview = false;
   return true;
 }
 

@@ -158,26 +158,6 @@ std::vector<RigCaseRef> readRigIndex(const fs::path& rigDir) {
   return out;
 }
 
-RigCase loadRigCase(const fs::path& caseDir, const std::string& id) {
-  RigCase c;
-  c.id = id.empty() ? caseDir.filename().string() : id;
-  c.dir = caseDir;
-  c.empty = readImage(caseDir / "empty.png", c.id);
-  c.dressed = readImage(caseDir / "dressed.png", c.id);
-  try {
-    requireSameSize(c.empty, c.dressed, "rig case " + c.id + " (" + caseDir.string() + ")");
-  } catch (const std::invalid_argument& e) {
-    throw CameraError(CameraErrorKind::kBadData, e.what());
-  }
-  c.truthPath = caseDir / "truth.json";
-  std::error_code ec;
-  if (!fs::is_regular_file(c.truthPath, ec)) {
-    throw CameraError(CameraErrorKind::kBadData,
-                      "rig case " + c.id + ": missing ground truth " + c.truthPath.string());
-  }
-  return c;
-}
-
 std::unique_ptr<SceneSource> makeRigSceneSource(const fs::path& rigDir) {
   return std::make_unique<RigSceneSource>(rigDir);
 }
@@ -214,6 +194,7 @@ void ReplayCamera::close() noexcept {
   std::lock_guard lock(mutex_);
   open_ = false;
   previewRunning_ = false;
+  resumePreview_ = false;
   disconnected_ = false;
 }
 
@@ -440,10 +421,11 @@ bool ReplayCamera::reconnect() {
   bool wantPreview = false;
   {
     std::lock_guard lock(mutex_);
-    wantPreview = previewRunning_;
+    wantPreview = previewRunning_ || resumePreview_;
     open_ = false;
     previewRunning_ = false;
     disconnected_ = false;
+    resumePreview_ = wantPreview;
     if (!present_) {
       return false;
     }
@@ -451,6 +433,7 @@ bool ReplayCamera::reconnect() {
   open();
   std::lock_guard lock(mutex_);
   previewRunning_ = wantPreview;
+  resumePreview_ = false;
   return true;
 }
 

@@ -178,6 +178,7 @@ void V4l2Camera::open() {
 void V4l2Camera::close() noexcept {
   stopStream();
   previewWanted_ = false;
+  resumePreview_ = false;
   if (fd_ >= 0) {
     dev_->close(fd_);
     fd_ = -1;
@@ -483,12 +484,12 @@ std::optional<Frame> V4l2Camera::grab(std::chrono::milliseconds timeout, bool pr
     stats_.lastDropReason = reason;
   };
   for (;;) {
-    const auto remaining =
-        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-    if (remaining.count() <= 0) {
+    const auto left = deadline - Clock::now();
+    if (left <= Clock::duration::zero()) {
       ++stats_.timeouts;
       return std::nullopt;
     }
+    const auto remaining = std::chrono::ceil<std::chrono::milliseconds>(left);
     pollfd p{fd_, POLLIN, 0};
     const int r = dev_->poll(&p, 1, static_cast<int>(remaining.count()));
     if (r < 0) {
@@ -664,8 +665,10 @@ void V4l2Camera::stopPreview() noexcept {
 }
 
 bool V4l2Camera::reconnect() {
-  const bool wantPreview = previewWanted_;
+  // Remembered across failed attempts: the preview comes back with the device.
+  const bool wantPreview = previewWanted_ || resumePreview_;
   close();
+  resumePreview_ = wantPreview;
   try {
     open();
   } catch (const CameraError& e) {
@@ -684,10 +687,12 @@ bool V4l2Camera::reconnect() {
   } catch (const CameraError& e) {
     if (e.kind() == CameraErrorKind::kDisconnected) {
       close();
+      resumePreview_ = wantPreview;
       return false;  // unplugged again while we set it up
     }
     throw;
   }
+  resumePreview_ = false;
   return true;
 }
 

@@ -95,6 +95,19 @@ void FakeV4l2Device::setFrameSource(FrameSource source) {
   source_ = std::move(source);
 }
 
+int FakeV4l2Device::completeFrames(int count) {
+  int done = 0;
+  for (int i = 0; i < count && streaming_; ++i) {
+    const std::size_t before = done_.size();
+    completeFrame();
+    if (done_.size() == before) {
+      break;  // no queued buffer left
+    }
+    ++done;
+  }
+  return done;
+}
+
 std::int32_t FakeV4l2Device::control(std::uint32_t id) const {
   if (auto it = values_.find(id); it != values_.end()) {
     return it->second;

@@ -21,6 +21,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "garmcap/capture/frame.h"
@@ -96,6 +97,9 @@ struct CaptureSettings {
 
 /// Per-still options.
 struct StillRequest {
+  StillRequest() = default;
+  StillRequest(Shot s, std::string id = {}) : shot(s), caseId(std::move(id)) {}  // NOLINT
+
   Shot shot = Shot::kAny;  ///< used by replay/synthetic to choose the scene
   /// Replay/synthetic: serve this rig case instead of the current one (empty = current).
   std::string caseId;

@@ -61,19 +61,6 @@ struct RigCaseRef {
 /// file and the entry.
 std::vector<RigCaseRef> readRigIndex(const std::filesystem::path& rigDir);
 
-/// A fully loaded rig case: both frames checked (present, decodable, same size).
-struct RigCase {
-  std::string id;
-  std::filesystem::path dir;
-  cv::Mat empty;
-  cv::Mat dressed;
-  std::filesystem::path truthPath;
-};
-
-/// Loads a case folder. Throws CameraError(kBadData) naming the file that is missing or
-/// corrupt, or the case whose empty and dressed frames differ in size.
-RigCase loadRigCase(const std::filesystem::path& caseDir, const std::string& id = {});
-
 /// SceneSource over a rig folder.
 std::unique_ptr<SceneSource> makeRigSceneSource(const std::filesystem::path& rigDir);
 
@@ -138,6 +125,7 @@ class ReplayCamera final : public Camera {
   CameraConfig config_;
   CaptureSettings settings_;
   bool previewRunning_ = false;
+  bool resumePreview_ = false;  // the preview ran when the camera was unplugged
   std::chrono::milliseconds latency_{0};
   int corruptLeft_ = 0;
   std::size_t case_ = 0;

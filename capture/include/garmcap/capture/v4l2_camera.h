@@ -110,6 +110,7 @@ class V4l2Camera final : public Camera {
   std::uint32_t bytesPerLine_ = 0;
   std::vector<Mapping> buffers_;
   bool previewWanted_ = false;
+  bool resumePreview_ = false;  // the preview ran when the device went away
   int settleLeft_ = 0;
   std::uint64_t sequence_ = 0;
   V4l2Stats stats_;
