@@ -48,9 +48,10 @@ struct FormPose {
 /// Projects one world point (cm) to image pixels.
 Eigen::Vector2d projectPoint(const FormPose& pose, const Eigen::Vector3d& worldCm);
 
-/// Renders the silhouette of `mesh` (cm) as a 0/255 mask of `size`. `subpixelBits` (0..8) is the
-/// fixed-point precision of the triangle rasteriser (cv::fillConvexPoly shift); a pixel is set
-/// when its centre is covered. Parts outside the image are clipped.
+/// Renders the silhouette of `mesh` (cm) as a 0/255 mask of `size`: a pixel is set when its
+/// centre is covered (half-open edges, so shared triangle edges neither gap nor overlap, and the
+/// mask has no dilation bias). The rasteriser works in double precision; `subpixelBits` is
+/// ignored and kept only for source compatibility. Parts outside the image are clipped.
 cv::Mat1b renderSilhouette(const TriMesh& mesh, const FormPose& pose, cv::Size size,
                            int subpixelBits = 4);
 
