@@ -40,6 +40,7 @@ struct ImageRef {
   std::string kind;  // "dressed", "empty", "cutout", "product", "silhouette", "overlay", "texture"
   std::string sha256;     // ContentStore name
   std::string mediaType;  // "image/png", "image/jpeg"
+  std::int64_t bytes = 0;
 };
 
 struct Item {
@@ -78,7 +79,7 @@ struct NewItem {
   double confidence = 0;
   std::vector<std::string> warnings;
   std::map<std::string, double> measurementsCm;
-  std::vector<ImageRef> images;                    // blobs already durable in the store
+  std::vector<ImageRef> images;  // blobs already durable in the store; rows added here
   std::map<std::string, nlohmann::json> patterns;  // size -> pattern JSON ("base" = as measured)
   std::string baseSize;
   nlohmann::json sizeGuide;  // {"chart", "sizes": [...], "rows": [...]} or null

@@ -1,0 +1,211 @@
+// garmcapd: the station daemon. Parses options, wires the objects, runs the event loop.
+//   garmcapd --config /etc/garmcapd/garmcapd.toml
+//   garmcapd --simulated --data DIR --listen 127.0.0.1:8080
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <systemd/sd-daemon.h>
+
+#include <CLI/CLI.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <csignal>
+#include <iostream>
+#include <thread>
+
+#include "garmcap/capture/camera.h"
+#include "garmcap/capture/gpio.h"
+#include "garmcap/daemon/api_routes.h"
+#include "garmcap/daemon/config.h"
+#include "garmcap/daemon/http_server.h"
+#include "garmcap/daemon/station.h"
+
+namespace asio = boost::asio;
+using namespace garmcap;
+
+namespace {
+
+struct Options {
+  std::string configFile;
+  bool simulated = false;
+  std::string data, listen, token, webDir, camera, device, form, logLevel = "info";
+};
+
+daemon::Config buildConfig(const Options& o) {
+  daemon::Config c;
+  if (!o.configFile.empty())
+    c = daemon::loadConfig(o.configFile);
+  if (o.simulated)
+    daemon::applySimulated(c);
+  if (!o.data.empty())
+    c.dataDir = o.data;
+  if (!o.listen.empty())
+    daemon::parseListen(o.listen, c, "--listen");
+  if (!o.token.empty())
+    c.token = o.token;
+  if (!o.webDir.empty())
+    c.webDir = o.webDir;
+  if (!o.camera.empty())
+    c.cameraBackend = o.camera;
+  if (!o.device.empty())
+    c.cameraDevice = o.device;
+  if (!o.form.empty())
+    c.formPath = o.form;
+  // systemd's StateDirectory= when no data folder was given explicitly.
+  if (o.data.empty() && o.configFile.empty())
+    if (const char* state = std::getenv("STATE_DIRECTORY"))
+      c.dataDir = state;
+  if (const char* t = std::getenv("GARMCAPD_TOKEN"); t && c.token.empty())
+    c.token = t;
+  c.validate();
+  return c;
+}
+
+std::unique_ptr<capture::Gpio> makeGpio(const daemon::Config& c) {
+  capture::GpioConfig g;
+  g.backend = c.gpioBackend == "simulated" ? "simulated" : "gpiod";
+  g.button = {c.buttonChip, c.buttonLine, c.buttonActiveLow};
+  if (!c.ledLine.empty())
+    g.statusLed = capture::GpioLineSpec{c.ledChip, c.ledLine, false};
+  g.debounce.stable = std::chrono::milliseconds(c.debounceMs);
+  g.debounce.longPress = std::chrono::milliseconds(c.longPressMs);
+  return capture::makeGpio(g);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"garmcapd: the GarmCap Station daemon (HTTP API, catalog, capture queue)"};
+  Options o;
+  app.add_option("-c,--config", o.configFile, "TOML configuration file")->check(CLI::ExistingFile);
+  app.add_flag("--simulated", o.simulated, "simulated rig: synthetic camera, simulated button");
+  app.add_option("--data", o.data, "station data folder (catalog, image store)");
+  app.add_option("--listen", o.listen, "HTTP address HOST:PORT (default 127.0.0.1:8080)");
+  app.add_option("--token", o.token, "bearer token (or env GARMCAPD_TOKEN)");
+  app.add_option("--web-dir", o.webDir, "folder of the web UI");
+  app.add_option("--camera", o.camera, "camera back end: libcamera, v4l2, replay, synthetic");
+  app.add_option("--device", o.device, "camera device, camera id or rig folder");
+  app.add_option("--form", o.form, "dress-form sidecar JSON (synthetic camera)");
+  app.add_option("--log-level", o.logLevel, "trace, debug, info, warn, error");
+  CLI11_PARSE(app, argc, argv);
+  // Logs go to stderr (the journal under systemd); stdout carries only the "listening" line.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("garmcapd"));
+  std::signal(SIGPIPE, SIG_IGN);
+  spdlog::set_level(spdlog::level::from_str(o.logLevel));
+
+  daemon::Config config;
+  try {
+    config = buildConfig(o);
+  } catch (const std::exception& e) {
+    std::cerr << "garmcapd: invalid configuration: " << e.what() << "\n";
+    sd_notifyf(0, "STATUS=invalid configuration: %s", e.what());
+    return 2;
+  }
+
+  asio::io_context io{1};
+  std::unique_ptr<daemon::Station> station;
+  std::unique_ptr<daemon::HttpServer> server;
+  daemon::Router router;
+  std::unique_ptr<daemon::StaticFiles> files;
+  try {
+    capture::CameraOptions co;
+    co.backend = config.cameraBackend;
+    co.device = config.cameraDevice;
+    co.formPath = config.formPath;
+    std::unique_ptr<capture::Camera> camera = capture::makeCamera(co);
+    std::unique_ptr<capture::Gpio> gpio = makeGpio(config);
+    station = std::make_unique<daemon::Station>(io, config, std::move(camera), std::move(gpio),
+                                                daemon::makePipelineProcessor(config));
+    station->setProcessorFactory(
+        [](const daemon::Config& c) { return daemon::makePipelineProcessor(c); });
+    station->start();
+    daemon::addApiRoutes(router, *station);
+    for (const auto& [name, module] : daemon::routeModules()) {
+      module(router, *station);
+      spdlog::info("http: route module '{}' added", name);
+    }
+#ifdef GARMCAP_WEB_DIR
+    const std::string webDir = config.webDir.empty() ? GARMCAP_WEB_DIR : config.webDir;
+#else
+    const std::string webDir = config.webDir;
+#endif
+    files = std::make_unique<daemon::StaticFiles>(webDir);
+    server = std::make_unique<daemon::HttpServer>(io, config, router, *files);
+    server->start();
+  } catch (const std::exception& e) {
+    std::cerr << "garmcapd: cannot start: " << e.what() << "\n";
+    sd_notifyf(0, "STATUS=cannot start: %s", e.what());
+    return 1;
+  }
+  spdlog::info("garmcapd: listening on http://{}:{}/ (data in {}{})", config.listenAddress,
+               server->port(), config.dataDir, config.token.empty() ? "" : ", token required");
+  // Tests read the port from here when they ask for port 0.
+  std::cout << "garmcapd listening on " << config.listenAddress << ":" << server->port()
+            << std::endl;
+
+  // Signals: SIGTERM/SIGINT finish the job in hand and exit; SIGHUP reloads the config file.
+  asio::signal_set signals(io, SIGTERM, SIGINT, SIGHUP);
+  std::function<void()> waitSignal;
+  bool stopping = false;
+  waitSignal = [&] {
+    signals.async_wait([&](boost::system::error_code ec, int sig) {
+      if (ec)
+        return;
+      if (sig == SIGHUP) {
+        sd_notify(0, "RELOADING=1");
+        try {
+          daemon::Config fresh = buildConfig(o);
+          station->reload(fresh);
+          files->rescan();
+        } catch (const std::exception& e) {
+          spdlog::error("garmcapd: reload refused, keeping the running config: {}", e.what());
+        }
+        sd_notify(0, "READY=1");
+      } else if (!stopping) {
+        stopping = true;
+        spdlog::info("garmcapd: signal {}: stopping", sig);
+        sd_notify(0, "STOPPING=1\nSTATUS=stopping: finishing the job in hand");
+        server->stop();
+        station->shutdown(std::chrono::seconds(60), [&io] { io.stop(); });
+      } else {
+        spdlog::warn("garmcapd: second signal: exiting now");
+        io.stop();
+      }
+      waitSignal();
+    });
+  };
+  waitSignal();
+
+  // systemd watchdog: ping at half the interval, and only while the station is healthy, so a
+  // hung camera or pipeline stage gets the service restarted.
+  asio::steady_timer watchdog(io);
+  std::uint64_t watchdogUsec = 0;
+  std::function<void()> ping;
+  std::string lastStatus;
+  if (sd_watchdog_enabled(0, &watchdogUsec) > 0) {
+    ping = [&] {
+      if (station->healthy())
+        sd_notify(0, "WATCHDOG=1");
+      else
+        spdlog::error("garmcapd: unhealthy ({}), withholding the watchdog ping",
+                      station->statusLine());
+      const std::string s = "STATUS=" + station->statusLine();
+      if (s != lastStatus)
+        sd_notify(0, s.c_str()), lastStatus = s;
+      watchdog.expires_after(std::chrono::microseconds(watchdogUsec / 2));
+      watchdog.async_wait([&](boost::system::error_code ec) {
+        if (!ec)
+          ping();
+      });
+    };
+    ping();
+  }
+  const std::string ready = "READY=1\nSTATUS=" + station->statusLine();
+  sd_notify(0, ready.c_str());
+
+  io.run();
+  server.reset();
+  station.reset();
+  spdlog::info("garmcapd: stopped");
+  return 0;
+}

@@ -1,0 +1,62 @@
+#pragma once
+// The one seam between the station and the image/pattern pipeline: calibration from the bare-form
+// frame, GarmCap on a dressed frame, and grading to a size run. Production code uses
+// makePipelineProcessor() (calib + core/garmcap + core/dsw); unit tests inject a fake.
+//
+// Thread: called on the worker pool, one call at a time per job; must not touch the catalog.
+// Errors: throws (pipeline::CaptureError, calib errors, std::exception); the message is shown to
+// staff as the job's error, so it must be a sentence. Never invents results.
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace garmcap::daemon {
+
+struct Config;
+
+/// Stage name and overall progress 0..1; may be called from the worker thread at any rate.
+using ProgressFn = std::function<void(const std::string& stage, double progress)>;
+
+struct ProcessedCapture {
+  std::string type;
+  std::map<std::string, std::string> attributes;
+  double confidence = 0;
+  std::vector<std::string> warnings;
+  std::map<std::string, double> measurementsCm;
+  nlohmann::json result;                           // result.json (no images)
+  std::map<std::string, nlohmann::json> patterns;  // "base" + one per graded size
+  std::string baseSize;                            // nearest chart size, "" if none
+  nlohmann::json sizeGuide;                        // null when grading did not run
+  std::map<std::string, cv::Mat> images;           // kind -> BGR/BGRA/gray image (stored as PNG)
+};
+
+class CaptureProcessor {
+ public:
+  virtual ~CaptureProcessor() = default;
+  /// Calibration JSON (docs/formats.md) from the bare-form frame.
+  virtual nlohmann::json calibrate(const cv::Mat& emptyBgr, const ProgressFn& progress) = 0;
+  /// GarmCap on the dressed frame against the bare-form frame, then grading.
+  virtual ProcessedCapture process(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
+                                   const nlohmann::json& calibration,
+                                   const ProgressFn& progress) = 0;
+};
+
+/// The production processor on calib/, core/garmcap and core/dsw.
+std::unique_ptr<CaptureProcessor> makePipelineProcessor(const Config& config);
+
+/// SKU printed as a QR code on the hang tag, if one is visible in the frame (OpenCV
+/// QRCodeDetector). Returns "" when none is found; only [A-Za-z0-9._-] payloads of 1..64 chars
+/// are accepted (anything else is not a SKU and is ignored).
+std::string decodeHangTagSku(const cv::Mat& bgr);
+
+/// Expands a file-naming template: {sku}, {id}, {kind}, {type}, {size}, {date}. The result is
+/// made safe as one file name ([A-Za-z0-9._-], other characters become '_'; never empty).
+std::string expandNamingTemplate(const std::string& pattern,
+                                 const std::map<std::string, std::string>& values);
+
+}  // namespace garmcap::daemon

@@ -1,0 +1,72 @@
+#pragma once
+// garmcapd configuration: a TOML file (toml11), then command-line flags on top. Every key is
+// documented in docs/daemon.md. Reading is strict: an unknown key, a wrong type or a value out of
+// range throws ConfigError naming the file, the key and the reason, and garmcapd refuses to start
+// (on SIGHUP the running config is kept and the error logged).
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace garmcap::daemon {
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Config {
+  // [camera]
+  std::string cameraBackend = "v4l2";  // libcamera | v4l2 | replay | synthetic
+  std::string cameraDevice;            // /dev/video0, camera id, rig folder
+  std::string formPath;                // dress-form sidecar (synthetic camera, calibration)
+  int stillWidth = 0;                  // 0 = largest the device offers
+  int stillHeight = 0;
+  int captureTimeoutMs = 5000;
+  // [gpio]
+  std::string gpioBackend = "gpiod";  // gpiod | simulated
+  std::string buttonChip;             // chip label or name, "" = search all
+  std::string buttonLine = "GPIO17";
+  bool buttonActiveLow = true;
+  std::string ledChip;
+  std::string ledLine;  // "" = no LED fitted
+  int debounceMs = 30;
+  int longPressMs = 2000;
+  // [paths]
+  std::string dataDir = "/var/lib/garmcapd";
+  std::string webDir;  // "" = compiled-in GARMCAP_WEB_DIR
+  // [http]
+  std::string listenAddress = "127.0.0.1";
+  std::uint16_t listenPort = 8080;
+  std::string token;  // bearer token; required when the address is not loopback
+  std::size_t bodyLimitBytes = 1 << 20;
+  int requestTimeoutS = 30;
+  int maxConnections = 256;
+  // [pipeline]
+  bool makeProductImages = true;
+  bool makeTexture = true;
+  int productSizePx = 1600;
+  std::string sizeChart = "korean_women";
+  double reviewBelowConfidence = 0.8;  // items under this confidence wait for approval
+  int workerThreads = 1;
+  int queueLimit = 32;  // pending captures; more are refused with 503
+  // [naming]
+  std::string namingTemplate = "{sku}_{kind}";
+
+  /// Throws ConfigError if the combination is unsafe or incomplete (e.g. a non-loopback
+  /// address without a token).
+  void validate() const;
+  bool loopbackOnly() const;
+};
+
+/// Reads a TOML file over the defaults. Throws ConfigError ("<file>: [http] port: must be
+/// 1..65535, got 0").
+Config loadConfig(const std::filesystem::path& file, Config defaults = {});
+/// Parses "HOST:PORT" (IPv4 or [IPv6]) into the config; throws ConfigError naming `what`.
+void parseListen(const std::string& text, Config& config, const std::string& what);
+/// The simulated rig: synthetic camera on the shared dress form, simulated button.
+void applySimulated(Config& config);
+
+}  // namespace garmcap::daemon

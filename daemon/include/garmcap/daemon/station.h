@@ -1,0 +1,195 @@
+#pragma once
+// The station: state machine, capture queue, camera thread, worker pool, catalog owner.
+//
+//   uncalibrated --press/capture-empty--> capturing --> processing --> ready
+//   ready --press/capture--> capturing --> processing --> ready          (item filed)
+//   any job failure -> back to ready/uncalibrated with last_error; a camera failure -> error
+//   (the next capture tries to reconnect). SIGTERM -> stopping: the job in hand finishes, queued
+//   ones are marked failed, then the loop stops.
+//
+// Threads: every member function runs on the state strand (the public ones post themselves
+// there, so they may be called from anywhere); the camera is used only on the camera thread,
+// CaptureProcessor only on the worker pool. Results come back by posting to the strand.
+// Presses while a job runs are queued; several presses before the queued one starts are merged
+// into it (never lost, never multiplied). Queue length is bounded by Config::queueLimit.
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/strand.hpp>
+#include <boost/asio/thread_pool.hpp>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "garmcap/daemon/capture_processor.h"
+#include "garmcap/daemon/catalog.h"
+#include "garmcap/daemon/config.h"
+#include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/http_router.h"
+
+namespace garmcap::capture {
+class Camera;
+class Gpio;
+}  // namespace garmcap::capture
+
+namespace garmcap::daemon {
+
+enum class StationState { kUncalibrated, kReady, kCapturing, kProcessing, kError, kStopping };
+const char* toString(StationState state);
+
+/// Status LED pattern: bit i (0..7) says whether the LED is on during the i-th 125 ms tick of
+/// each second. uncalibrated: slow blink; ready: steady; capturing: fast flicker; processing:
+/// 2 Hz blink; error: double flash; stopping: off.
+std::uint8_t ledPattern(StationState state);
+
+enum class JobKind { kEmpty, kDressed, kRerun };
+const char* toString(JobKind kind);
+
+/// Answer to a capture submission.
+struct SubmitResult {
+  std::optional<std::int64_t> jobId;
+  int httpStatus =
+      202;  // 202 accepted, 404 unknown item, 409 not calibrated, 503 queue full/stopping
+  std::string error;
+  bool merged = false;  // a button press merged into an already queued press
+};
+
+class Station : public RouteContext {
+ public:
+  Station(boost::asio::io_context& io, Config config, std::unique_ptr<capture::Camera> camera,
+          std::unique_ptr<capture::Gpio> gpio, std::unique_ptr<CaptureProcessor> processor);
+  ~Station() override;
+
+  /// Opens the catalog and store, fails interrupted jobs, sweeps orphan blobs, opens the camera
+  /// (an absent camera is an error state, not a start-up failure) and starts GPIO and timers.
+  /// Throws on catalog/store errors. Call before io.run().
+  void start();
+
+  /// Capture requests. `done` runs on the strand.
+  void submit(JobKind kind, std::string sku, std::int64_t itemId,
+              std::function<void(SubmitResult)> done);
+  /// A (simulated or GPIO) short press: bare-form capture when uncalibrated, else a garment.
+  void press(std::function<void(SubmitResult)> done = {});
+  /// A long press: always a bare-form capture (recalibration).
+  void longPress();
+
+  /// Station status JSON (docs/api.md); `done` runs on the strand.
+  void status(std::function<void(nlohmann::json)> done);
+  /// A job with live stage/progress for the running one.
+  void job(std::int64_t id, std::function<void(std::optional<nlohmann::json>)> done);
+
+  /// Server-sent events and MJPEG preview subscribers.
+  void addEventSink(std::shared_ptr<StreamSink> sink);
+  void addPreviewSink(std::shared_ptr<StreamSink> sink);
+
+  /// SIGTERM: finish the job in hand (at most `grace`), fail the queued ones, then `done`.
+  void shutdown(std::chrono::seconds grace, std::function<void()> done);
+  /// SIGHUP: applies the reloadable parts of a new config (pipeline options, naming, review
+  /// threshold). Camera, GPIO and HTTP settings need a restart (logged).
+  void reload(const Config& config);
+
+  /// Lets reload() rebuild the processor with new pipeline options (garmcapd sets it).
+  void setProcessorFactory(std::function<std::unique_ptr<CaptureProcessor>(const Config&)> f) {
+    processorFactory_ = std::move(f);
+  }
+
+  /// For the systemd watchdog: loop alive and no stage stuck beyond its limit.
+  bool healthy() const;
+  std::string statusLine() const;  // one line for STATUS=
+  StationState state() const { return state_; }
+
+  // RouteContext
+  void withCatalog(std::function<void(Catalog&)> fn) override;
+  void offload(std::function<void()> fn) override;
+  const ContentStore& store() const override { return *store_; }
+  std::string namingTemplate() const override { return config_.namingTemplate; }
+
+  /// Simulated rig only: makes the camera "disappear" (every camera call fails as disconnected)
+  /// or come back. Returns false when the station is not simulated.
+  bool setCameraUnplugged(bool unplugged);
+  bool simulated() const;
+
+ private:
+  struct Pending {
+    JobKind kind;
+    std::int64_t jobId;
+    std::string sku;
+    std::int64_t itemId = 0;
+    bool fromButton = false;
+    int presses = 1;
+  };
+  struct Running {
+    Pending request;
+    std::string stage;
+    double progress = 0;
+    std::chrono::steady_clock::time_point stageSince;
+  };
+
+  void submitOnStrand(JobKind kind, std::string sku, std::int64_t itemId, bool fromButton,
+                      std::function<void(SubmitResult)> done);
+  void startNext();
+  void setState(StationState s);
+  void setStage(const std::string& stage, double progress, bool persist);
+  void onFrameStored(Pending req, cv::Mat frame, std::string sha, std::int64_t bytes);
+  void runEmpty(Pending req, cv::Mat frame, std::string sha);
+  void runDressed(Pending req, cv::Mat dressed, std::string dressedSha);
+  void onCalibrated(Pending req, std::string emptySha, nlohmann::json calibration);
+  void onProcessed(Pending req, std::shared_ptr<NewItem> item);
+  void failJob(const Pending& req, const std::string& error, bool cameraFault);
+  void finishJob();
+  void broadcast(const std::string& event, const nlohmann::json& data);
+  nlohmann::json jobJson(const Job& job) const;
+  nlohmann::json statusJson();
+  void openCamera();
+  void startGpio();
+  void armButtonTimer();
+  void waitButton();
+  void ledTick();
+  void previewTick();
+  void keepAliveTick();
+  void maybeFinishShutdown();
+
+  boost::asio::io_context& io_;
+  boost::asio::strand<boost::asio::io_context::executor_type> strand_;
+  Config config_;
+  std::unique_ptr<capture::Camera> camera_;
+  std::unique_ptr<capture::Gpio> gpio_;
+  std::unique_ptr<CaptureProcessor> processor_;
+  std::function<std::unique_ptr<CaptureProcessor>(const Config&)> processorFactory_;
+  std::unique_ptr<Catalog> catalog_;
+  std::unique_ptr<ContentStore> store_;
+  boost::asio::thread_pool cameraThread_{1};
+  std::unique_ptr<boost::asio::thread_pool> pool_;
+
+  StationState state_ = StationState::kUncalibrated;
+  bool calibrated_ = false;
+  std::optional<std::int64_t> calibrationId_;
+  std::deque<Pending> queue_;
+  std::optional<Running> running_;
+  std::string lastError_;
+  std::string cameraError_;
+  bool cameraOpen_ = false;
+  std::shared_ptr<std::atomic<bool>> unplugged_;
+  std::vector<std::weak_ptr<StreamSink>> eventSinks_;
+  std::vector<std::weak_ptr<StreamSink>> previewSinks_;
+  bool previewInFlight_ = false;
+  bool previewRunning_ = false;
+  bool stopping_ = false;
+  std::function<void()> shutdownDone_;
+  int ledTick_ = 0;
+  std::shared_ptr<void> buttonDescriptor_;  // posix::stream_descriptor, released on destruction
+  boost::asio::steady_timer ledTimer_;
+  boost::asio::steady_timer buttonTimer_;
+  boost::asio::steady_timer previewTimer_;
+  boost::asio::steady_timer keepAliveTimer_;
+  boost::asio::steady_timer graceTimer_;
+  std::chrono::steady_clock::time_point lastLoopTick_;
+};
+
+}  // namespace garmcap::daemon

@@ -1,0 +1,462 @@
+// The station's JSON API (docs/api.md). Handlers validate everything that comes from the request
+// (ids, query values, JSON fields) and reach data only through the catalog and the content store
+// by id/sha, never by a path taken from the request.
+
+#include "garmcap/daemon/api_routes.h"
+
+#include <spdlog/spdlog.h>
+
+#include <charconv>
+#include <set>
+#include <sstream>
+
+#include "garmcap/daemon/catalog.h"
+#include "garmcap/daemon/content_store.h"
+#include "garmcap/drafts/pattern_io.h"
+#include "garmcap/drafts/svg.h"
+
+namespace garmcap::daemon {
+
+namespace {
+
+const std::set<std::string> kTypes = {"", "top", "dress", "skirt", "pants"};
+
+bool validSku(const std::string& s) {
+  if (s.size() > 64)
+    return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-'))
+      return false;
+  return true;
+}
+
+int queryInt(const RouteMatch& m, const std::string& name, int fallback, int lo, int hi) {
+  auto v = m.queryValue(name);
+  if (!v)
+    return fallback;
+  int x = 0;
+  const auto [p, ec] = std::from_chars(v->data(), v->data() + v->size(), x);
+  if (ec != std::errc() || p != v->data() + v->size() || x < lo || x > hi)
+    throw BadRequest("query '" + name + "' must be an integer in " + std::to_string(lo) + ".." +
+                     std::to_string(hi) + ", got '" + *v + "'");
+  return x;
+}
+
+std::string sizeParam(const RouteMatch& m) {
+  auto size = m.queryValue("size").value_or("base");
+  if (size.empty() || size.size() > 16 || !std::all_of(size.begin(), size.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+      }))
+    throw BadRequest("query 'size' must be a size name like 55 or M, got '" + size + "'");
+  return size;
+}
+
+std::string requireStringField(const nlohmann::json& body, const std::string& key,
+                               std::size_t maxLen) {
+  const auto& v = body.at(key);
+  if (!v.is_string())
+    throw BadRequest("field '" + key + "' must be a string");
+  std::string s = v.get<std::string>();
+  if (s.size() > maxLen)
+    throw BadRequest("field '" + key + "' is longer than " + std::to_string(maxLen) + " bytes");
+  return s;
+}
+
+ItemPatch parsePatch(const nlohmann::json& body) {
+  if (!body.is_object())
+    throw BadRequest("the PATCH body must be a JSON object");
+  ItemPatch p;
+  for (const auto& [key, value] : body.items()) {
+    if (key == "sku") {
+      p.sku = requireStringField(body, key, 64);
+      if (!validSku(*p.sku))
+        throw BadRequest("field 'sku' may hold only A-Z a-z 0-9 . _ -");
+    } else if (key == "title") {
+      p.title = requireStringField(body, key, 200);
+    } else if (key == "notes") {
+      p.notes = requireStringField(body, key, 4000);
+    } else if (key == "status") {
+      p.status = requireStringField(body, key, 32);
+      if (*p.status != kStatusNeedsReview && *p.status != kStatusApproved &&
+          *p.status != kStatusRejected)
+        throw BadRequest("field 'status' must be needs_review, approved or rejected");
+    } else if (key == "type") {
+      p.type = requireStringField(body, key, 16);
+      if (!kTypes.count(*p.type))
+        throw BadRequest("field 'type' must be top, dress, skirt or pants");
+    } else if (key == "price_cents") {
+      if (value.is_null())
+        p.priceCents = std::optional<std::int64_t>();
+      else if (value.is_number_integer() && value.get<std::int64_t>() >= 0)
+        p.priceCents = std::optional<std::int64_t>(value.get<std::int64_t>());
+      else
+        throw BadRequest("field 'price_cents' must be a non-negative integer or null");
+    } else if (key == "tags") {
+      if (!value.is_array() || value.size() > 50)
+        throw BadRequest("field 'tags' must be an array of at most 50 strings");
+      std::vector<std::string> tags;
+      for (const auto& t : value) {
+        if (!t.is_string() || t.get<std::string>().size() > 64)
+          throw BadRequest("field 'tags' must hold strings of at most 64 bytes");
+        tags.push_back(t.get<std::string>());
+      }
+      p.tags = tags;
+    } else if (key == "attributes") {
+      if (!value.is_object() || value.size() > 50)
+        throw BadRequest("field 'attributes' must be an object of strings");
+      std::map<std::string, std::string> attrs;
+      for (const auto& [k, v] : value.items()) {
+        if (!v.is_string() || k.size() > 64 || v.get<std::string>().size() > 200)
+          throw BadRequest("attribute '" + k + "' must be a string");
+        attrs[k] = v.get<std::string>();
+      }
+      p.attributes = attrs;
+    } else if (key == "measurements") {
+      if (!value.is_object())
+        throw BadRequest("field 'measurements' must be an object name -> cm");
+      std::map<std::string, double> ms;
+      for (const auto& [k, v] : value.items()) {
+        if (k.empty() || k.size() > 64 || !std::all_of(k.begin(), k.end(), [](char c) {
+              return std::islower(static_cast<unsigned char>(c)) ||
+                     std::isdigit(static_cast<unsigned char>(c)) || c == '_';
+            }))
+          throw BadRequest("measurement name '" + k + "' is not a measurement name");
+        if (!v.is_number() || !(v.get<double>() > 0 && v.get<double>() < 1000))
+          throw BadRequest("measurement '" + k + "' must be a number of cm in (0, 1000)");
+        ms[k] = v.get<double>();
+      }
+      p.measurementsCm = ms;
+    } else {
+      throw BadRequest("unknown field '" + key + "'");
+    }
+  }
+  return p;
+}
+
+Response accepted(const SubmitResult& r) {
+  if (!r.jobId) {
+    const auto status = static_cast<http::status>(r.httpStatus);
+    return jsonError(status, r.error);
+  }
+  nlohmann::json body{{"job", *r.jobId}};
+  if (r.merged)
+    body["merged"] = true;
+  Response res = jsonResponse(http::status::accepted, body);
+  res.set(http::field::location, "/api/jobs/" + std::to_string(*r.jobId));
+  return res;
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos)
+    return s;
+  std::string out = "\"";
+  for (char c : s)
+    out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string sizeGuideCsv(const nlohmann::json& guide) {
+  // {"units": "cm", "sizes": [...], "measurements": {name: {size: cm}}}
+  std::ostringstream out;
+  const auto& sizes = guide.at("sizes");
+  out << "measurement";
+  for (const auto& s : sizes)
+    out << ',' << csvField(s.get<std::string>());
+  out << '\n';
+  for (const auto& [name, values] : guide.at("measurements").items()) {
+    out << csvField(name);
+    for (const auto& s : sizes) {
+      out << ',';
+      auto it = values.find(s.get<std::string>());
+      if (it != values.end() && it->is_number()) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.1f", it->get<double>());
+        out << buf;
+      }
+    }
+    out << '\n';
+  }
+  return out.str();
+}
+
+void addApiRoutes(Router& router, Station& station) {
+  using V = http::verb;
+  Station* st = &station;
+
+  router.add(V::get, "/api/status", [st](const Request&, const RouteMatch&, Reply reply) {
+    st->status([reply](nlohmann::json s) { reply(jsonResponse(http::status::ok, s)); });
+  });
+
+  router.add(V::post, "/api/capture/empty", [st](const Request&, const RouteMatch&, Reply reply) {
+    st->submit(JobKind::kEmpty, "", 0, [reply](SubmitResult r) { reply(accepted(r)); });
+  });
+
+  router.add(V::post, "/api/capture", [st](const Request& req, const RouteMatch&, Reply reply) {
+    std::string sku;
+    if (!req.body().empty()) {
+      const auto body = parseJsonBody(req);
+      if (!body.is_object())
+        throw BadRequest("the body must be a JSON object");
+      for (const auto& [k, v] : body.items())
+        if (k != "sku")
+          throw BadRequest("unknown field '" + k + "'");
+      if (body.contains("sku")) {
+        sku = requireStringField(body, "sku", 64);
+        if (!validSku(sku))
+          throw BadRequest("field 'sku' may hold only A-Z a-z 0-9 . _ -");
+      }
+    }
+    st->submit(JobKind::kDressed, sku, 0, [reply](SubmitResult r) { reply(accepted(r)); });
+  });
+
+  router.add(V::post, "/api/button", [st](const Request&, const RouteMatch&, Reply reply) {
+    st->press([reply](SubmitResult r) { reply(accepted(r)); });
+  });
+
+  router.add(V::get, "/api/jobs/{id}", [st](const Request&, const RouteMatch& m, Reply reply) {
+    const auto id = m.id("id");
+    st->job(id, [reply, id](std::optional<nlohmann::json> j) {
+      reply(j ? jsonResponse(http::status::ok, *j)
+              : jsonError(http::status::not_found, "no job " + std::to_string(id)));
+    });
+  });
+
+  router.add(V::get, "/api/jobs", [st](const Request&, const RouteMatch& m, Reply reply) {
+    const int limit = queryInt(m, "limit", 20, 1, 200);
+    st->withCatalog([reply, limit](Catalog& c) {
+      nlohmann::json jobs = nlohmann::json::array();
+      for (const auto& j : c.recentJobs(limit))
+        jobs.push_back(j.toJson());
+      reply(jsonResponse(http::status::ok, {{"jobs", jobs}}));
+    });
+  });
+
+  router.addStream(V::get, "/api/events",
+                   [st](const Request&, const RouteMatch&, std::shared_ptr<StreamSink> sink) {
+                     st->addEventSink(std::move(sink));
+                   });
+  router.addStream(V::get, "/stream.mjpg",
+                   [st](const Request&, const RouteMatch&, std::shared_ptr<StreamSink> sink) {
+                     st->addPreviewSink(std::move(sink));
+                   });
+
+  router.add(V::get, "/api/items", [st](const Request&, const RouteMatch& m, Reply reply) {
+    ItemQuery q;
+    q.search = m.queryValue("q").value_or("");
+    if (q.search.size() > 200)
+      throw BadRequest("query 'q' is longer than 200 bytes");
+    q.type = m.queryValue("type").value_or("");
+    if (!kTypes.count(q.type))
+      throw BadRequest("query 'type' must be top, dress, skirt or pants");
+    q.status = m.queryValue("status").value_or("");
+    if (!q.status.empty() && q.status != kStatusNeedsReview && q.status != kStatusApproved &&
+        q.status != kStatusRejected)
+      throw BadRequest("query 'status' must be needs_review, approved or rejected");
+    q.deleted = queryInt(m, "deleted", 0, 0, 1) == 1;
+    q.offset = queryInt(m, "offset", 0, 0, 1 << 30);
+    q.limit = queryInt(m, "limit", 50, 1, 500);
+    st->withCatalog([reply, q](Catalog& c) {
+      auto [items, total] = c.items(q);
+      nlohmann::json list = nlohmann::json::array();
+      for (const auto& it : items)
+        list.push_back(it.toJson());
+      reply(jsonResponse(
+          http::status::ok,
+          {{"items", list}, {"total", total}, {"offset", q.offset}, {"limit", q.limit}}));
+    });
+  });
+
+  router.add(V::get, "/api/items/{id}", [st](const Request&, const RouteMatch& m, Reply reply) {
+    const auto id = m.id("id");
+    st->withCatalog([reply, id](Catalog& c) {
+      auto it = c.item(id);
+      reply(it ? jsonResponse(http::status::ok, it->toJson())
+               : jsonError(http::status::not_found, "no item " + std::to_string(id)));
+    });
+  });
+
+  router.add(
+      V::patch, "/api/items/{id}", [st](const Request& req, const RouteMatch& m, Reply reply) {
+        const auto id = m.id("id");
+        const ItemPatch patch = parsePatch(parseJsonBody(req));
+        st->withCatalog([reply, id, patch](Catalog& c) {
+          try {
+            if (!c.patchItem(id, patch))
+              return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+            reply(jsonResponse(http::status::ok, c.item(id)->toJson()));
+          } catch (const CatalogError& e) {
+            reply(jsonError(http::status::bad_request, e.what()));
+          }
+        });
+      });
+
+  router.add(V::delete_, "/api/items/{id}", [st](const Request&, const RouteMatch& m, Reply reply) {
+    const auto id = m.id("id");
+    st->withCatalog([reply, id](Catalog& c) {
+      reply(c.deleteItem(id) ? jsonResponse(http::status::ok, {{"deleted", id}})
+                             : jsonError(http::status::not_found, "no item " + std::to_string(id)));
+    });
+  });
+
+  router.add(V::post, "/api/items/{id}/restore",
+             [st](const Request&, const RouteMatch& m, Reply reply) {
+               const auto id = m.id("id");
+               st->withCatalog([reply, id](Catalog& c) {
+                 if (!c.restoreItem(id))
+                   return reply(
+                       jsonError(http::status::not_found, "no deleted item " + std::to_string(id)));
+                 reply(jsonResponse(http::status::ok, c.item(id)->toJson()));
+               });
+             });
+
+  router.add(V::post, "/api/items/{id}/rerun",
+             [st](const Request&, const RouteMatch& m, Reply reply) {
+               const auto id = m.id("id");
+               st->submit(JobKind::kRerun, "", id, [reply](SubmitResult r) { reply(accepted(r)); });
+             });
+
+  router.add(
+      V::get, "/api/items/{id}/images/{kind}",
+      [st](const Request&, const RouteMatch& m, Reply reply) {
+        const auto id = m.id("id");
+        const std::string kind = m.param("kind");
+        const bool download = m.queryValue("download").value_or("0") == "1";
+        st->withCatalog([st, reply, id, kind, download](Catalog& c) {
+          auto it = c.item(id);
+          if (!it)
+            return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+          auto im = std::find_if(it->images.begin(), it->images.end(),
+                                 [&](const ImageRef& r) { return r.kind == kind; });
+          if (im == it->images.end())
+            return reply(jsonError(http::status::not_found,
+                                   "item " + std::to_string(id) + " has no image '" + kind + "'"));
+          const std::string name =
+              expandNamingTemplate(st->namingTemplate(),
+                                   {{"sku", it->sku.empty() ? "item" : it->sku},
+                                    {"id", std::to_string(id)},
+                                    {"kind", kind},
+                                    {"type", it->type},
+                                    {"size", it->baseSize},
+                                    {"date", it->createdAt.substr(0, 10)}}) +
+              ".png";
+          const ImageRef ref = *im;
+          // Reading the blob happens off the strand: the catalog owner must not wait for disks.
+          st->offload([st, reply, ref, name, download] {
+            auto bytes = st->store().read(ref.sha256);
+            if (!bytes)
+              return reply(jsonError(http::status::internal_server_error,
+                                     "image " + ref.sha256 + " is missing from the store"));
+            Response res = textResponse(http::status::ok, ref.mediaType, std::move(*bytes));
+            res.set(http::field::cache_control, "private, max-age=31536000, immutable");
+            res.set(http::field::etag, "\"" + ref.sha256 + "\"");
+            res.set(
+                http::field::content_disposition,
+                std::string(download ? "attachment" : "inline") + "; filename=\"" + name + "\"");
+            reply(std::move(res));
+          });
+        });
+      });
+
+  router.add(
+      V::get, "/api/items/{id}/pattern.json",
+      [st](const Request&, const RouteMatch& m, Reply reply) {
+        const auto id = m.id("id");
+        const std::string size = sizeParam(m);
+        st->withCatalog([reply, id, size](Catalog& c) {
+          if (!c.item(id))
+            return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+          auto p = c.pattern(id, size);
+          reply(p ? jsonResponse(http::status::ok, *p)
+                  : jsonError(
+                        http::status::not_found,
+                        "item " + std::to_string(id) + " has no pattern for size '" + size + "'"));
+        });
+      });
+
+  router.add(
+      V::get, "/api/items/{id}/pattern.svg",
+      [st](const Request&, const RouteMatch& m, Reply reply) {
+        const auto id = m.id("id");
+        const std::string size = sizeParam(m);
+        st->withCatalog([st, reply, id, size](Catalog& c) {
+          if (!c.item(id))
+            return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+          auto p = c.pattern(id, size);
+          if (!p)
+            return reply(jsonError(
+                http::status::not_found,
+                "item " + std::to_string(id) + " has no pattern for size '" + size + "'"));
+          st->offload([reply, json = *p, id, size] {
+            try {
+              const auto pattern = drafts::patternFromJsonValue(
+                  json, "item " + std::to_string(id) + " pattern " + size);
+              reply(textResponse(http::status::ok, "image/svg+xml",
+                                 drafts::patternToSvg(pattern, drafts::SvgOptions{})));
+            } catch (const std::exception& e) {
+              reply(jsonError(http::status::internal_server_error, e.what()));
+            }
+          });
+        });
+      });
+
+  auto sizeGuide = [st](bool csv) {
+    return [st, csv](const Request&, const RouteMatch& m, Reply reply) {
+      const auto id = m.id("id");
+      st->withCatalog([reply, id, csv](Catalog& c) {
+        if (!c.item(id))
+          return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+        auto g = c.sizeGuide(id);
+        if (!g)
+          return reply(jsonError(http::status::not_found,
+                                 "item " + std::to_string(id) + " has no size guide (not graded)"));
+        if (!csv)
+          return reply(jsonResponse(http::status::ok, *g));
+        try {
+          reply(textResponse(http::status::ok, "text/csv; charset=utf-8", sizeGuideCsv(*g)));
+        } catch (const std::exception& e) {
+          reply(jsonError(http::status::internal_server_error,
+                          std::string("stored size guide is malformed: ") + e.what()));
+        }
+      });
+    };
+  };
+  router.add(V::get, "/api/items/{id}/sizeguide.json", sizeGuide(false));
+  router.add(V::get, "/api/items/{id}/sizeguide.csv", sizeGuide(true));
+
+  router.add(
+      V::get, "/api/items/{id}/result.json",
+      [st](const Request&, const RouteMatch& m, Reply reply) {
+        const auto id = m.id("id");
+        st->withCatalog([reply, id](Catalog& c) {
+          auto r = c.result(id);
+          reply(r ? jsonResponse(http::status::ok, *r)
+                  : jsonError(http::status::not_found, "no result for item " + std::to_string(id)));
+        });
+      });
+
+  router.add(V::get, "/api/calibration", [st](const Request&, const RouteMatch&, Reply reply) {
+    st->withCatalog([reply](Catalog& c) {
+      auto cal = c.latestCalibration();
+      if (!cal)
+        return reply(jsonError(http::status::not_found, "the station is not calibrated"));
+      reply(jsonResponse(http::status::ok, {{"id", cal->id},
+                                            {"created_at", cal->createdAt},
+                                            {"empty_sha256", cal->emptySha256},
+                                            {"calibration", cal->json}}));
+    });
+  });
+
+  router.add(V::post, "/api/sim/camera", [st](const Request& req, const RouteMatch&, Reply reply) {
+    const auto body = parseJsonBody(req);
+    if (!body.is_object() || !body.contains("present") || !body["present"].is_boolean())
+      throw BadRequest("body must be {\"present\": true|false}");
+    if (!st->setCameraUnplugged(!body["present"].get<bool>()))
+      return reply(
+          jsonError(http::status::forbidden, "only the simulated rig can unplug its camera"));
+    reply(jsonResponse(http::status::ok, {{"present", body["present"]}}));
+  });
+}
+
+}  // namespace garmcap::daemon

@@ -1,0 +1,893 @@
+#include "garmcap/daemon/catalog.h"
+
+#include <spdlog/spdlog.h>
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+
+namespace garmcap::daemon {
+
+namespace {
+
+// Version 1: the first released layout (no review status, warnings, size guide or job frames).
+constexpr const char* kSchemaV1 = R"sql(
+CREATE TABLE images(
+  sha256 TEXT PRIMARY KEY CHECK(length(sha256) = 64),
+  media_type TEXT NOT NULL,
+  bytes INTEGER NOT NULL,
+  created_at TEXT NOT NULL);
+CREATE TABLE calibrations(
+  id INTEGER PRIMARY KEY,
+  created_at TEXT NOT NULL,
+  empty_sha256 TEXT NOT NULL REFERENCES images(sha256),
+  json TEXT NOT NULL);
+CREATE TABLE jobs(
+  id INTEGER PRIMARY KEY,
+  kind TEXT NOT NULL,
+  state TEXT NOT NULL CHECK(state IN ('queued','running','done','failed')),
+  stage TEXT NOT NULL DEFAULT '',
+  progress REAL NOT NULL DEFAULT 0,
+  item_id INTEGER,
+  calibration_id INTEGER REFERENCES calibrations(id),
+  error TEXT NOT NULL DEFAULT '',
+  created_at TEXT NOT NULL,
+  updated_at TEXT NOT NULL);
+CREATE TABLE items(
+  id INTEGER PRIMARY KEY,
+  sku TEXT NOT NULL DEFAULT '',
+  title TEXT NOT NULL DEFAULT '',
+  price_cents INTEGER,
+  tags TEXT NOT NULL DEFAULT '[]',
+  notes TEXT NOT NULL DEFAULT '',
+  status TEXT NOT NULL DEFAULT 'draft',
+  type TEXT NOT NULL DEFAULT '',
+  attributes TEXT NOT NULL DEFAULT '{}',
+  confidence REAL NOT NULL DEFAULT 0,
+  calibration_id INTEGER REFERENCES calibrations(id),
+  job_id INTEGER REFERENCES jobs(id),
+  created_at TEXT NOT NULL,
+  updated_at TEXT NOT NULL,
+  deleted_at TEXT);
+CREATE TABLE measurements(
+  item_id INTEGER NOT NULL REFERENCES items(id) ON DELETE CASCADE,
+  name TEXT NOT NULL,
+  value_cm REAL NOT NULL,
+  PRIMARY KEY(item_id, name));
+CREATE TABLE item_images(
+  item_id INTEGER NOT NULL REFERENCES items(id) ON DELETE CASCADE,
+  kind TEXT NOT NULL,
+  sha256 TEXT NOT NULL REFERENCES images(sha256),
+  PRIMARY KEY(item_id, kind));
+CREATE TABLE patterns(
+  item_id INTEGER NOT NULL REFERENCES items(id) ON DELETE CASCADE,
+  size TEXT NOT NULL,
+  json TEXT NOT NULL,
+  PRIMARY KEY(item_id, size));
+CREATE INDEX items_sku ON items(sku);
+)sql";
+
+// Version 2: review status, warnings, base size, size guide, result.json and stored job frames.
+constexpr const char* kMigrateV1ToV2 = R"sql(
+ALTER TABLE items ADD COLUMN warnings TEXT NOT NULL DEFAULT '[]';
+ALTER TABLE items ADD COLUMN base_size TEXT NOT NULL DEFAULT '';
+ALTER TABLE items ADD COLUMN size_guide TEXT;
+ALTER TABLE items ADD COLUMN result TEXT;
+UPDATE items SET status = CASE status WHEN 'active' THEN 'approved' WHEN 'archived' THEN 'rejected'
+                                      ELSE 'needs_review' END;
+ALTER TABLE jobs ADD COLUMN sku TEXT NOT NULL DEFAULT '';
+ALTER TABLE jobs ADD COLUMN empty_sha256 TEXT NOT NULL DEFAULT '';
+ALTER TABLE jobs ADD COLUMN dressed_sha256 TEXT NOT NULL DEFAULT '';
+CREATE INDEX items_type ON items(type);
+CREATE INDEX jobs_state ON jobs(state);
+)sql";
+
+const char* text(sqlite3_stmt* s, int col) {
+  const unsigned char* t = sqlite3_column_text(s, col);
+  return t ? reinterpret_cast<const char*>(t) : "";
+}
+
+nlohmann::json jsonColumn(sqlite3_stmt* s, int col, nlohmann::json fallback) {
+  if (sqlite3_column_type(s, col) == SQLITE_NULL)
+    return fallback;
+  auto parsed = nlohmann::json::parse(text(s, col), nullptr, false);
+  return parsed.is_discarded() ? fallback : parsed;
+}
+
+}  // namespace
+
+std::string catalogSchemaSql(int version) {
+  if (version == 1)
+    return kSchemaV1;
+  if (version == 2)
+    return std::string(kSchemaV1) + kMigrateV1ToV2;
+  throw CatalogError("no catalog schema version " + std::to_string(version));
+}
+
+// RAII prepared statement: bound parameters only, reset on destruction.
+class Catalog::Statement {
+ public:
+  Statement(Catalog& c, const char* sql) : db_(c.db_), sql_(sql) {
+    if (sqlite3_prepare_v2(db_, sql, -1, &stmt_, nullptr) != SQLITE_OK)
+      throw CatalogError(std::string("catalog: cannot prepare '") + sql +
+                         "': " + sqlite3_errmsg(db_));
+  }
+  ~Statement() { sqlite3_finalize(stmt_); }
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  Statement& bind(int i, std::int64_t v) {
+    check(sqlite3_bind_int64(stmt_, i, v));
+    return *this;
+  }
+  Statement& bind(int i, int v) { return bind(i, static_cast<std::int64_t>(v)); }
+  Statement& bind(int i, double v) {
+    check(sqlite3_bind_double(stmt_, i, v));
+    return *this;
+  }
+  Statement& bind(int i, const std::string& v) {
+    check(sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT));
+    return *this;
+  }
+  Statement& bind(int i, const char* v) { return bind(i, std::string(v)); }
+  Statement& bind(int i, std::optional<std::int64_t> v) {
+    if (v)
+      return bind(i, *v);
+    check(sqlite3_bind_null(stmt_, i));
+    return *this;
+  }
+  Statement& bindNull(int i) {
+    check(sqlite3_bind_null(stmt_, i));
+    return *this;
+  }
+  /// Steps once; true when a row is available.
+  bool step() {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_ROW)
+      return true;
+    if (rc == SQLITE_DONE)
+      return false;
+    throw CatalogError(std::string("catalog: '") + sql_ + "' failed: " + sqlite3_errmsg(db_));
+  }
+  void run() {
+    while (step()) {
+    }
+  }
+  sqlite3_stmt* get() { return stmt_; }
+
+ private:
+  void check(int rc) {
+    if (rc != SQLITE_OK)
+      throw CatalogError(std::string("catalog: bind failed for '") + sql_ +
+                         "': " + sqlite3_errmsg(db_));
+  }
+  sqlite3* db_;
+  const char* sql_;
+  sqlite3_stmt* stmt_ = nullptr;
+};
+
+namespace {
+// Rolls back unless committed (SQLiteCpp's Transaction semantics).
+class Transaction {
+ public:
+  explicit Transaction(sqlite3* db) : db_(db) {
+    char* err = nullptr;
+    if (sqlite3_exec(db_, "BEGIN IMMEDIATE", nullptr, nullptr, &err) != SQLITE_OK) {
+      std::string msg = err ? err : "?";
+      sqlite3_free(err);
+      throw CatalogError("catalog: cannot begin a transaction: " + msg);
+    }
+  }
+  ~Transaction() {
+    if (!done_)
+      sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+  }
+  void commit() {
+    char* err = nullptr;
+    if (sqlite3_exec(db_, "COMMIT", nullptr, nullptr, &err) != SQLITE_OK) {
+      std::string msg = err ? err : "?";
+      sqlite3_free(err);
+      throw CatalogError("catalog: commit failed: " + msg);
+    }
+    done_ = true;
+  }
+
+ private:
+  sqlite3* db_;
+  bool done_ = false;
+};
+}  // namespace
+
+Catalog::Catalog(const std::filesystem::path& file) : file_(file) {
+  const int rc =
+      sqlite3_open_v2(file.c_str(), &db_,
+                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+  if (rc != SQLITE_OK) {
+    std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw CatalogError("catalog: cannot open " + file.string() + ": " + msg);
+  }
+  try {
+    sqlite3_extended_result_codes(db_, 1);
+    sqlite3_busy_timeout(db_, 5000);
+    exec("PRAGMA foreign_keys = ON");
+    exec("PRAGMA journal_mode = WAL");
+    exec("PRAGMA synchronous = FULL");
+    migrate();
+  } catch (...) {
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw;
+  }
+}
+
+Catalog::~Catalog() {
+  if (db_)
+    sqlite3_close(db_);
+}
+
+void Catalog::exec(const char* sql) {
+  char* err = nullptr;
+  if (sqlite3_exec(db_, sql, nullptr, nullptr, &err) != SQLITE_OK) {
+    std::string msg = err ? err : sqlite3_errmsg(db_);
+    sqlite3_free(err);
+    throw CatalogError("catalog " + file_.string() + ": '" + std::string(sql).substr(0, 60) +
+                       "' failed: " + msg);
+  }
+}
+
+int Catalog::schemaVersion() const {
+  sqlite3_stmt* s = nullptr;
+  sqlite3_prepare_v2(db_, "PRAGMA user_version", -1, &s, nullptr);
+  int v = -1;
+  if (s && sqlite3_step(s) == SQLITE_ROW)
+    v = sqlite3_column_int(s, 0);
+  sqlite3_finalize(s);
+  return v;
+}
+
+void Catalog::migrate() {
+  int appId = 0;
+  {
+    Statement s(*this, "PRAGMA application_id");
+    if (s.step())
+      appId = sqlite3_column_int(s.get(), 0);
+  }
+  int version = schemaVersion();
+  bool empty = true;
+  {
+    Statement s(*this, "SELECT count(*) FROM sqlite_master");
+    if (s.step())
+      empty = sqlite3_column_int(s.get(), 0) == 0;
+  }
+  if (empty && version == 0) {
+    Transaction t(db_);
+    exec(kSchemaV1);
+    exec(("PRAGMA application_id = " + std::to_string(kCatalogApplicationId)).c_str());
+    exec("PRAGMA user_version = 1");
+    t.commit();
+    version = 1;
+    appId = kCatalogApplicationId;
+  }
+  if (appId != kCatalogApplicationId)
+    throw CatalogError("catalog " + file_.string() + ": not a GarmCap catalog (application_id " +
+                       std::to_string(appId) + ")");
+  if (version > kCatalogSchemaVersion)
+    throw CatalogError("catalog " + file_.string() + ": schema version " + std::to_string(version) +
+                       " is newer than this garmcapd (" + std::to_string(kCatalogSchemaVersion) +
+                       "); refusing to open it");
+  if (version < 1)
+    throw CatalogError("catalog " + file_.string() + ": bad schema version " +
+                       std::to_string(version));
+  // Ordered migrations, each in its own transaction together with its user_version.
+  static const std::vector<const char*> kMigrations = {kMigrateV1ToV2};
+  while (version < kCatalogSchemaVersion) {
+    spdlog::info("catalog: migrating {} from schema {} to {}", file_.string(), version,
+                 version + 1);
+    Transaction t(db_);
+    exec(kMigrations[static_cast<std::size_t>(version - 1)]);
+    exec(("PRAGMA user_version = " + std::to_string(version + 1)).c_str());
+    t.commit();
+    ++version;
+  }
+}
+
+std::string Catalog::integrityCheck() {
+  Statement s(*this, "PRAGMA integrity_check");
+  std::string out;
+  while (s.step()) {
+    if (!out.empty())
+      out += "; ";
+    out += text(s.get(), 0);
+  }
+  return out;
+}
+
+std::string Catalog::now() const {
+  const auto t = std::chrono::system_clock::now();
+  const std::time_t tt = std::chrono::system_clock::to_time_t(t);
+  const auto ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count() % 1000;
+  std::tm tm{};
+  gmtime_r(&tt, &tm);
+  char buf[40];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &tm);
+  char out[48];
+  std::snprintf(out, sizeof out, "%s.%03dZ", buf, static_cast<int>(ms));
+  return out;
+}
+
+// --- images ----------------------------------------------------------------------------------
+
+void Catalog::addImage(const std::string& sha256, const std::string& mediaType,
+                       std::int64_t bytes) {
+  Statement(*this,
+            "INSERT OR IGNORE INTO images(sha256, media_type, bytes, created_at) VALUES(?,?,?,?)")
+      .bind(1, sha256)
+      .bind(2, mediaType)
+      .bind(3, bytes)
+      .bind(4, now())
+      .run();
+}
+
+std::optional<std::string> Catalog::imageMediaType(const std::string& sha256) {
+  Statement s(*this, "SELECT media_type FROM images WHERE sha256 = ?");
+  s.bind(1, sha256);
+  if (!s.step())
+    return std::nullopt;
+  return std::string(text(s.get(), 0));
+}
+
+std::set<std::string> Catalog::referencedImages() {
+  std::set<std::string> out;
+  Statement s(*this, "SELECT sha256 FROM images");
+  while (s.step())
+    out.insert(text(s.get(), 0));
+  return out;
+}
+
+// --- calibrations ------------------------------------------------------------------------------
+
+std::int64_t Catalog::addCalibration(const std::string& emptySha256, const nlohmann::json& json) {
+  Statement(*this, "INSERT INTO calibrations(created_at, empty_sha256, json) VALUES(?,?,?)")
+      .bind(1, now())
+      .bind(2, emptySha256)
+      .bind(3, json.dump())
+      .run();
+  return sqlite3_last_insert_rowid(db_);
+}
+
+namespace {
+Calibration readCalibration(sqlite3_stmt* s) {
+  Calibration c;
+  c.id = sqlite3_column_int64(s, 0);
+  c.createdAt = text(s, 1);
+  c.emptySha256 = text(s, 2);
+  c.json = jsonColumn(s, 3, nlohmann::json::object());
+  return c;
+}
+}  // namespace
+
+std::optional<Calibration> Catalog::latestCalibration() {
+  Statement s(*this,
+              "SELECT id, created_at, empty_sha256, json FROM calibrations ORDER BY id DESC "
+              "LIMIT 1");
+  if (!s.step())
+    return std::nullopt;
+  return readCalibration(s.get());
+}
+
+std::optional<Calibration> Catalog::calibration(std::int64_t id) {
+  Statement s(*this, "SELECT id, created_at, empty_sha256, json FROM calibrations WHERE id = ?");
+  s.bind(1, id);
+  if (!s.step())
+    return std::nullopt;
+  return readCalibration(s.get());
+}
+
+// --- jobs ------------------------------------------------------------------------------------
+
+nlohmann::json Job::toJson() const {
+  nlohmann::json j{{"id", id},
+                   {"kind", kind},
+                   {"state", state},
+                   {"stage", stage},
+                   {"progress", progress},
+                   {"error", error},
+                   {"created_at", createdAt},
+                   {"updated_at", updatedAt}};
+  j["item_id"] = itemId ? nlohmann::json(*itemId) : nlohmann::json(nullptr);
+  j["calibration_id"] = calibrationId ? nlohmann::json(*calibrationId) : nlohmann::json(nullptr);
+  if (!sku.empty())
+    j["sku"] = sku;
+  return j;
+}
+
+std::int64_t Catalog::addJob(const std::string& kind, const std::string& sku) {
+  const std::string t = now();
+  Statement(*this,
+            "INSERT INTO jobs(kind, state, stage, progress, sku, created_at, updated_at) "
+            "VALUES(?, 'queued', 'queued', 0, ?, ?, ?)")
+      .bind(1, kind)
+      .bind(2, sku)
+      .bind(3, t)
+      .bind(4, t)
+      .run();
+  return sqlite3_last_insert_rowid(db_);
+}
+
+namespace {
+constexpr const char* kJobColumns =
+    "SELECT id, kind, state, stage, progress, item_id, calibration_id, error, sku, empty_sha256, "
+    "dressed_sha256, created_at, updated_at FROM jobs ";
+
+Job readJob(sqlite3_stmt* s) {
+  Job j;
+  j.id = sqlite3_column_int64(s, 0);
+  j.kind = text(s, 1);
+  j.state = text(s, 2);
+  j.stage = text(s, 3);
+  j.progress = sqlite3_column_double(s, 4);
+  if (sqlite3_column_type(s, 5) != SQLITE_NULL)
+    j.itemId = sqlite3_column_int64(s, 5);
+  if (sqlite3_column_type(s, 6) != SQLITE_NULL)
+    j.calibrationId = sqlite3_column_int64(s, 6);
+  j.error = text(s, 7);
+  j.sku = text(s, 8);
+  j.emptySha256 = text(s, 9);
+  j.dressedSha256 = text(s, 10);
+  j.createdAt = text(s, 11);
+  j.updatedAt = text(s, 12);
+  return j;
+}
+}  // namespace
+
+std::optional<Job> Catalog::job(std::int64_t id) {
+  const std::string sql = std::string(kJobColumns) + "WHERE id = ?";
+  Statement s(*this, sql.c_str());
+  s.bind(1, id);
+  if (!s.step())
+    return std::nullopt;
+  return readJob(s.get());
+}
+
+std::vector<Job> Catalog::recentJobs(int limit) {
+  const std::string sql = std::string(kJobColumns) + "ORDER BY id DESC LIMIT ?";
+  Statement s(*this, sql.c_str());
+  s.bind(1, limit);
+  std::vector<Job> out;
+  while (s.step())
+    out.push_back(readJob(s.get()));
+  return out;
+}
+
+void Catalog::updateJob(std::int64_t id, const std::string& state, const std::string& stage,
+                        double progress) {
+  Statement(*this,
+            "UPDATE jobs SET state = ?, stage = ?, progress = ?, updated_at = ? WHERE id = ?")
+      .bind(1, state)
+      .bind(2, stage)
+      .bind(3, progress)
+      .bind(4, now())
+      .bind(5, id)
+      .run();
+}
+
+void Catalog::setJobFrames(std::int64_t id, const std::string& emptySha256,
+                           const std::string& dressedSha256) {
+  Statement(*this,
+            "UPDATE jobs SET empty_sha256 = ?, dressed_sha256 = ?, updated_at = ? WHERE id = ?")
+      .bind(1, emptySha256)
+      .bind(2, dressedSha256)
+      .bind(3, now())
+      .bind(4, id)
+      .run();
+}
+
+void Catalog::failJob(std::int64_t id, const std::string& error) {
+  Statement(*this, "UPDATE jobs SET state = 'failed', error = ?, updated_at = ? WHERE id = ?")
+      .bind(1, error)
+      .bind(2, now())
+      .bind(3, id)
+      .run();
+}
+
+void Catalog::finishJob(std::int64_t id, std::optional<std::int64_t> itemId,
+                        std::optional<std::int64_t> calibrationId) {
+  Statement(*this,
+            "UPDATE jobs SET state = 'done', stage = 'done', progress = 1, item_id = ?, "
+            "calibration_id = ?, error = '', updated_at = ? WHERE id = ?")
+      .bind(1, itemId)
+      .bind(2, calibrationId)
+      .bind(3, now())
+      .bind(4, id)
+      .run();
+}
+
+std::vector<std::int64_t> Catalog::failInterruptedJobs(const std::string& reason) {
+  std::vector<std::int64_t> ids;
+  {
+    Statement s(*this, "SELECT id, stage FROM jobs WHERE state IN ('queued','running')");
+    while (s.step())
+      ids.push_back(sqlite3_column_int64(s.get(), 0));
+  }
+  Statement(*this,
+            "UPDATE jobs SET state = 'failed', error = ? || ' (during ' || stage || ')', "
+            "updated_at = ? WHERE state IN ('queued','running')")
+      .bind(1, reason)
+      .bind(2, now())
+      .run();
+  return ids;
+}
+
+// --- items -----------------------------------------------------------------------------------
+
+nlohmann::json Item::toJson() const {
+  nlohmann::json j{{"id", id},
+                   {"sku", sku},
+                   {"title", title},
+                   {"tags", tags},
+                   {"notes", notes},
+                   {"status", status},
+                   {"type", type},
+                   {"attributes", attributes},
+                   {"confidence", confidence},
+                   {"warnings", warnings},
+                   {"measurements", measurementsCm},
+                   {"units", "cm"},
+                   {"sizes", sizes},
+                   {"base_size", baseSize},
+                   {"created_at", createdAt},
+                   {"updated_at", updatedAt}};
+  j["price_cents"] = priceCents ? nlohmann::json(*priceCents) : nlohmann::json(nullptr);
+  j["calibration_id"] = calibrationId ? nlohmann::json(*calibrationId) : nlohmann::json(nullptr);
+  j["job_id"] = jobId ? nlohmann::json(*jobId) : nlohmann::json(nullptr);
+  j["deleted_at"] = deletedAt ? nlohmann::json(*deletedAt) : nlohmann::json(nullptr);
+  nlohmann::json images = nlohmann::json::object();
+  for (const auto& im : this->images)
+    images[im.kind] = {{"url", "/api/items/" + std::to_string(id) + "/images/" + im.kind},
+                       {"sha256", im.sha256},
+                       {"media_type", im.mediaType}};
+  j["images"] = images;
+  return j;
+}
+
+namespace {
+constexpr const char* kItemColumns =
+    "SELECT id, sku, title, price_cents, tags, notes, status, type, attributes, confidence, "
+    "warnings, base_size, calibration_id, job_id, created_at, updated_at, deleted_at FROM items ";
+
+Item readItem(sqlite3_stmt* s) {
+  Item it;
+  it.id = sqlite3_column_int64(s, 0);
+  it.sku = text(s, 1);
+  it.title = text(s, 2);
+  if (sqlite3_column_type(s, 3) != SQLITE_NULL)
+    it.priceCents = sqlite3_column_int64(s, 3);
+  auto tags = jsonColumn(s, 4, nlohmann::json::array());
+  for (const auto& t : tags)
+    if (t.is_string())
+      it.tags.push_back(t.get<std::string>());
+  it.notes = text(s, 5);
+  it.status = text(s, 6);
+  it.type = text(s, 7);
+  auto attrs = jsonColumn(s, 8, nlohmann::json::object());
+  for (const auto& [k, v] : attrs.items())
+    if (v.is_string())
+      it.attributes[k] = v.get<std::string>();
+  it.confidence = sqlite3_column_double(s, 9);
+  auto warnings = jsonColumn(s, 10, nlohmann::json::array());
+  for (const auto& w : warnings)
+    if (w.is_string())
+      it.warnings.push_back(w.get<std::string>());
+  it.baseSize = text(s, 11);
+  if (sqlite3_column_type(s, 12) != SQLITE_NULL)
+    it.calibrationId = sqlite3_column_int64(s, 12);
+  if (sqlite3_column_type(s, 13) != SQLITE_NULL)
+    it.jobId = sqlite3_column_int64(s, 13);
+  it.createdAt = text(s, 14);
+  it.updatedAt = text(s, 15);
+  if (sqlite3_column_type(s, 16) != SQLITE_NULL)
+    it.deletedAt = std::string(text(s, 16));
+  return it;
+}
+}  // namespace
+
+void Catalog::loadItemDetails(Item& item) {
+  {
+    Statement s(*this, "SELECT name, value_cm FROM measurements WHERE item_id = ? ORDER BY name");
+    s.bind(1, item.id);
+    while (s.step())
+      item.measurementsCm[text(s.get(), 0)] = sqlite3_column_double(s.get(), 1);
+  }
+  {
+    Statement s(*this,
+                "SELECT ii.kind, ii.sha256, im.media_type FROM item_images ii JOIN images im ON "
+                "im.sha256 = ii.sha256 WHERE ii.item_id = ? ORDER BY ii.kind");
+    s.bind(1, item.id);
+    while (s.step())
+      item.images.push_back({text(s.get(), 0), text(s.get(), 1), text(s.get(), 2)});
+  }
+  {
+    Statement s(*this, "SELECT size FROM patterns WHERE item_id = ? ORDER BY rowid");
+    s.bind(1, item.id);
+    while (s.step())
+      item.sizes.push_back(text(s.get(), 0));
+  }
+}
+
+std::int64_t Catalog::addItem(const NewItem& n) {
+  Transaction t(db_);
+  const std::string ts = now();
+  Statement(*this,
+            "INSERT INTO items(sku, title, status, type, attributes, confidence, warnings, "
+            "base_size, size_guide, result, calibration_id, job_id, created_at, updated_at) "
+            "VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)")
+      .bind(1, n.sku)
+      .bind(2, n.title)
+      .bind(3, n.needsReview ? kStatusNeedsReview : kStatusApproved)
+      .bind(4, n.type)
+      .bind(5, nlohmann::json(n.attributes).dump())
+      .bind(6, n.confidence)
+      .bind(7, nlohmann::json(n.warnings).dump())
+      .bind(8, n.baseSize)
+      .bind(9, n.sizeGuide.is_null() ? std::string("null") : n.sizeGuide.dump())
+      .bind(10, n.result.dump())
+      .bind(11, n.calibrationId)
+      .bind(12, n.jobId)
+      .bind(13, ts)
+      .bind(14, ts)
+      .run();
+  const std::int64_t id = sqlite3_last_insert_rowid(db_);
+  for (const auto& [name, cm] : n.measurementsCm)
+    Statement(*this, "INSERT INTO measurements(item_id, name, value_cm) VALUES(?,?,?)")
+        .bind(1, id)
+        .bind(2, name)
+        .bind(3, cm)
+        .run();
+  for (const auto& im : n.images) {
+    Statement(*this,
+              "INSERT OR IGNORE INTO images(sha256, media_type, bytes, created_at) VALUES(?,?,?,?)")
+        .bind(1, im.sha256)
+        .bind(2, im.mediaType)
+        .bind(3, im.bytes)
+        .bind(4, ts)
+        .run();
+    Statement(*this, "INSERT INTO item_images(item_id, kind, sha256) VALUES(?,?,?)")
+        .bind(1, id)
+        .bind(2, im.kind)
+        .bind(3, im.sha256)
+        .run();
+  }
+  // The base (as measured) pattern first, then the graded sizes in the order given.
+  std::vector<std::string> order;
+  if (n.patterns.count("base"))
+    order.push_back("base");
+  for (const auto& [size, json] : n.patterns)
+    if (size != "base")
+      order.push_back(size);
+  for (const auto& size : order)
+    Statement(*this, "INSERT INTO patterns(item_id, size, json) VALUES(?,?,?)")
+        .bind(1, id)
+        .bind(2, size)
+        .bind(3, n.patterns.at(size).dump())
+        .run();
+  if (n.jobId)
+    Statement(*this,
+              "UPDATE jobs SET state = 'done', stage = 'done', progress = 1, item_id = ?, "
+              "calibration_id = ?, error = '', updated_at = ? WHERE id = ?")
+        .bind(1, id)
+        .bind(2, n.calibrationId)
+        .bind(3, ts)
+        .bind(4, *n.jobId)
+        .run();
+  t.commit();
+  return id;
+}
+
+void Catalog::replaceItemResults(std::int64_t id, const NewItem& n) {
+  Transaction t(db_);
+  const std::string ts = now();
+  Statement(*this,
+            "UPDATE items SET type = ?, attributes = ?, confidence = ?, warnings = ?, base_size = "
+            "?, size_guide = ?, result = ?, calibration_id = ?, status = ?, updated_at = ? WHERE "
+            "id = ?")
+      .bind(1, n.type)
+      .bind(2, nlohmann::json(n.attributes).dump())
+      .bind(3, n.confidence)
+      .bind(4, nlohmann::json(n.warnings).dump())
+      .bind(5, n.baseSize)
+      .bind(6, n.sizeGuide.is_null() ? std::string("null") : n.sizeGuide.dump())
+      .bind(7, n.result.dump())
+      .bind(8, n.calibrationId)
+      .bind(9, n.needsReview ? kStatusNeedsReview : kStatusApproved)
+      .bind(10, ts)
+      .bind(11, id)
+      .run();
+  Statement(*this, "DELETE FROM measurements WHERE item_id = ?").bind(1, id).run();
+  Statement(*this, "DELETE FROM patterns WHERE item_id = ?").bind(1, id).run();
+  for (const auto& [name, cm] : n.measurementsCm)
+    Statement(*this, "INSERT INTO measurements(item_id, name, value_cm) VALUES(?,?,?)")
+        .bind(1, id)
+        .bind(2, name)
+        .bind(3, cm)
+        .run();
+  for (const auto& im : n.images) {
+    Statement(*this,
+              "INSERT OR IGNORE INTO images(sha256, media_type, bytes, created_at) VALUES(?,?,?,?)")
+        .bind(1, im.sha256)
+        .bind(2, im.mediaType)
+        .bind(3, im.bytes)
+        .bind(4, ts)
+        .run();
+    Statement(*this, "INSERT OR REPLACE INTO item_images(item_id, kind, sha256) VALUES(?,?,?)")
+        .bind(1, id)
+        .bind(2, im.kind)
+        .bind(3, im.sha256)
+        .run();
+  }
+  std::vector<std::string> order;
+  if (n.patterns.count("base"))
+    order.push_back("base");
+  for (const auto& [size, json] : n.patterns)
+    if (size != "base")
+      order.push_back(size);
+  for (const auto& size : order)
+    Statement(*this, "INSERT INTO patterns(item_id, size, json) VALUES(?,?,?)")
+        .bind(1, id)
+        .bind(2, size)
+        .bind(3, n.patterns.at(size).dump())
+        .run();
+  if (n.jobId)
+    Statement(*this,
+              "UPDATE jobs SET state = 'done', stage = 'done', progress = 1, item_id = ?, "
+              "calibration_id = ?, error = '', updated_at = ? WHERE id = ?")
+        .bind(1, id)
+        .bind(2, n.calibrationId)
+        .bind(3, ts)
+        .bind(4, *n.jobId)
+        .run();
+  t.commit();
+}
+
+std::optional<Item> Catalog::item(std::int64_t id, bool includeDeleted) {
+  const std::string sql = std::string(kItemColumns) + "WHERE id = ?" +
+                          (includeDeleted ? "" : " AND deleted_at IS NULL");
+  Statement s(*this, sql.c_str());
+  s.bind(1, id);
+  if (!s.step())
+    return std::nullopt;
+  Item it = readItem(s.get());
+  loadItemDetails(it);
+  return it;
+}
+
+std::pair<std::vector<Item>, std::int64_t> Catalog::items(const ItemQuery& q) {
+  // One fixed statement; empty filters are disabled through the bound values, never by
+  // building SQL from input.
+  constexpr const char* kWhere =
+      "WHERE ((?1 = 1 AND deleted_at IS NOT NULL) OR (?1 = 0 AND deleted_at IS NULL)) "
+      "AND (?2 = '' OR type = ?2) AND (?3 = '' OR status = ?3) "
+      "AND (?4 = '' OR instr(lower(sku || ' ' || title || ' ' || notes || ' ' || tags), "
+      "lower(?4)) > 0) ";
+  const int limit = std::clamp(q.limit, 1, 500);
+  const int offset = std::max(q.offset, 0);
+  std::int64_t total = 0;
+  {
+    const std::string sql = std::string("SELECT count(*) FROM items ") + kWhere;
+    Statement s(*this, sql.c_str());
+    s.bind(1, q.deleted ? 1 : 0).bind(2, q.type).bind(3, q.status).bind(4, q.search);
+    if (s.step())
+      total = sqlite3_column_int64(s.get(), 0);
+  }
+  std::vector<Item> out;
+  const std::string sql =
+      std::string(kItemColumns) + kWhere + "ORDER BY id DESC LIMIT ?5 OFFSET ?6";
+  Statement s(*this, sql.c_str());
+  s.bind(1, q.deleted ? 1 : 0).bind(2, q.type).bind(3, q.status).bind(4, q.search);
+  s.bind(5, limit).bind(6, offset);
+  while (s.step())
+    out.push_back(readItem(s.get()));
+  for (auto& it : out)
+    loadItemDetails(it);
+  return {std::move(out), total};
+}
+
+bool Catalog::patchItem(std::int64_t id, const ItemPatch& p) {
+  if (p.status && *p.status != kStatusNeedsReview && *p.status != kStatusApproved &&
+      *p.status != kStatusRejected)
+    throw CatalogError("status must be needs_review, approved or rejected, got '" + *p.status +
+                       "'");
+  Transaction t(db_);
+  {
+    Statement s(*this, "SELECT 1 FROM items WHERE id = ? AND deleted_at IS NULL");
+    s.bind(1, id);
+    if (!s.step())
+      return false;
+  }
+  const std::string ts = now();
+  auto setText = [&](const char* sql, const std::optional<std::string>& v) {
+    if (v)
+      Statement(*this, sql).bind(1, *v).bind(2, ts).bind(3, id).run();
+  };
+  setText("UPDATE items SET sku = ?, updated_at = ? WHERE id = ?", p.sku);
+  setText("UPDATE items SET title = ?, updated_at = ? WHERE id = ?", p.title);
+  setText("UPDATE items SET notes = ?, updated_at = ? WHERE id = ?", p.notes);
+  setText("UPDATE items SET status = ?, updated_at = ? WHERE id = ?", p.status);
+  setText("UPDATE items SET type = ?, updated_at = ? WHERE id = ?", p.type);
+  if (p.tags)
+    setText("UPDATE items SET tags = ?, updated_at = ? WHERE id = ?",
+            nlohmann::json(*p.tags).dump());
+  if (p.attributes)
+    setText("UPDATE items SET attributes = ?, updated_at = ? WHERE id = ?",
+            nlohmann::json(*p.attributes).dump());
+  if (p.priceCents)
+    Statement(*this, "UPDATE items SET price_cents = ?, updated_at = ? WHERE id = ?")
+        .bind(1, *p.priceCents)
+        .bind(2, ts)
+        .bind(3, id)
+        .run();
+  if (p.measurementsCm)
+    for (const auto& [name, cm] : *p.measurementsCm)
+      Statement(*this, "INSERT OR REPLACE INTO measurements(item_id, name, value_cm) VALUES(?,?,?)")
+          .bind(1, id)
+          .bind(2, name)
+          .bind(3, cm)
+          .run();
+  t.commit();
+  return true;
+}
+
+bool Catalog::deleteItem(std::int64_t id) {
+  Statement(
+      *this,
+      "UPDATE items SET deleted_at = ?1, updated_at = ?1 WHERE id = ?2 AND deleted_at IS NULL")
+      .bind(1, now())
+      .bind(2, id)
+      .run();
+  return sqlite3_changes(db_) > 0;
+}
+
+bool Catalog::restoreItem(std::int64_t id) {
+  Statement(
+      *this,
+      "UPDATE items SET deleted_at = NULL, updated_at = ? WHERE id = ? AND deleted_at IS NOT NULL")
+      .bind(1, now())
+      .bind(2, id)
+      .run();
+  return sqlite3_changes(db_) > 0;
+}
+
+std::optional<nlohmann::json> Catalog::pattern(std::int64_t itemId, const std::string& size) {
+  Statement s(*this, "SELECT json FROM patterns WHERE item_id = ? AND size = ?");
+  s.bind(1, itemId).bind(2, size);
+  if (!s.step())
+    return std::nullopt;
+  return jsonColumn(s.get(), 0, nullptr);
+}
+
+std::optional<nlohmann::json> Catalog::sizeGuide(std::int64_t itemId) {
+  Statement s(*this, "SELECT size_guide FROM items WHERE id = ? AND deleted_at IS NULL");
+  s.bind(1, itemId);
+  if (!s.step())
+    return std::nullopt;
+  auto j = jsonColumn(s.get(), 0, nullptr);
+  if (j.is_null())
+    return std::nullopt;
+  return j;
+}
+
+std::optional<nlohmann::json> Catalog::result(std::int64_t itemId) {
+  Statement s(*this, "SELECT result FROM items WHERE id = ? AND deleted_at IS NULL");
+  s.bind(1, itemId);
+  if (!s.step())
+    return std::nullopt;
+  auto j = jsonColumn(s.get(), 0, nullptr);
+  if (j.is_null())
+    return std::nullopt;
+  return j;
+}
+
+}  // namespace garmcap::daemon

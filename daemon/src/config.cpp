@@ -1,0 +1,217 @@
+#include "garmcap/daemon/config.h"
+
+#include <arpa/inet.h>
+
+#include <functional>
+#include <map>
+#include <toml.hpp>
+
+namespace garmcap::daemon {
+
+namespace {
+
+using Setter = std::function<void(const toml::value&, Config&, const std::string& key)>;
+
+[[noreturn]] void bad(const std::string& key, const std::string& reason) {
+  throw ConfigError(key + ": " + reason);
+}
+
+Setter stringKey(std::string Config::*member) {
+  return [member](const toml::value& v, Config& c, const std::string& key) {
+    if (!v.is_string())
+      bad(key, "must be a string");
+    c.*member = v.as_string().str;
+  };
+}
+
+Setter boolKey(bool Config::*member) {
+  return [member](const toml::value& v, Config& c, const std::string& key) {
+    if (!v.is_boolean())
+      bad(key, "must be true or false");
+    c.*member = v.as_boolean();
+  };
+}
+
+template <typename Int>
+Setter intKey(Int Config::*member, long long lo, long long hi) {
+  return [member, lo, hi](const toml::value& v, Config& c, const std::string& key) {
+    if (!v.is_integer())
+      bad(key, "must be an integer");
+    const long long x = v.as_integer();
+    if (x < lo || x > hi)
+      bad(key, "must be " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " +
+                   std::to_string(x));
+    c.*member = static_cast<Int>(x);
+  };
+}
+
+Setter doubleKey(double Config::*member, double lo, double hi) {
+  return [member, lo, hi](const toml::value& v, Config& c, const std::string& key) {
+    double x = 0;
+    if (v.is_floating())
+      x = v.as_floating();
+    else if (v.is_integer())
+      x = static_cast<double>(v.as_integer());
+    else
+      bad(key, "must be a number");
+    if (!(x >= lo && x <= hi))
+      bad(key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    c.*member = x;
+  };
+}
+
+Setter oneOf(std::string Config::*member, std::vector<std::string> allowed) {
+  return [member, allowed](const toml::value& v, Config& c, const std::string& key) {
+    if (!v.is_string())
+      bad(key, "must be a string");
+    const std::string s = v.as_string().str;
+    if (std::find(allowed.begin(), allowed.end(), s) == allowed.end()) {
+      std::string list;
+      for (const auto& a : allowed)
+        list += (list.empty() ? "" : ", ") + a;
+      bad(key, "must be one of " + list + ", got '" + s + "'");
+    }
+    c.*member = s;
+  };
+}
+
+const std::map<std::string, std::map<std::string, Setter>>& schema() {
+  static const std::map<std::string, std::map<std::string, Setter>> kSchema = {
+      {"camera",
+       {{"backend", oneOf(&Config::cameraBackend, {"libcamera", "v4l2", "replay", "synthetic"})},
+        {"device", stringKey(&Config::cameraDevice)},
+        {"form", stringKey(&Config::formPath)},
+        {"still_width", intKey(&Config::stillWidth, 0, 16384)},
+        {"still_height", intKey(&Config::stillHeight, 0, 16384)},
+        {"capture_timeout_ms", intKey(&Config::captureTimeoutMs, 100, 600000)}}},
+      {"gpio",
+       {{"backend", oneOf(&Config::gpioBackend, {"gpiod", "simulated"})},
+        {"button_chip", stringKey(&Config::buttonChip)},
+        {"button_line", stringKey(&Config::buttonLine)},
+        {"button_active_low", boolKey(&Config::buttonActiveLow)},
+        {"led_chip", stringKey(&Config::ledChip)},
+        {"led_line", stringKey(&Config::ledLine)},
+        {"debounce_ms", intKey(&Config::debounceMs, 1, 1000)},
+        {"long_press_ms", intKey(&Config::longPressMs, 200, 60000)}}},
+      {"paths", {{"data", stringKey(&Config::dataDir)}, {"web_dir", stringKey(&Config::webDir)}}},
+      {"http",
+       {{"listen",
+         [](const toml::value& v, Config& c, const std::string& key) {
+           if (!v.is_string())
+             bad(key, "must be a string \"HOST:PORT\"");
+           parseListen(v.as_string().str, c, key);
+         }},
+        {"token", stringKey(&Config::token)},
+        {"body_limit_bytes", intKey(&Config::bodyLimitBytes, 1024, 256LL << 20)},
+        {"request_timeout_s", intKey(&Config::requestTimeoutS, 1, 3600)},
+        {"max_connections", intKey(&Config::maxConnections, 1, 10000)}}},
+      {"pipeline",
+       {{"product_images", boolKey(&Config::makeProductImages)},
+        {"texture", boolKey(&Config::makeTexture)},
+        {"product_size_px", intKey(&Config::productSizePx, 64, 8192)},
+        {"size_chart", stringKey(&Config::sizeChart)},
+        {"review_below_confidence", doubleKey(&Config::reviewBelowConfidence, 0.0, 1.0)},
+        {"worker_threads", intKey(&Config::workerThreads, 1, 64)},
+        {"queue_limit", intKey(&Config::queueLimit, 1, 10000)}}},
+      {"naming", {{"template", stringKey(&Config::namingTemplate)}}},
+  };
+  return kSchema;
+}
+
+bool isLoopback(const std::string& address) {
+  in_addr a4{};
+  if (inet_pton(AF_INET, address.c_str(), &a4) == 1)
+    return (ntohl(a4.s_addr) >> 24) == 127;
+  return address == "::1";
+}
+
+}  // namespace
+
+void parseListen(const std::string& text, Config& c, const std::string& what) {
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0)
+    throw ConfigError(what + ": expected HOST:PORT, got '" + text + "'");
+  std::string host = text.substr(0, colon);
+  const std::string port = text.substr(colon + 1);
+  if (host.size() >= 2 && host.front() == '[' && host.back() == ']')
+    host = host.substr(1, host.size() - 2);
+  in_addr a4{};
+  in6_addr a6{};
+  if (inet_pton(AF_INET, host.c_str(), &a4) != 1 && inet_pton(AF_INET6, host.c_str(), &a6) != 1)
+    throw ConfigError(what + ": '" + host + "' is not an IPv4 or IPv6 address");
+  int p = 0;
+  try {
+    std::size_t used = 0;
+    p = std::stoi(port, &used);
+    if (used != port.size())
+      p = -1;
+  } catch (const std::exception&) {
+    p = -1;
+  }
+  if (p < 0 || p > 65535)
+    throw ConfigError(what + ": port must be 0..65535, got '" + port + "'");
+  c.listenAddress = host;
+  c.listenPort = static_cast<std::uint16_t>(p);
+}
+
+bool Config::loopbackOnly() const {
+  return isLoopback(listenAddress);
+}
+
+void Config::validate() const {
+  if (!loopbackOnly() && token.size() < 16)
+    throw ConfigError(
+        "[http] token: a token of at least 16 characters is required when "
+        "listening on " +
+        listenAddress + " (not a loopback address)");
+  if (dataDir.empty())
+    throw ConfigError("[paths] data: must not be empty");
+  if (cameraBackend == "replay" && cameraDevice.empty())
+    throw ConfigError("[camera] device: the replay back end needs the rig folder");
+  if (gpioBackend == "gpiod" && buttonLine.empty())
+    throw ConfigError("[gpio] button_line: required with the gpiod back end");
+  if (namingTemplate.empty())
+    throw ConfigError("[naming] template: must not be empty");
+}
+
+Config loadConfig(const std::filesystem::path& file, Config config) {
+  toml::value root;
+  try {
+    root = toml::parse(file.string());
+  } catch (const std::exception& e) {
+    throw ConfigError(file.string() + ": " + e.what());
+  }
+  if (!root.is_table())
+    throw ConfigError(file.string() + ": not a TOML table");
+  const auto& tables = schema();
+  for (const auto& [section, value] : root.as_table()) {
+    auto t = tables.find(section);
+    if (t == tables.end())
+      throw ConfigError(file.string() + ": [" + section + "]: unknown section");
+    if (!value.is_table())
+      throw ConfigError(file.string() + ": " + section + ": must be a table [" + section + "]");
+    for (const auto& [key, v] : value.as_table()) {
+      const std::string name = "[" + section + "] " + key;
+      auto setter = t->second.find(key);
+      if (setter == t->second.end())
+        throw ConfigError(file.string() + ": " + name + ": unknown key");
+      try {
+        setter->second(v, config, name);
+      } catch (const ConfigError& e) {
+        throw ConfigError(file.string() + ": " + e.what());
+      }
+    }
+  }
+  return config;
+}
+
+void applySimulated(Config& c) {
+  c.cameraBackend = "synthetic";
+  c.gpioBackend = "simulated";
+#ifdef GARMCAP_DEFAULT_FORM
+  if (c.formPath.empty())
+    c.formPath = GARMCAP_DEFAULT_FORM;
+#endif
+}
+
+}  // namespace garmcap::daemon

@@ -1,0 +1,929 @@
+#include "garmcap/daemon/station.h"
+
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/posix/stream_descriptor.hpp>
+#include <boost/asio/post.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "garmcap/capture/camera.h"
+#include "garmcap/capture/gpio.h"
+
+namespace garmcap::daemon {
+
+namespace asio = boost::asio;
+using Clock = std::chrono::steady_clock;
+
+const char* toString(StationState s) {
+  switch (s) {
+    case StationState::kUncalibrated:
+      return "uncalibrated";
+    case StationState::kReady:
+      return "ready";
+    case StationState::kCapturing:
+      return "capturing";
+    case StationState::kProcessing:
+      return "processing";
+    case StationState::kError:
+      return "error";
+    case StationState::kStopping:
+      return "stopping";
+  }
+  return "?";
+}
+
+std::uint8_t ledPattern(StationState s) {
+  switch (s) {
+    case StationState::kUncalibrated:
+      return 0b00001111;  // 1 Hz blink
+    case StationState::kReady:
+      return 0b11111111;  // steady
+    case StationState::kCapturing:
+      return 0b01010101;  // 4 Hz flicker
+    case StationState::kProcessing:
+      return 0b00110011;  // 2 Hz blink
+    case StationState::kError:
+      return 0b00000101;  // double flash
+    case StationState::kStopping:
+      return 0;
+  }
+  return 0;
+}
+
+const char* toString(JobKind k) {
+  switch (k) {
+    case JobKind::kEmpty:
+      return "empty";
+    case JobKind::kDressed:
+      return "dressed";
+    case JobKind::kRerun:
+      return "rerun";
+  }
+  return "?";
+}
+
+namespace {
+
+std::string encodePng(const cv::Mat& image) {
+  std::vector<unsigned char> buf;
+  if (!cv::imencode(".png", image, buf, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+    throw std::runtime_error("cannot encode a PNG image");
+  return std::string(buf.begin(), buf.end());
+}
+
+cv::Mat decodeImage(const std::string& bytes, const std::string& what) {
+  cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data()));
+  cv::Mat img = cv::imdecode(raw, cv::IMREAD_COLOR);
+  if (img.empty())
+    throw std::runtime_error("cannot decode the stored " + what);
+  return img;
+}
+
+// Simulated rig only: a camera that can be "unplugged" to exercise the disconnect paths.
+class UnpluggableCamera : public capture::Camera {
+ public:
+  UnpluggableCamera(std::unique_ptr<capture::Camera> inner, std::shared_ptr<std::atomic<bool>> off)
+      : inner_(std::move(inner)), off_(std::move(off)) {}
+  std::string backend() const override { return inner_->backend(); }
+  std::string device() const override { return inner_->device(); }
+  void open() override {
+    check();
+    inner_->open();
+  }
+  void close() noexcept override { inner_->close(); }
+  bool isOpen() const override { return inner_->isOpen(); }
+  void configure(const capture::CameraConfig& c) override {
+    check();
+    inner_->configure(c);
+  }
+  capture::CameraConfig config() const override { return inner_->config(); }
+  cv::Size stillSize() const override { return inner_->stillSize(); }
+  cv::Size previewSize() const override { return inner_->previewSize(); }
+  void lockSettings(const capture::CaptureSettings& s) override { inner_->lockSettings(s); }
+  capture::CaptureSettings settings() const override { return inner_->settings(); }
+  std::vector<std::string> unsupportedSettings() const override {
+    return inner_->unsupportedSettings();
+  }
+  capture::Frame captureStill(const capture::StillRequest& r) override {
+    check();
+    return inner_->captureStill(r);
+  }
+  void startPreview() override {
+    check();
+    inner_->startPreview();
+  }
+  std::optional<capture::Frame> nextPreviewFrame(std::chrono::milliseconds t) override {
+    check();
+    return inner_->nextPreviewFrame(t);
+  }
+  void stopPreview() noexcept override { inner_->stopPreview(); }
+  bool previewRunning() const override { return inner_->previewRunning(); }
+  bool reconnect() override {
+    if (*off_)
+      return false;
+    return inner_->reconnect();
+  }
+
+ private:
+  void check() const {
+    if (*off_)
+      throw capture::CameraError(capture::CameraErrorKind::kDisconnected,
+                                 "camera " + inner_->device() + " disconnected (simulated unplug)");
+  }
+  std::unique_ptr<capture::Camera> inner_;
+  std::shared_ptr<std::atomic<bool>> off_;
+};
+
+}  // namespace
+
+Station::Station(asio::io_context& io, Config config, std::unique_ptr<capture::Camera> camera,
+                 std::unique_ptr<capture::Gpio> gpio, std::unique_ptr<CaptureProcessor> processor)
+    : io_(io),
+      strand_(asio::make_strand(io)),
+      config_(std::move(config)),
+      gpio_(std::move(gpio)),
+      processor_(std::move(processor)),
+      unplugged_(std::make_shared<std::atomic<bool>>(false)),
+      ledTimer_(strand_),
+      buttonTimer_(strand_),
+      previewTimer_(strand_),
+      keepAliveTimer_(strand_),
+      graceTimer_(strand_) {
+  if (camera && simulated())
+    camera_ = std::make_unique<UnpluggableCamera>(std::move(camera), unplugged_);
+  else
+    camera_ = std::move(camera);
+  pool_ = std::make_unique<asio::thread_pool>(static_cast<std::size_t>(config_.workerThreads));
+}
+
+Station::~Station() {
+  if (buttonDescriptor_) {
+    auto* sd = static_cast<asio::posix::stream_descriptor*>(buttonDescriptor_.get());
+    sd->release();  // the Button owns the fd
+  }
+  cameraThread_.join();
+  pool_->join();
+  if (camera_)
+    camera_->close();
+}
+
+bool Station::simulated() const {
+  return config_.cameraBackend == "synthetic" || config_.cameraBackend == "replay";
+}
+
+bool Station::setCameraUnplugged(bool unplugged) {
+  if (!simulated())
+    return false;
+  *unplugged_ = unplugged;
+  return true;
+}
+
+void Station::start() {
+  std::filesystem::create_directories(config_.dataDir);
+  catalog_ = std::make_unique<Catalog>(std::filesystem::path(config_.dataDir) / "catalog.sqlite");
+  store_ = std::make_unique<ContentStore>(std::filesystem::path(config_.dataDir) / "blobs");
+  const auto interrupted =
+      catalog_->failInterruptedJobs("interrupted: garmcapd stopped before the job finished");
+  for (auto id : interrupted)
+    spdlog::warn("station: job {} was interrupted; marked failed", id);
+  const std::size_t swept = store_->sweepOrphans(catalog_->referencedImages());
+  if (swept)
+    spdlog::warn("station: removed {} orphaned blobs left by a crash", swept);
+  if (auto cal = catalog_->latestCalibration(); cal && store_->contains(cal->emptySha256)) {
+    calibrated_ = true;
+    calibrationId_ = cal->id;
+  }
+  state_ = calibrated_ ? StationState::kReady : StationState::kUncalibrated;
+  lastLoopTick_ = Clock::now();
+  asio::post(strand_, [this] {
+    openCamera();
+    startGpio();
+    ledTick();
+    keepAliveTick();
+  });
+}
+
+void Station::openCamera() {
+  if (!camera_) {
+    cameraError_ = "no camera configured";
+    return;
+  }
+  capture::CameraConfig cc;
+  cc.stillWidth = config_.stillWidth;
+  cc.stillHeight = config_.stillHeight;
+  cc.timeout = std::chrono::milliseconds(config_.captureTimeoutMs);
+  asio::post(cameraThread_, [this, cc] {
+    std::string error;
+    try {
+      if (!camera_->isOpen())
+        camera_->open();
+      camera_->configure(cc);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    asio::post(strand_, [this, error] {
+      cameraOpen_ = error.empty();
+      cameraError_ = error;
+      if (!error.empty()) {
+        spdlog::error("station: camera {} unavailable: {}", camera_->device(), error);
+        if (!running_ && !stopping_)
+          setState(StationState::kError);
+      } else {
+        spdlog::info("station: camera {} ({}) open", camera_->device(), camera_->backend());
+      }
+    });
+  });
+}
+
+// --- GPIO ------------------------------------------------------------------------------------
+
+void Station::startGpio() {
+  if (!gpio_)
+    return;
+  auto sd = std::make_shared<asio::posix::stream_descriptor>(strand_, gpio_->button().eventFd());
+  buttonDescriptor_ = sd;
+  waitButton();
+}
+
+void Station::waitButton() {
+  auto* sd = static_cast<asio::posix::stream_descriptor*>(buttonDescriptor_.get());
+  sd->async_wait(asio::posix::stream_descriptor::wait_read, [this](boost::system::error_code ec) {
+    if (ec)
+      return;  // cancelled at shutdown
+    try {
+      for (const auto& e : gpio_->button().readEvents()) {
+        if (e.kind == capture::ButtonEvent::Kind::kShortPress)
+          press();
+        if (e.kind == capture::ButtonEvent::Kind::kLongPress)
+          longPress();
+      }
+    } catch (const std::exception& e) {
+      spdlog::error("station: reading the button failed: {}", e.what());
+    }
+    armButtonTimer();
+    waitButton();
+  });
+}
+
+void Station::armButtonTimer() {
+  auto deadline = gpio_->button().nextDeadline();
+  if (!deadline)
+    return;
+  buttonTimer_.expires_at(*deadline);
+  buttonTimer_.async_wait([this](boost::system::error_code ec) {
+    if (ec)
+      return;
+    try {
+      for (const auto& e : gpio_->button().tick(Clock::now())) {
+        if (e.kind == capture::ButtonEvent::Kind::kShortPress)
+          press();
+        if (e.kind == capture::ButtonEvent::Kind::kLongPress)
+          longPress();
+      }
+    } catch (const std::exception& e) {
+      spdlog::error("station: button tick failed: {}", e.what());
+    }
+    armButtonTimer();
+  });
+}
+
+void Station::ledTick() {
+  lastLoopTick_ = Clock::now();
+  if (gpio_ && gpio_->statusLed()) {
+    const bool on = (ledPattern(state_) >> (ledTick_ % 8)) & 1;
+    try {
+      gpio_->statusLed()->set(on);
+    } catch (const std::exception& e) {
+      spdlog::warn("station: LED: {}", e.what());
+    }
+  }
+  ++ledTick_;
+  ledTimer_.expires_after(std::chrono::milliseconds(125));
+  ledTimer_.async_wait([this](boost::system::error_code ec) {
+    if (!ec)
+      ledTick();
+  });
+}
+
+void Station::keepAliveTick() {
+  // SSE comments keep idle proxies and browsers from dropping the event stream.
+  broadcast("", nullptr);
+  keepAliveTimer_.expires_after(std::chrono::seconds(15));
+  keepAliveTimer_.async_wait([this](boost::system::error_code ec) {
+    if (!ec)
+      keepAliveTick();
+  });
+}
+
+// --- submissions -----------------------------------------------------------------------------
+
+void Station::submit(JobKind kind, std::string sku, std::int64_t itemId,
+                     std::function<void(SubmitResult)> done) {
+  asio::post(strand_, [this, kind, sku = std::move(sku), itemId, done = std::move(done)]() mutable {
+    submitOnStrand(kind, std::move(sku), itemId, false, std::move(done));
+  });
+}
+
+void Station::press(std::function<void(SubmitResult)> done) {
+  asio::post(strand_, [this, done = std::move(done)]() mutable {
+    // Debounce presses into the press already waiting in the queue: staff pressing again
+    // while a job runs mean "yes, capture", not "capture twice".
+    for (auto& p : queue_) {
+      if (p.fromButton) {
+        ++p.presses;
+        spdlog::info("station: press merged into queued job {} ({} presses)", p.jobId, p.presses);
+        if (done)
+          done({p.jobId, 202, "", true});
+        return;
+      }
+    }
+    // What the press means is decided when it is taken, from the calibration state then.
+    const bool calibratedSoon =
+        calibrated_ ||
+        std::any_of(queue_.begin(), queue_.end(),
+                    [](const Pending& p) { return p.kind == JobKind::kEmpty; }) ||
+        (running_ && running_->request.kind == JobKind::kEmpty);
+    submitOnStrand(calibratedSoon ? JobKind::kDressed : JobKind::kEmpty, "", 0, true,
+                   std::move(done));
+  });
+}
+
+void Station::longPress() {
+  asio::post(strand_, [this] { submitOnStrand(JobKind::kEmpty, "", 0, true, {}); });
+}
+
+void Station::submitOnStrand(JobKind kind, std::string sku, std::int64_t itemId, bool fromButton,
+                             std::function<void(SubmitResult)> done) {
+  auto answer = [&](SubmitResult r) {
+    if (done)
+      done(std::move(r));
+  };
+  if (stopping_)
+    return answer({std::nullopt, 503, "the station is shutting down", false});
+  if (static_cast<int>(queue_.size()) >= config_.queueLimit)
+    return answer({std::nullopt, 503,
+                   "capture queue full (" + std::to_string(config_.queueLimit) + " waiting)",
+                   false});
+  const bool calibrationComing =
+      calibrated_ ||
+      std::any_of(queue_.begin(), queue_.end(),
+                  [](const Pending& p) { return p.kind == JobKind::kEmpty; }) ||
+      (running_ && running_->request.kind == JobKind::kEmpty);
+  if (kind == JobKind::kDressed && !calibrationComing && !fromButton)
+    return answer({std::nullopt, 409,
+                   "the station is not calibrated: capture the bare form first "
+                   "(POST /api/capture/empty)",
+                   false});
+  if (kind == JobKind::kRerun) {
+    auto item = catalog_->item(itemId);
+    if (!item)
+      return answer({std::nullopt, 404, "no item " + std::to_string(itemId), false});
+    auto job = item->jobId ? catalog_->job(*item->jobId) : std::nullopt;
+    if (!job || job->dressedSha256.empty() || !store_->contains(job->dressedSha256))
+      return answer({std::nullopt, 409,
+                     "item " + std::to_string(itemId) + " has no stored dressed frame to re-run",
+                     false});
+    if (!calibrated_)
+      return answer({std::nullopt, 409, "the station is not calibrated", false});
+  }
+  std::int64_t jobId = 0;
+  try {
+    jobId = catalog_->addJob(toString(kind), sku);
+  } catch (const std::exception& e) {
+    spdlog::error("station: cannot record a job: {}", e.what());
+    return answer({std::nullopt, 500, e.what(), false});
+  }
+  queue_.push_back({kind, jobId, std::move(sku), itemId, fromButton, 1});
+  spdlog::info("station: job {} ({}) queued{}", jobId, toString(kind),
+               fromButton ? " by the button" : "");
+  if (auto j = catalog_->job(jobId))
+    broadcast("job", jobJson(*j));
+  answer({jobId, 202, "", false});
+  startNext();
+}
+
+// --- the job pipeline --------------------------------------------------------------------------
+
+void Station::setState(StationState s) {
+  if (state_ == s)
+    return;
+  state_ = s;
+  broadcast("state", {{"state", toString(s)}, {"last_error", lastError_}});
+}
+
+void Station::setStage(const std::string& stage, double progress, bool persist) {
+  if (!running_)
+    return;
+  const bool changed = running_->stage != stage;
+  running_->stage = stage;
+  running_->progress = progress;
+  if (changed)
+    running_->stageSince = Clock::now();
+  // Persist stage changes only: progress ticks go to subscribers, not to an fsync each.
+  if (persist && changed) {
+    try {
+      catalog_->updateJob(running_->request.jobId, "running", stage, progress);
+    } catch (const std::exception& e) {
+      spdlog::error("station: cannot update job {}: {}", running_->request.jobId, e.what());
+    }
+  }
+  broadcast("job", {{"id", running_->request.jobId},
+                    {"kind", toString(running_->request.kind)},
+                    {"state", "running"},
+                    {"stage", stage},
+                    {"progress", progress},
+                    {"item_id", nullptr},
+                    {"error", ""}});
+}
+
+void Station::startNext() {
+  if (running_ || queue_.empty())
+    return;
+  if (stopping_)
+    return;
+  Pending req = queue_.front();
+  queue_.pop_front();
+  running_ = Running{req, "", 0, Clock::now()};
+  if (req.kind == JobKind::kRerun) {
+    setState(StationState::kProcessing);
+    setStage("loading", 0.05, true);
+    auto item = catalog_->item(req.itemId);
+    auto job = item && item->jobId ? catalog_->job(*item->jobId) : std::nullopt;
+    if (!job)
+      return failJob(req, "the item's capture job is gone", false);
+    const std::string sha = job->dressedSha256;
+    if (!req.sku.size())
+      req.sku = item->sku;
+    running_->request = req;
+    asio::post(*pool_, [this, req, sha] {
+      try {
+        auto bytes = store_->read(sha);
+        if (!bytes)
+          throw std::runtime_error("the stored dressed frame " + sha + " is missing");
+        cv::Mat frame = decodeImage(*bytes, "dressed frame");
+        asio::post(strand_, [this, req, frame, sha] { runDressed(req, frame, sha); });
+      } catch (const std::exception& e) {
+        asio::post(strand_, [this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+      }
+    });
+    return;
+  }
+  setState(StationState::kCapturing);
+  setStage("capturing", 0.05, true);
+  if (!camera_)
+    return failJob(req, "no camera configured", true);
+  const capture::Shot shot =
+      req.kind == JobKind::kEmpty ? capture::Shot::kEmpty : capture::Shot::kDressed;
+  capture::CameraConfig cc;
+  cc.stillWidth = config_.stillWidth;
+  cc.stillHeight = config_.stillHeight;
+  cc.timeout = std::chrono::milliseconds(config_.captureTimeoutMs);
+  asio::post(cameraThread_, [this, req, shot, cc] {
+    try {
+      // After a disconnect the camera is closed: opening it again is the reconnect (and throws
+      // kNotFound with the device's name while it is still away).
+      if (!camera_->isOpen()) {
+        camera_->open();
+        camera_->configure(cc);
+      }
+      capture::StillRequest sr;
+      sr.shot = shot;
+      capture::Frame frame = camera_->captureStill(sr);
+      const std::string png = encodePng(frame.bgr);
+      const std::string sha = store_->put(png);
+      asio::post(strand_,
+                 [this, req, bgr = frame.bgr, sha, n = static_cast<std::int64_t>(png.size())] {
+                   cameraOpen_ = true;
+                   cameraError_.clear();
+                   onFrameStored(req, bgr, sha, n);
+                 });
+    } catch (const capture::CameraError& e) {
+      const bool gone = e.kind() == capture::CameraErrorKind::kDisconnected ||
+                        e.kind() == capture::CameraErrorKind::kNotFound;
+      if (gone)
+        camera_->close();
+      asio::post(strand_, [this, req, gone, msg = std::string("camera: ") + e.what()] {
+        if (gone)
+          cameraOpen_ = false;
+        cameraError_ = msg;
+        failJob(req, msg, true);
+      });
+    } catch (const std::exception& e) {
+      asio::post(strand_, [this, req, msg = std::string("capture failed: ") + e.what()] {
+        failJob(req, msg, false);
+      });
+    }
+  });
+}
+
+void Station::onFrameStored(Pending req, cv::Mat frame, std::string sha, std::int64_t bytes) {
+  try {
+    catalog_->addImage(sha, "image/png", bytes);
+  } catch (const std::exception& e) {
+    return failJob(req, std::string("cannot record the frame: ") + e.what(), false);
+  }
+  if (req.kind == JobKind::kEmpty)
+    runEmpty(std::move(req), std::move(frame), std::move(sha));
+  else
+    runDressed(std::move(req), std::move(frame), std::move(sha));
+}
+
+void Station::runEmpty(Pending req, cv::Mat frame, std::string sha) {
+  catalog_->setJobFrames(req.jobId, sha, "");
+  setState(StationState::kProcessing);
+  setStage("calibration", 0.3, true);
+  asio::post(*pool_, [this, req, frame, sha] {
+    try {
+      auto progress = [this](const std::string& stage, double p) {
+        asio::post(strand_, [this, stage, p] { setStage(stage, 0.3 + 0.6 * p, false); });
+      };
+      nlohmann::json calibration = processor_->calibrate(frame, progress);
+      asio::post(strand_, [this, req, sha, calibration] { onCalibrated(req, sha, calibration); });
+    } catch (const std::exception& e) {
+      asio::post(strand_, [this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+    }
+  });
+}
+
+void Station::onCalibrated(Pending req, std::string emptySha, nlohmann::json calibration) {
+  try {
+    const std::int64_t id = catalog_->addCalibration(emptySha, calibration);
+    catalog_->finishJob(req.jobId, std::nullopt, id);
+    calibrated_ = true;
+    calibrationId_ = id;
+    lastError_.clear();
+    spdlog::info("station: calibration {} made by job {}", id, req.jobId);
+  } catch (const std::exception& e) {
+    return failJob(req, std::string("cannot store the calibration: ") + e.what(), false);
+  }
+  finishJob();
+}
+
+void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
+  auto cal = catalog_->latestCalibration();
+  if (!cal)
+    return failJob(req, "the station is not calibrated: capture the bare form first", false);
+  catalog_->setJobFrames(req.jobId, cal->emptySha256, dressedSha);
+  setState(StationState::kProcessing);
+  setStage("garmcap", 0.2, true);
+  const double threshold = config_.reviewBelowConfidence;
+  asio::post(*pool_, [this, req, dressed, dressedSha, cal = *cal, threshold] {
+    try {
+      auto bytes = store_->read(cal.emptySha256);
+      if (!bytes)
+        throw std::runtime_error("the bare-form frame of calibration " + std::to_string(cal.id) +
+                                 " is missing");
+      cv::Mat empty = decodeImage(*bytes, "bare-form frame");
+      std::string sku = req.sku;
+      if (sku.empty())
+        sku = decodeHangTagSku(dressed);
+      auto progress = [this](const std::string& stage, double p) {
+        asio::post(strand_, [this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
+      };
+      ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress);
+      auto item = std::make_shared<NewItem>();
+      item->sku = sku;
+      item->type = r.type;
+      item->title = r.type.empty() ? std::string("garment") : r.type;
+      if (!sku.empty())
+        item->title += " " + sku;
+      item->attributes = r.attributes;
+      item->confidence = r.confidence;
+      item->warnings = r.warnings;
+      item->measurementsCm = r.measurementsCm;
+      item->patterns = r.patterns;
+      item->baseSize = r.baseSize;
+      item->sizeGuide = r.sizeGuide;
+      item->result = r.result;
+      item->calibrationId = cal.id;
+      item->jobId = req.jobId;
+      item->needsReview = r.confidence < threshold || !r.warnings.empty();
+      // Blobs are durable before the transaction that names them (content_store.h).
+      item->images.push_back({"dressed", dressedSha, "image/png", 0});
+      item->images.push_back({"empty", cal.emptySha256, "image/png", 0});
+      for (const auto& [kind, image] : r.images) {
+        const std::string png = encodePng(image);
+        item->images.push_back(
+            {kind, store_->put(png), "image/png", static_cast<std::int64_t>(png.size())});
+      }
+      asio::post(strand_, [this, req, item] { onProcessed(req, item); });
+    } catch (const std::exception& e) {
+      asio::post(strand_, [this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+    }
+  });
+}
+
+void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {
+  try {
+    setStage("filing", 0.95, false);
+    std::int64_t id = 0;
+    if (req.kind == JobKind::kRerun) {
+      // Keep the original frames on the item; the re-run belongs to the new job.
+      catalog_->replaceItemResults(req.itemId, *item);
+      id = req.itemId;
+    } else {
+      id = catalog_->addItem(*item);
+    }
+    lastError_.clear();
+    spdlog::info("station: job {} filed item {} ({}, confidence {:.2f}{})", req.jobId, id,
+                 item->type, item->confidence, item->needsReview ? ", needs review" : "");
+  } catch (const std::exception& e) {
+    return failJob(req, std::string("cannot file the item: ") + e.what(), false);
+  }
+  finishJob();
+}
+
+void Station::failJob(const Pending& req, const std::string& error, bool cameraFault) {
+  spdlog::error("station: job {} ({}) failed: {}", req.jobId, toString(req.kind), error);
+  try {
+    catalog_->failJob(req.jobId, error);
+  } catch (const std::exception& e) {
+    spdlog::error("station: cannot record the failure of job {}: {}", req.jobId, e.what());
+  }
+  lastError_ = error;
+  if (cameraFault) {
+    running_.reset();
+    if (auto j = catalog_->job(req.jobId))
+      broadcast("job", jobJson(*j));
+    setState(StationState::kError);
+    maybeFinishShutdown();
+    startNext();
+    return;
+  }
+  finishJob();
+}
+
+void Station::finishJob() {
+  if (running_) {
+    if (auto j = catalog_->job(running_->request.jobId))
+      broadcast("job", jobJson(*j));
+  }
+  running_.reset();
+  setState(calibrated_ ? StationState::kReady : StationState::kUncalibrated);
+  maybeFinishShutdown();
+  startNext();
+}
+
+// --- status, events ------------------------------------------------------------------------------
+
+nlohmann::json Station::jobJson(const Job& job) const {
+  nlohmann::json j = job.toJson();
+  if (running_ && running_->request.jobId == job.id && job.state == "running") {
+    j["stage"] = running_->stage;
+    j["progress"] = running_->progress;
+  }
+  return j;
+}
+
+nlohmann::json Station::statusJson() {
+  nlohmann::json s{{"state", toString(state_)}, {"calibrated", calibrated_},
+                   {"queue", queue_.size()},    {"last_error", lastError_},
+                   {"simulated", simulated()},  {"led", ledPattern(state_)},
+                   {"healthy", healthy()}};
+  s["calibration_id"] = calibrationId_ ? nlohmann::json(*calibrationId_) : nlohmann::json(nullptr);
+  if (running_) {
+    if (auto j = catalog_->job(running_->request.jobId))
+      s["job"] = jobJson(*j);
+  } else {
+    s["job"] = nullptr;
+  }
+  s["camera"] = {{"backend", camera_ ? camera_->backend() : ""},
+                 {"device", camera_ ? camera_->device() : ""},
+                 {"open", cameraOpen_},
+                 {"error", cameraError_}};
+  s["gpio"] = gpio_ ? gpio_->backend() : "none";
+  s["preview_clients"] = previewSinks_.size();
+  s["event_clients"] = eventSinks_.size();
+  return s;
+}
+
+void Station::status(std::function<void(nlohmann::json)> done) {
+  asio::post(strand_, [this, done = std::move(done)] { done(statusJson()); });
+}
+
+void Station::job(std::int64_t id, std::function<void(std::optional<nlohmann::json>)> done) {
+  asio::post(strand_, [this, id, done = std::move(done)] {
+    auto j = catalog_->job(id);
+    done(j ? std::optional<nlohmann::json>(jobJson(*j)) : std::nullopt);
+  });
+}
+
+void Station::broadcast(const std::string& event, const nlohmann::json& data) {
+  std::string chunk = event.empty() ? std::string(": keep-alive\n\n")
+                                    : "event: " + event + "\ndata: " + data.dump() + "\n\n";
+  auto& sinks = eventSinks_;
+  sinks.erase(std::remove_if(sinks.begin(), sinks.end(),
+                             [&](const std::weak_ptr<StreamSink>& w) {
+                               auto s = w.lock();
+                               if (!s || !s->open())
+                                 return true;
+                               s->write(chunk);
+                               return false;
+                             }),
+              sinks.end());
+}
+
+void Station::addEventSink(std::shared_ptr<StreamSink> sink) {
+  asio::post(strand_, [this, sink] {
+    Response head{http::status::ok, 11};
+    head.set(http::field::content_type, "text/event-stream");
+    head.set(http::field::cache_control, "no-store");
+    sink->writeHeader(std::move(head));
+    sink->write("retry: 2000\n\nevent: status\ndata: " + statusJson().dump() + "\n\n");
+    eventSinks_.push_back(sink);
+  });
+}
+
+// --- MJPEG preview -------------------------------------------------------------------------------
+
+void Station::addPreviewSink(std::shared_ptr<StreamSink> sink) {
+  asio::post(strand_, [this, sink] {
+    Response head{http::status::ok, 11};
+    head.set(http::field::content_type, "multipart/x-mixed-replace;boundary=garmcapframe");
+    head.set(http::field::cache_control, "no-store, no-cache, must-revalidate");
+    head.set(http::field::pragma, "no-cache");
+    sink->writeHeader(std::move(head));
+    const bool first = previewSinks_.empty();
+    previewSinks_.push_back(sink);
+    if (first)
+      previewTick();
+  });
+}
+
+void Station::previewTick() {
+  previewSinks_.erase(std::remove_if(previewSinks_.begin(), previewSinks_.end(),
+                                     [](const std::weak_ptr<StreamSink>& w) {
+                                       auto s = w.lock();
+                                       return !s || !s->open();
+                                     }),
+                      previewSinks_.end());
+  if (previewSinks_.empty() || stopping_) {
+    if (previewRunning_ && camera_) {
+      previewRunning_ = false;
+      asio::post(cameraThread_, [this] { camera_->stopPreview(); });
+    }
+    return;
+  }
+  // The camera thread is shared with stills: while a capture runs, the preview simply pauses.
+  if (!previewInFlight_ && !running_ && cameraOpen_ && camera_) {
+    previewInFlight_ = true;
+    previewRunning_ = true;
+    asio::post(cameraThread_, [this] {
+      std::string jpeg;
+      try {
+        if (!camera_->previewRunning())
+          camera_->startPreview();
+        if (auto f = camera_->nextPreviewFrame(std::chrono::milliseconds(300))) {
+          std::vector<unsigned char> buf;
+          cv::imencode(".jpg", f->bgr, buf, {cv::IMWRITE_JPEG_QUALITY, 75});
+          jpeg.assign(buf.begin(), buf.end());
+        }
+      } catch (const std::exception& e) {
+        spdlog::warn("station: preview frame failed: {}", e.what());
+      }
+      asio::post(strand_, [this, jpeg = std::move(jpeg)] {
+        previewInFlight_ = false;
+        if (jpeg.empty())
+          return;
+        std::string part = "--garmcapframe\r\nContent-Type: image/jpeg\r\nContent-Length: " +
+                           std::to_string(jpeg.size()) + "\r\n\r\n" + jpeg + "\r\n";
+        for (auto& w : previewSinks_)
+          if (auto s = w.lock())
+            s->write(part);
+      });
+    });
+  }
+  previewTimer_.expires_after(std::chrono::milliseconds(200));
+  previewTimer_.async_wait([this](boost::system::error_code ec) {
+    if (!ec)
+      previewTick();
+  });
+}
+
+// --- lifecycle -----------------------------------------------------------------------------------
+
+void Station::shutdown(std::chrono::seconds grace, std::function<void()> done) {
+  asio::post(strand_, [this, grace, done = std::move(done)] {
+    if (stopping_)
+      return;
+    stopping_ = true;
+    shutdownDone_ = done;
+    for (const auto& p : queue_) {
+      try {
+        catalog_->failJob(p.jobId, "cancelled: garmcapd stopped before the job started");
+      } catch (const std::exception& e) {
+        spdlog::error("station: {}", e.what());
+      }
+    }
+    queue_.clear();
+    setState(StationState::kStopping);
+    if (running_) {
+      spdlog::info("station: stopping after job {} finishes (at most {} s)",
+                   running_->request.jobId, grace.count());
+      graceTimer_.expires_after(grace);
+      graceTimer_.async_wait([this](boost::system::error_code ec) {
+        if (ec || !running_)
+          return;
+        const auto id = running_->request.jobId;
+        try {
+          catalog_->failJob(id, "interrupted: garmcapd stopped during " + running_->stage);
+        } catch (const std::exception& e) {
+          spdlog::error("station: {}", e.what());
+        }
+        running_.reset();
+        maybeFinishShutdown();
+      });
+    }
+    maybeFinishShutdown();
+  });
+}
+
+void Station::maybeFinishShutdown() {
+  if (!stopping_ || running_ || !shutdownDone_)
+    return;
+  ledTimer_.cancel();
+  buttonTimer_.cancel();
+  previewTimer_.cancel();
+  keepAliveTimer_.cancel();
+  graceTimer_.cancel();
+  if (buttonDescriptor_)
+    static_cast<asio::posix::stream_descriptor*>(buttonDescriptor_.get())->cancel();
+  for (auto& w : eventSinks_)
+    if (auto s = w.lock())
+      s->close();
+  for (auto& w : previewSinks_)
+    if (auto s = w.lock())
+      s->close();
+  if (gpio_ && gpio_->statusLed()) {
+    try {
+      gpio_->statusLed()->set(false);
+    } catch (const std::exception&) {
+    }
+  }
+  auto done = std::move(shutdownDone_);
+  shutdownDone_ = nullptr;
+  done();
+}
+
+void Station::reload(const Config& c) {
+  asio::post(strand_, [this, c] {
+    config_.reviewBelowConfidence = c.reviewBelowConfidence;
+    config_.namingTemplate = c.namingTemplate;
+    config_.queueLimit = c.queueLimit;
+    config_.makeProductImages = c.makeProductImages;
+    config_.makeTexture = c.makeTexture;
+    config_.productSizePx = c.productSizePx;
+    config_.sizeChart = c.sizeChart;
+    if (processorFactory_ && !running_)
+      processor_ = processorFactory_(c);
+    spdlog::info("station: configuration reloaded (camera, GPIO and HTTP changes need a restart)");
+  });
+}
+
+bool Station::healthy() const {
+  const auto now = Clock::now();
+  if (now - lastLoopTick_ > std::chrono::seconds(5))
+    return false;  // the loop is stuck
+  if (running_) {
+    const auto inStage = now - running_->stageSince;
+    if (running_->stage == "capturing" &&
+        inStage > std::chrono::milliseconds(3 * config_.captureTimeoutMs) + std::chrono::seconds(5))
+      return false;  // the camera thread hangs
+    if (inStage > std::chrono::minutes(10))
+      return false;  // a pipeline stage hangs
+  }
+  return true;
+}
+
+std::string Station::statusLine() const {
+  std::string s = toString(state_);
+  if (running_)
+    s += " job " + std::to_string(running_->request.jobId) + " " + running_->stage;
+  if (!queue_.empty())
+    s += ", " + std::to_string(queue_.size()) + " queued";
+  if (!lastError_.empty())
+    s += "; last error: " + lastError_;
+  return s;
+}
+
+void Station::withCatalog(std::function<void(Catalog&)> fn) {
+  asio::post(strand_, [this, fn = std::move(fn)] {
+    try {
+      fn(*catalog_);
+    } catch (const std::exception& e) {
+      spdlog::error("station: catalog task failed: {}", e.what());
+    }
+  });
+}
+
+void Station::offload(std::function<void()> fn) {
+  asio::post(*pool_, [fn = std::move(fn)] {
+    try {
+      fn();
+    } catch (const std::exception& e) {
+      spdlog::error("station: worker task failed: {}", e.what());
+    }
+  });
+}
+
+}  // namespace garmcap::daemon

@@ -1,0 +1,238 @@
+#include "garmcap/daemon/catalog.h"
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "garmcap/daemon/content_store.h"
+#include "test_util.h"
+
+namespace garmcap::daemon {
+namespace {
+
+std::string sha(char c) {
+  return std::string(64, c);
+}
+
+NewItem sampleItem(std::int64_t jobId, std::int64_t calId) {
+  NewItem n;
+  n.sku = "SKU-42";
+  n.title = "Red dress";
+  n.type = "dress";
+  n.attributes = {{"sleeve", "short"}};
+  n.confidence = 0.9;
+  n.measurementsCm = {{"bust_circ", 88.5}, {"waist_circ", 70.0}};
+  n.images = {{"dressed", sha('d'), "image/png", 100}, {"cutout", sha('c'), "image/png", 50}};
+  n.patterns = {{"base", {{"type", "dress"}}}, {"55", {{"type", "dress"}, {"size", "55"}}}};
+  n.baseSize = "55";
+  n.sizeGuide = {{"units", "cm"},
+                 {"sizes", {"44", "55"}},
+                 {"measurements", {{"bust_circ", {{"44", 82.0}, {"55", 88.0}}}}}};
+  n.result = {{"type", "dress"}};
+  n.calibrationId = calId;
+  n.jobId = jobId;
+  n.needsReview = false;
+  return n;
+}
+
+TEST(Catalog, CreatesCurrentSchemaWithPragmas) {
+  test::TempDir dir;
+  Catalog c(dir.path() / "c.sqlite");
+  EXPECT_EQ(c.schemaVersion(), kCatalogSchemaVersion);
+  EXPECT_EQ(c.integrityCheck(), "ok");
+  sqlite3_stmt* s = nullptr;
+  sqlite3_prepare_v2(c.handle(), "PRAGMA journal_mode", -1, &s, nullptr);
+  ASSERT_EQ(sqlite3_step(s), SQLITE_ROW);
+  EXPECT_STREQ(reinterpret_cast<const char*>(sqlite3_column_text(s, 0)), "wal");
+  sqlite3_finalize(s);
+  sqlite3_prepare_v2(c.handle(), "PRAGMA foreign_keys", -1, &s, nullptr);
+  ASSERT_EQ(sqlite3_step(s), SQLITE_ROW);
+  EXPECT_EQ(sqlite3_column_int(s, 0), 1);
+  sqlite3_finalize(s);
+  sqlite3_prepare_v2(c.handle(), "PRAGMA synchronous", -1, &s, nullptr);
+  ASSERT_EQ(sqlite3_step(s), SQLITE_ROW);
+  EXPECT_EQ(sqlite3_column_int(s, 0), 2);  // FULL
+  sqlite3_finalize(s);
+}
+
+TEST(Catalog, ItemRoundTripEditDeleteRestore) {
+  test::TempDir dir;
+  Catalog c(dir.path() / "c.sqlite");
+  c.addImage(sha('e'), "image/png", 10);
+  const auto cal = c.addCalibration(sha('e'), {{"scale", 1}});
+  const auto job = c.addJob("dressed", "SKU-42");
+  const auto id = c.addItem(sampleItem(job, cal));
+  auto item = c.item(id);
+  ASSERT_TRUE(item);
+  EXPECT_EQ(item->sku, "SKU-42");
+  EXPECT_EQ(item->status, kStatusApproved);
+  EXPECT_DOUBLE_EQ(item->measurementsCm.at("bust_circ"), 88.5);
+  ASSERT_EQ(item->images.size(), 2u);
+  ASSERT_EQ(item->sizes.size(), 2u);
+  EXPECT_EQ(item->sizes[0], "base");
+  EXPECT_EQ(item->calibrationId, cal);
+  auto j = c.job(job);
+  ASSERT_TRUE(j);
+  EXPECT_EQ(j->state, "done");
+  EXPECT_EQ(j->itemId, id);
+  EXPECT_EQ(c.pattern(id, "55")->at("size"), "55");
+  EXPECT_FALSE(c.pattern(id, "99"));
+  EXPECT_EQ(c.sizeGuide(id)->at("sizes").size(), 2u);
+
+  ItemPatch p;
+  p.title = "Crimson dress";
+  p.tags = std::vector<std::string>{"evening", "silk"};
+  p.priceCents = std::optional<std::int64_t>(12900);
+  p.measurementsCm = std::map<std::string, double>{{"waist_circ", 71.5}};
+  ASSERT_TRUE(c.patchItem(id, p));
+  item = c.item(id);
+  EXPECT_EQ(item->title, "Crimson dress");
+  EXPECT_EQ(item->tags.size(), 2u);
+  EXPECT_EQ(item->priceCents, 12900);
+  EXPECT_DOUBLE_EQ(item->measurementsCm.at("waist_circ"), 71.5);
+  EXPECT_DOUBLE_EQ(item->measurementsCm.at("bust_circ"), 88.5);
+
+  ItemPatch bad;
+  bad.status = "sold";
+  EXPECT_THROW(c.patchItem(id, bad), CatalogError);
+  EXPECT_FALSE(c.patchItem(id + 100, p));
+
+  EXPECT_TRUE(c.deleteItem(id));
+  EXPECT_FALSE(c.item(id));
+  EXPECT_TRUE(c.item(id, true));
+  EXPECT_FALSE(c.deleteItem(id));
+  ItemQuery bin;
+  bin.deleted = true;
+  EXPECT_EQ(c.items(bin).second, 1);
+  EXPECT_TRUE(c.restoreItem(id));
+  EXPECT_TRUE(c.item(id));
+  EXPECT_FALSE(c.restoreItem(id));
+}
+
+TEST(Catalog, SearchFilterAndPaging) {
+  test::TempDir dir;
+  Catalog c(dir.path() / "c.sqlite");
+  c.addImage(sha('e'), "image/png", 10);
+  const auto cal = c.addCalibration(sha('e'), {});
+  for (int i = 0; i < 12; ++i) {
+    NewItem n = sampleItem(c.addJob("dressed", ""), cal);
+    n.sku = "SKU-" + std::to_string(i);
+    n.type = i % 3 == 0 ? "skirt" : "dress";
+    n.title = i == 7 ? "Linen Summer skirt" : "item";
+    c.addItem(n);
+  }
+  ItemQuery q;
+  q.limit = 5;
+  auto [page, total] = c.items(q);
+  EXPECT_EQ(total, 12);
+  ASSERT_EQ(page.size(), 5u);
+  EXPECT_GT(page[0].id, page[1].id);  // newest first
+  q.offset = 10;
+  EXPECT_EQ(c.items(q).first.size(), 2u);
+  ItemQuery t;
+  t.type = "skirt";
+  EXPECT_EQ(c.items(t).second, 4);
+  ItemQuery s;
+  s.search = "summer";  // case-insensitive
+  auto found = c.items(s);
+  ASSERT_EQ(found.second, 1);
+  EXPECT_EQ(found.first[0].sku, "SKU-7");
+  ItemQuery inj;
+  inj.search = "' OR 1=1 --";  // bound, never concatenated
+  EXPECT_EQ(c.items(inj).second, 0);
+}
+
+TEST(Catalog, InterruptedJobsAreFailedAtOpen) {
+  test::TempDir dir;
+  Catalog c(dir.path() / "c.sqlite");
+  const auto a = c.addJob("dressed", "");
+  const auto b = c.addJob("empty", "");
+  c.updateJob(b, "running", "capturing", 0.1);
+  const auto done = c.addJob("empty", "");
+  c.finishJob(done, std::nullopt, std::nullopt);
+  const auto ids = c.failInterruptedJobs("interrupted");
+  EXPECT_EQ(ids.size(), 2u);
+  EXPECT_EQ(c.job(a)->state, "failed");
+  EXPECT_NE(c.job(b)->error.find("capturing"), std::string::npos);
+  EXPECT_EQ(c.job(done)->state, "done");
+}
+
+TEST(Catalog, MigratesVersion1Fixture) {
+  test::TempDir dir;
+  const auto file = dir.path() / "old.sqlite";
+  {
+    std::ifstream in(std::string(GARMCAP_TEST_DATA_DIR) + "/daemon/catalog_v1.sql");
+    ASSERT_TRUE(in) << "fixture missing";
+    std::stringstream sql;
+    sql << in.rdbuf();
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
+    char* err = nullptr;
+    ASSERT_EQ(sqlite3_exec(db, sql.str().c_str(), nullptr, nullptr, &err), SQLITE_OK)
+        << (err ? err : "");
+    sqlite3_close(db);
+  }
+  Catalog c(file);
+  EXPECT_EQ(c.schemaVersion(), 2);
+  EXPECT_EQ(c.integrityCheck(), "ok");
+  auto one = c.item(1);
+  ASSERT_TRUE(one);
+  EXPECT_EQ(one->status, kStatusApproved);  // 'active' in v1
+  EXPECT_EQ(one->attributes.at("skirt"), "a_line");
+  EXPECT_DOUBLE_EQ(one->measurementsCm.at("hip_circ"), 94.0);
+  EXPECT_TRUE(one->warnings.empty());
+  EXPECT_EQ(c.item(2)->status, kStatusNeedsReview);  // 'draft' in v1
+  EXPECT_EQ(c.job(1)->dressedSha256, "");
+  // Reopening an up-to-date file is a no-op.
+  Catalog again(file);
+  EXPECT_EQ(again.schemaVersion(), 2);
+}
+
+TEST(Catalog, RefusesNewerSchemaAndForeignFiles) {
+  test::TempDir dir;
+  {
+    Catalog c(dir.path() / "new.sqlite");
+    ASSERT_EQ(sqlite3_exec(c.handle(), "PRAGMA user_version = 99", nullptr, nullptr, nullptr),
+              SQLITE_OK);
+  }
+  try {
+    Catalog c(dir.path() / "new.sqlite");
+    FAIL() << "opened a newer schema";
+  } catch (const CatalogError& e) {
+    EXPECT_NE(std::string(e.what()).find("newer"), std::string::npos) << e.what();
+  }
+  {
+    sqlite3* db = nullptr;
+    sqlite3_open((dir.path() / "other.sqlite").c_str(), &db);
+    sqlite3_exec(db, "CREATE TABLE x(a); PRAGMA application_id = 5", nullptr, nullptr, nullptr);
+    sqlite3_close(db);
+  }
+  EXPECT_THROW(Catalog(dir.path() / "other.sqlite"), CatalogError);
+}
+
+TEST(ContentStore, Sha256KnownVectorsAndDurablePut) {
+  EXPECT_EQ(sha256Hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256Hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_TRUE(isSha256Hex(sha256Hex("x")));
+  EXPECT_FALSE(isSha256Hex("../etc/passwd"));
+  EXPECT_FALSE(isSha256Hex(std::string(64, 'G')));
+  test::TempDir dir;
+  ContentStore store(dir.path() / "blobs");
+  const std::string a = store.put("hello");
+  EXPECT_EQ(a, sha256Hex("hello"));
+  EXPECT_EQ(store.put("hello"), a);
+  EXPECT_EQ(*store.read(a), "hello");
+  EXPECT_FALSE(store.read(sha256Hex("nope")));
+  EXPECT_FALSE(store.path("../../etc/passwd"));
+  const std::string b = store.put("orphan");
+  std::ofstream(dir.path() / "blobs" / "tmp" / "half.tmp") << "partial";
+  EXPECT_EQ(store.sweepOrphans({a}), 1u);
+  EXPECT_TRUE(store.contains(a));
+  EXPECT_FALSE(store.contains(b));
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path() / "blobs" / "tmp"));
+}
+
+}  // namespace
+}  // namespace garmcap::daemon

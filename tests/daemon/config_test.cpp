@@ -1,0 +1,100 @@
+#include "garmcap/daemon/config.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "garmcap/daemon/http_server.h"
+#include "test_util.h"
+
+namespace garmcap::daemon {
+namespace {
+
+std::filesystem::path write(const test::TempDir& dir, const std::string& text) {
+  auto p = dir.path() / "garmcapd.toml";
+  std::ofstream(p) << text;
+  return p;
+}
+
+std::string errorOf(const test::TempDir& dir, const std::string& text) {
+  try {
+    loadConfig(write(dir, text)).validate();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, ReadsEveryTable) {
+  test::TempDir dir;
+  const Config c = loadConfig(write(dir, R"(
+[camera]
+backend = "replay"
+device = "/srv/rig"
+[gpio]
+backend = "simulated"
+debounce_ms = 40
+[paths]
+data = "/tmp/x"
+[http]
+listen = "0.0.0.0:9000"
+token = "0123456789abcdef0123"
+[pipeline]
+review_below_confidence = 0.5
+[naming]
+template = "{id}-{kind}"
+)"));
+  EXPECT_EQ(c.cameraBackend, "replay");
+  EXPECT_EQ(c.debounceMs, 40);
+  EXPECT_EQ(c.listenAddress, "0.0.0.0");
+  EXPECT_EQ(c.listenPort, 9000);
+  EXPECT_DOUBLE_EQ(c.reviewBelowConfidence, 0.5);
+  EXPECT_NO_THROW(c.validate());
+}
+
+TEST(Config, RefusesWithKeyAndReason) {
+  test::TempDir dir;
+  EXPECT_NE(errorOf(dir, "[camera]\nbackend = \"webcam\"\n").find("[camera] backend"),
+            std::string::npos);
+  EXPECT_NE(errorOf(dir, "[http]\nlisten = \"127.0.0.1:70000\"\n").find("port"), std::string::npos);
+  EXPECT_NE(errorOf(dir, "[http]\ncolour = 1\n").find("[http] colour: unknown key"),
+            std::string::npos);
+  EXPECT_NE(errorOf(dir, "[cameras]\n").find("unknown section"), std::string::npos);
+  EXPECT_NE(errorOf(dir, "[gpio]\ndebounce_ms = \"x\"\n").find("must be an integer"),
+            std::string::npos);
+  EXPECT_NE(errorOf(dir, "[http]\nlisten = \"0.0.0.0:8080\"\n").find("token"), std::string::npos);
+  EXPECT_NE(errorOf(dir, "[http\n").find("garmcapd.toml"), std::string::npos);
+}
+
+TEST(Config, ListenParsingAndLoopback) {
+  Config c;
+  parseListen("[::1]:8081", c, "--listen");
+  EXPECT_EQ(c.listenAddress, "::1");
+  EXPECT_TRUE(c.loopbackOnly());
+  parseListen("127.0.0.2:1", c, "--listen");
+  EXPECT_TRUE(c.loopbackOnly());
+  parseListen("192.168.1.5:80", c, "--listen");
+  EXPECT_FALSE(c.loopbackOnly());
+  EXPECT_THROW(parseListen("localhost:80", c, "--listen"), ConfigError);
+  EXPECT_THROW(parseListen("8080", c, "--listen"), ConfigError);
+}
+
+TEST(Auth, BearerHeaderOrQueryToken) {
+  Request r{http::verb::get, "/api/status", 11};
+  EXPECT_TRUE(authorized(r, ""));
+  EXPECT_FALSE(authorized(r, "secret-token-1234"));
+  r.set(http::field::authorization, "Bearer secret-token-1234");
+  EXPECT_TRUE(authorized(r, "secret-token-1234"));
+  r.set(http::field::authorization, "Bearer secret-token-123");
+  EXPECT_FALSE(authorized(r, "secret-token-1234"));
+  Request q{http::verb::get, "/api/events?x=1&token=secret-token-1234", 11};
+  EXPECT_TRUE(authorized(q, "secret-token-1234"));
+  Request post{http::verb::post, "/api/button?token=secret-token-1234", 11};
+  EXPECT_FALSE(authorized(post, "secret-token-1234"));  // query tokens only for GET streams
+  EXPECT_TRUE(needsToken("/api/items"));
+  EXPECT_TRUE(needsToken("/stream.mjpg"));
+  EXPECT_FALSE(needsToken("/index.html"));
+}
+
+}  // namespace
+}  // namespace garmcap::daemon
