@@ -82,9 +82,10 @@ std::unique_ptr<Camera> makeCamera(const CameraOptions& options) {
     return camera;
   }
   if (options.backend == "synthetic") {
-    throw CameraError(CameraErrorKind::kNotAvailable,
-                      "synthetic back end not available: the scene simulator is not wired to "
-                      "the camera yet (use the replay back end with a rig folder)");
+    return std::make_unique<ReplayCamera>(
+        makeSyntheticSceneSource(options.formPath, options.seed, options.syntheticSize,
+                                 options.device),
+        "synthetic", options.loop);
   }
   std::string known;
   for (const auto& b : cameraBackends()) {

@@ -171,6 +171,8 @@ struct CameraOptions {
   /// synthetic: the dress-form sidecar or mesh, and the seed of the first scene.
   std::filesystem::path formPath;
   std::uint64_t seed = 1;
+  /// synthetic: size of the rendered frames (width, height).
+  cv::Size syntheticSize{960, 1280};
 };
 
 /// Back-end names makeCamera accepts, in a stable order.

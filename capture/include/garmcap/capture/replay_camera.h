@@ -64,6 +64,13 @@ std::vector<RigCaseRef> readRigIndex(const std::filesystem::path& rigDir);
 /// SceneSource over a rig folder.
 std::unique_ptr<SceneSource> makeRigSceneSource(const std::filesystem::path& rigDir);
 
+/// SceneSource rendering scenes with the simulator (sim.h): case i is randomScene(seed + i) on
+/// the dress form `formPath` at `size`. When `outDir` is given, each case's truth.json and
+/// calibration.json are written to `outDir`/<case id>/ (FrameMetadata::truthPath names it).
+std::unique_ptr<SceneSource> makeSyntheticSceneSource(const std::filesystem::path& formPath,
+                                                      std::uint64_t seed, cv::Size size,
+                                                      const std::filesystem::path& outDir = {});
+
 class ReplayCamera final : public Camera {
  public:
   /// `backend` is the name reported ("replay" or "synthetic").

@@ -1,0 +1,133 @@
+// The "synthetic" camera: a ReplayCamera whose scenes are rendered on demand by the scene
+// simulator (sim.h) instead of read from a rig folder. Case i is randomScene(seed + i).
+//
+// The simulator is written alongside (another unit of capture/); until its header is in the
+// tree, makeSyntheticSceneSource says plainly that the back end is not available.
+
+#include "garmcap/capture/replay_camera.h"
+
+#if __has_include("garmcap/capture/sim.h")
+
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "garmcap/calib/form_model.h"
+#include "garmcap/capture/scene.h"
+#include "garmcap/capture/sim.h"
+#include "garmcap/drafts/file_io.h"
+
+namespace garmcap::capture {
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Loading the form mesh takes about half a second: cameras on the same form share it, and it
+/// stays loaded for the process (a station uses one form; reconnects must not reload it).
+std::shared_ptr<const calib::FormModel> sharedForm(const fs::path& formPath) {
+  static std::mutex mutex;
+  static std::map<fs::path, std::shared_ptr<const calib::FormModel>> cache;
+  std::lock_guard lock(mutex);
+  if (auto it = cache.find(formPath); it != cache.end()) {
+    return it->second;
+  }
+  std::shared_ptr<const calib::FormModel> form;
+  try {
+    form = std::make_shared<const calib::FormModel>(calib::FormModel::load(formPath));
+  } catch (const std::exception& e) {
+    throw CameraError(CameraErrorKind::kNotFound,
+                      "synthetic camera: cannot load the dress form: " + std::string(e.what()));
+  }
+  cache[formPath] = form;
+  return form;
+}
+
+class SyntheticSceneSource final : public SceneSource {
+ public:
+  SyntheticSceneSource(fs::path formPath, std::uint64_t seed, cv::Size size, fs::path outDir)
+      : formPath_(std::move(formPath)), seed_(seed), size_(size), outDir_(std::move(outDir)) {}
+
+  std::string describe() const override {
+    return "synthetic seed " + std::to_string(seed_) + " (form " + formPath_.string() + ")";
+  }
+
+  void open() override {
+    if (formPath_.empty()) {
+      throw CameraError(CameraErrorKind::kNotFound,
+                        "synthetic camera: no dress form given (formPath)");
+    }
+    if (form_) {
+      return;
+    }
+    form_ = sharedForm(formPath_);
+  }
+
+  // Scenes are drawn from the seed forever; a large count keeps the replay sequencing as is.
+  std::size_t caseCount() const override { return kCases; }
+  std::string caseId(std::size_t index) const override {
+    return "synthetic_" + std::to_string(seed_ + index);
+  }
+
+  SceneImage load(std::size_t index, Shot shot) override {
+    if (!renderer_ || index != rendered_) {
+      RandomSceneOptions options;
+      options.size = size_;
+      try {
+        renderer_ = std::make_unique<SceneRenderer>(
+            *form_, randomScene(*form_, formPath_.string(), seed_ + index, options));
+      } catch (const std::invalid_argument& e) {
+        throw CameraError(CameraErrorKind::kBadData,
+                          "synthetic camera: scene " + caseId(index) + ": " + e.what());
+      }
+      rendered_ = index;
+      truthPath_.clear();
+      if (!outDir_.empty()) {
+        truthPath_ = outDir_ / caseId(index) / "truth.json";
+        drafts::writeJsonFile(truthPath_, renderer_->truth());
+        drafts::writeJsonFile(outDir_ / caseId(index) / "calibration.json",
+                              renderer_->calibration());
+      }
+    }
+    SceneImage out;
+    out.caseId = caseId(index);
+    out.bgr = shot == Shot::kDressed ? renderer_->renderDressed() : renderer_->renderEmpty();
+    out.source = describe() + " case " + out.caseId;
+    out.truthPath = truthPath_;
+    return out;
+  }
+
+ private:
+  static constexpr std::size_t kCases = 1'000'000;
+  fs::path formPath_;
+  std::uint64_t seed_;
+  cv::Size size_;
+  fs::path outDir_;
+  std::shared_ptr<const calib::FormModel> form_;
+  std::unique_ptr<SceneRenderer> renderer_;
+  std::size_t rendered_ = 0;
+  fs::path truthPath_;
+};
+
+}  // namespace
+
+std::unique_ptr<SceneSource> makeSyntheticSceneSource(const fs::path& formPath, std::uint64_t seed,
+                                                      cv::Size size, const fs::path& outDir) {
+  return std::make_unique<SyntheticSceneSource>(formPath, seed, size, outDir);
+}
+
+}  // namespace garmcap::capture
+
+#else  // no simulator in this tree
+
+namespace garmcap::capture {
+
+std::unique_ptr<SceneSource> makeSyntheticSceneSource(const std::filesystem::path&, std::uint64_t,
+                                                      cv::Size, const std::filesystem::path&) {
+  throw CameraError(CameraErrorKind::kNotAvailable,
+                    "synthetic back end not available: the scene simulator "
+                    "(garmcap/capture/sim.h) is not in this build; use the replay back end");
+}
+
+}  // namespace garmcap::capture
+
+#endif
