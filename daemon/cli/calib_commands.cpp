@@ -138,6 +138,8 @@ void addCalibCommands(CLI::App& app) {
     cmd->callback([=] {
       const fs::path sidecarPath = calib::resolveFormSidecar(*form);
       const auto model = calib::FormModel::load(sidecarPath);
+      if (!fs::exists(*empty))
+        throw drafts::FileError(*empty + ": file not found");
       cv::Mat frame = cv::imread(*empty, cv::IMREAD_COLOR);
       if (frame.empty())
         throw drafts::FileError(*empty + ": cannot read image");
