@@ -1,7 +1,151 @@
+// `garmcap coords`, `garmcap grade`, `garmcap sizerun`: thin wiring of options to core/dsw.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
 #include "commands.h"
+#include "garmcap/drafts/file_io.h"
+#include "garmcap/drafts/measurements.h"
+#include "garmcap/drafts/pattern_io.h"
+#include "garmcap/drafts/size_charts.h"
+#include "garmcap/drafts/svg.h"
+#include "garmcap/dsw/coordinates.h"
+#include "garmcap/dsw/grading.h"
+#include "garmcap/dsw/points_io.h"
+#include "garmcap/dsw/size_run.h"
 
 namespace garmcap::cli {
+namespace {
 
-void addDswCommands(CLI::App& /*app*/) {}
+namespace gd = garmcap::drafts;
+namespace dsw = garmcap::dsw;
+
+dsw::CoordMethod method(const std::string& name) {
+  auto m = dsw::parseCoordMethod(name);
+  if (!m)
+    throw std::invalid_argument("--coords/--method '" + name +
+                                "': expected mvc, wachspress, green or tbc");
+  return *m;
+}
+
+struct CoordsOptions {
+  std::string method = "mvc";
+  std::string polygon;
+  std::string points;
+};
+
+void runCoords(const CoordsOptions& o) {
+  const dsw::Points polygon = dsw::readPointsFile(o.polygon, "polygon");
+  const dsw::Points points = dsw::readPointsFile(o.points, "points");
+  auto enc = dsw::encodePoints(method(o.method), polygon, points);
+  if (!enc)
+    throw std::runtime_error("coords: " + o.polygon + ": " + enc.error().message);
+  nlohmann::json out{{"weights", dsw::matrixToJson(enc->weights)}};
+  if (enc->method == dsw::CoordMethod::kGreen)
+    out["edge_weights"] = dsw::matrixToJson(enc->edgeWeights);
+  std::cout << out.dump() << "\n";
+}
+
+struct GradeCliOptions {
+  std::string pattern;
+  std::string to;
+  std::string size;
+  std::string chart;
+  std::string coords = "mvc";
+  bool dartCompensation = false;
+  double marginCm = 3.0;
+  bool baseDraft = false;
+  std::string out;
+  std::string svg;
+};
+
+dsw::GradeOptions gradeOptions(const GradeCliOptions& o) {
+  dsw::GradeOptions g;
+  g.method = method(o.coords);
+  g.dartCompensation = o.dartCompensation;
+  g.marginCm = o.marginCm;
+  g.baseDraft = o.baseDraft;
+  return g;
+}
+
+void runGrade(const GradeCliOptions& o) {
+  const bool fromFile = !o.to.empty();
+  const bool fromChart = !o.size.empty() || !o.chart.empty();
+  if (fromFile == fromChart || (fromChart && (o.size.empty() || o.chart.empty())))
+    throw std::invalid_argument("grade: give either --to BODY or both --size S and --chart C");
+  const gd::Pattern source = gd::readPatternJson(o.pattern);
+  const gd::Measurements body =
+      fromFile ? gd::readMeasurementsFile(o.to) : gd::sizeChart(o.chart).body(o.size);
+  auto graded = dsw::gradePattern(source, body, gradeOptions(o));
+  if (!graded)
+    throw std::runtime_error("grade: " + o.pattern + ": " + graded.error().message);
+  gd::writePatternJson(o.out, *graded);
+  if (!o.svg.empty())
+    gd::writePatternSvg(o.svg, *graded);
+}
+
+void runSizeRun(const GradeCliOptions& o) {
+  const gd::Pattern source = gd::readPatternJson(o.pattern);
+  const gd::SizeChart& chart = gd::sizeChart(o.chart);
+  auto run = dsw::gradeSizeRun(source, chart, gradeOptions(o));
+  if (!run)
+    throw std::runtime_error("sizerun: " + o.pattern + ": " + run.error().message);
+  const std::filesystem::path dir = o.out;
+  for (std::size_t i = 0; i < run->sizes.size(); ++i) {
+    const std::string base = source.type + "_" + run->sizes[i];
+    gd::writePatternJson(dir / (base + ".json"), run->patterns[i]);
+    gd::writePatternSvg(dir / (base + ".svg"), run->patterns[i]);
+  }
+  gd::writeFileAtomic(dir / "size_guide.json", dsw::sizeGuideJson(*run, source.type, chart.name));
+  gd::writeFileAtomic(dir / "size_guide.csv", dsw::sizeGuideCsv(*run));
+}
+
+void addGradingOptions(CLI::App* cmd, GradeCliOptions& o) {
+  cmd->add_option("--pattern", o.pattern, "Source pattern JSON (panels drawn on their draft)")
+      ->required();
+  cmd->add_option("--coords", o.coords, "Coordinates: mvc (default), tbc, green, wachspress");
+  cmd->add_flag("--dart-compensation", o.dartCompensation,
+                "Restore the waist margin by the waist darts (eq. 4.14)");
+  cmd->add_option("--margin", o.marginCm,
+                  "Waist margin m of the dart compensation, cm (default 3)");
+  cmd->add_flag("--base-draft", o.baseDraft,
+                "Grade through the base block instead of the garment's draft (4.4)");
+}
+
+}  // namespace
+
+void addDswCommands(CLI::App& app) {
+  auto co = std::make_shared<CoordsOptions>();
+  CLI::App* coords = app.add_subcommand("coords",
+                                        "Generalized barycentric coordinates of points in a "
+                                        "polygon: prints {\"weights\": [[...], ...]}");
+  coords->add_option("--method", co->method, "mvc (default), wachspress, green or tbc");
+  coords->add_option("--polygon", co->polygon, "JSON {\"polygon\": [[x, y], ...]}")->required();
+  coords->add_option("--points", co->points, "JSON {\"points\": [[x, y], ...]}")->required();
+  coords->callback([co] { runCoords(*co); });
+
+  auto go = std::make_shared<GradeCliOptions>();
+  CLI::App* grade =
+      app.add_subcommand("grade", "Grade a pattern's panels to a body by draft-space warping");
+  addGradingOptions(grade, *go);
+  grade->add_option("--to", go->to, "Target body: measurements JSON or Valentina .vit");
+  grade->add_option("--size", go->size, "Target size of --chart");
+  grade->add_option("--chart", go->chart, "Size chart (e.g. korean_women)");
+  grade->add_option("--out", go->out, "Graded pattern JSON to write")->required();
+  grade->add_option("--svg", go->svg, "SVG of the graded pattern (true scale)");
+  grade->callback([go] { runGrade(*go); });
+
+  auto so = std::make_shared<GradeCliOptions>();
+  CLI::App* sizerun = app.add_subcommand(
+      "sizerun",
+      "Grade a pattern to every size of a chart: panels per size and a size guide (JSON, CSV)");
+  addGradingOptions(sizerun, *so);
+  sizerun->add_option("--chart", so->chart, "Size chart (e.g. korean_women)")->required();
+  sizerun->add_option("--out", so->out, "Output folder")->required();
+  sizerun->callback([so] { runSizeRun(*so); });
+}
 
 }  // namespace garmcap::cli

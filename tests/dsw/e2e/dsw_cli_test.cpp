@@ -1,0 +1,101 @@
+// End-to-end: the `garmcap coords`, `grade` and `sizerun` commands as a user runs them.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = 0;
+  std::string out;
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(GARMCAP_BIN_DIR) + "/garmcap " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, pipe) != nullptr)
+    r.out += buf;
+  r.status = pclose(pipe);
+  return r;
+}
+
+fs::path tempDir() {
+  fs::path d = fs::temp_directory_path() / ("garmcap_dsw_cli_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+void write(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+
+TEST(DswCli, CoordsPrintsWeightsAndRefusesBadFiles) {
+  const fs::path d = tempDir();
+  write(d / "poly.json", R"({"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]})");
+  write(d / "pts.json", R"({"points": [[2, 2], [4, 1], [0, 0]]})");
+  for (const std::string method : {"mvc", "wachspress", "tbc", "green"}) {
+    Result r = run("coords --method " + method + " --polygon " + (d / "poly.json").string() +
+                   " --points " + (d / "pts.json").string());
+    ASSERT_EQ(r.status, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j.at("weights").size(), 3u) << method;
+    EXPECT_EQ(j.contains("edge_weights"), method == "green");
+    EXPECT_NEAR(j["weights"][0][0].get<double>(), 0.25, 1e-12) << method;
+    if (method != "green") {
+      EXPECT_NEAR(j["weights"][1][1].get<double>(), 0.75, 1e-12) << method;
+      EXPECT_EQ(j["weights"][2][0].get<double>(), 1.0) << method;
+    }
+  }
+  write(d / "bad.json", R"({"polygon": [[0, 0], [4, 0]], "extra": 1})");
+  Result bad = run("coords --polygon " + (d / "bad.json").string() + " --points " +
+                   (d / "pts.json").string());
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.out.find("bad.json"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("extra"), std::string::npos) << bad.out;
+  write(d / "flat.json", R"({"polygon": [[0, 0], [1, 1], [2, 2]]})");
+  Result flat = run("coords --polygon " + (d / "flat.json").string() + " --points " +
+                    (d / "pts.json").string());
+  EXPECT_NE(flat.status, 0);
+  EXPECT_NE(flat.out.find("zero area"), std::string::npos) << flat.out;
+  Result method = run("coords --method foo --polygon " + (d / "poly.json").string() + " --points " +
+                      (d / "pts.json").string());
+  EXPECT_NE(method.status, 0);
+  EXPECT_NE(method.out.find("foo"), std::string::npos) << method.out;
+}
+
+TEST(DswCli, GradeAndSizeRunWriteTheirFiles) {
+  const fs::path d = tempDir();
+  const std::string data = GARMCAP_TEST_DATA_DIR;
+  Result g = run("grade --pattern " + data + "/designs/dress_55.json --to " + data +
+                 "/bodies/table4_2_77.json --dart-compensation --out " + (d / "g77.json").string() +
+                 " --svg " + (d / "g77.svg").string());
+  ASSERT_EQ(g.status, 0) << g.out;
+  EXPECT_TRUE(fs::exists(d / "g77.json"));
+  EXPECT_TRUE(fs::exists(d / "g77.svg"));
+  Result m = run("measure --pattern " + (d / "g77.json").string());
+  ASSERT_EQ(m.status, 0) << m.out;
+  EXPECT_NEAR(nlohmann::json::parse(m.out)["measurements"]["waist_circ"].get<double>(), 78.0, 0.05);
+  Result s = run("sizerun --pattern " + data +
+                 "/designs/dress_55.json --chart korean_women --out " + (d / "run").string());
+  ASSERT_EQ(s.status, 0) << s.out;
+  EXPECT_TRUE(fs::exists(d / "run" / "size_guide.json"));
+  EXPECT_TRUE(fs::exists(d / "run" / "size_guide.csv"));
+  EXPECT_TRUE(fs::exists(d / "run" / "dress_88.json"));
+  Result both = run("grade --pattern " + data +
+                    "/designs/dress_55.json --to x.json --size 55 --chart korean_women --out " +
+                    (d / "x.json").string());
+  EXPECT_NE(both.status, 0);
+  EXPECT_NE(both.out.find("either --to"), std::string::npos) << both.out;
+  fs::remove_all(d);
+}
+
+}  // namespace
