@@ -112,12 +112,24 @@ int main(int argc, char** argv) {
     co.backend = config.cameraBackend;
     co.device = config.cameraDevice;
     co.formPath = config.formPath;
-    std::unique_ptr<capture::Camera> camera = capture::makeCamera(co);
+    // A camera that cannot even be created (back end not usable in this build) leaves the
+    // station up in the error state with the reason, like an unplugged camera: the API, the
+    // catalog and the web UI stay available.
+    std::unique_ptr<capture::Camera> camera;
+    std::string cameraProblem;
+    try {
+      camera = capture::makeCamera(co);
+    } catch (const capture::CameraError& e) {
+      cameraProblem = e.what();
+      spdlog::error("garmcapd: no camera: {}", cameraProblem);
+    }
     std::unique_ptr<capture::Gpio> gpio = makeGpio(config);
     station = std::make_unique<daemon::Station>(io, config, std::move(camera), std::move(gpio),
                                                 daemon::makePipelineProcessor(config));
     station->setProcessorFactory(
         [](const daemon::Config& c) { return daemon::makePipelineProcessor(c); });
+    if (!cameraProblem.empty())
+      station->setCameraUnavailable(cameraProblem);
     station->start();
     daemon::addApiRoutes(router, *station);
     for (const auto& [name, module] : daemon::routeModules()) {

@@ -205,7 +205,10 @@ void Station::start() {
 
 void Station::openCamera() {
   if (!camera_) {
-    cameraError_ = "no camera configured";
+    if (cameraError_.empty())
+      cameraError_ = "no camera configured";
+    if (!running_ && !stopping_)
+      setState(StationState::kError);
     return;
   }
   capture::CameraConfig cc;
@@ -471,7 +474,7 @@ void Station::startNext() {
   setState(StationState::kCapturing);
   setStage("capturing", 0.05, true);
   if (!camera_)
-    return failJob(req, "no camera configured", true);
+    return failJob(req, "camera: " + cameraError_, true);
   const capture::Shot shot =
       req.kind == JobKind::kEmpty ? capture::Shot::kEmpty : capture::Shot::kDressed;
   capture::CameraConfig cc;

@@ -17,7 +17,10 @@
 #include <boost/beast/http.hpp>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <set>
 #include <thread>
@@ -86,10 +89,27 @@ Reply httpCall(int port, http::verb verb, const std::string& target, const std::
           std::string(res[http::field::content_type])};
 }
 
+// A one-case replay rig (green screen, grey form, a red garment) in the test's temp tree, so the
+// e2e tests do not depend on the scene simulator being wired to the synthetic camera.
+std::filesystem::path makeRig(const std::filesystem::path& root) {
+  const auto rig = root / "rig";
+  std::filesystem::create_directories(rig / "c1");
+  cv::Mat empty(480, 640, CV_8UC3, cv::Scalar(40, 180, 40));
+  cv::ellipse(empty, {320, 240}, {70, 200}, 0, 0, 360, cv::Scalar(170, 170, 170), cv::FILLED);
+  cv::Mat dressed = empty.clone();
+  cv::rectangle(dressed, {250, 200}, {390, 380}, cv::Scalar(30, 30, 200), cv::FILLED);
+  cv::imwrite((rig / "c1" / "empty.png").string(), empty);
+  cv::imwrite((rig / "c1" / "dressed.png").string(), dressed);
+  std::ofstream(rig / "c1" / "truth.json") << R"({"type": "skirt", "measurements": {}})";
+  std::ofstream(rig / "rig.json") << R"({"cases": ["c1"]})";
+  return rig;
+}
+
 // The daemon as a child process; its port is read from its first stdout line.
 class Daemon {
  public:
   explicit Daemon(const std::filesystem::path& data, std::vector<std::string> extra = {}) {
+    const auto rig = makeRig(data);
     int out[2];
     if (pipe(out) != 0)
       throw std::runtime_error("pipe");
@@ -101,8 +121,9 @@ class Daemon {
       const int devnull = open("/dev/null", O_WRONLY);
       if (!getenv("GARMCAP_E2E_VERBOSE"))
         dup2(devnull, 2);
-      std::vector<std::string> args = {kBin,          "--simulated", "--data",
-                                       data.string(), "--listen",    "127.0.0.1:0"};
+      std::vector<std::string> args = {kBin,       "--simulated", "--data",   data.string(),
+                                       "--listen", "127.0.0.1:0", "--camera", "replay",
+                                       "--device", rig.string()};
       args.insert(args.end(), extra.begin(), extra.end());
       std::vector<char*> argv;
       for (auto& a : args)

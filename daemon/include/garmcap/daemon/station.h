@@ -99,6 +99,10 @@ class Station : public RouteContext {
     processorFactory_ = std::move(f);
   }
 
+  /// Before start(): the camera could not be created; the station runs in the error state and
+  /// reports `reason` for every capture.
+  void setCameraUnavailable(std::string reason) { cameraError_ = std::move(reason); }
+
   /// For the systemd watchdog: loop alive and no stage stuck beyond its limit.
   bool healthy() const;
   std::string statusLine() const;  // one line for STATUS=
