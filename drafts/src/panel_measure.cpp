@@ -234,15 +234,15 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
   // Hip: wherever a hip level exists and the panels reach below it.
   if (m.hasPoint("level_hip")) {
     const double yHip = m.point("level_hip").y();
-    bool reaches = true;
+    bool reaches = false;  // some body panel goes below the hip (a dress's bodices do not)
     for (const auto& p : pattern.panels) {
       if (!isBodyPanel(p))
         continue;
       double maxY = -1e9;
       for (const auto& v : p.outline)
         maxY = std::max(maxY, v.y());
-      if (maxY < yHip + 0.5)
-        reaches = false;
+      if (maxY > yHip + 0.5)
+        reaches = true;
     }
     if (reaches)
       out["hip_circ"] = m.girth("level_hip", true);

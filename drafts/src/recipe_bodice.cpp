@@ -3,6 +3,7 @@
 // +12 cm bust / +6 cm waist are the defaults; proportional constants keep using the body bust.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "recipe_blocks.h"
 
@@ -27,6 +28,25 @@ BodiceDraft draftBodiceBlock(DraftBuilder& b, double B, double W, double WBL,
   // above it), so with the darts closed the garment is narrower there than the frame. The
   // half width is widened by those openings so the garment bust is exactly B + ease_bust
   // (a fixed point: the dart widths grow with the half width).
+  // Bust point height (step 10b) does not depend on the half width, so it is found first.
+  const double fRise0 = B / 5 + 8.3, nk0 = B / 24 + 3.4, chestW0 = B / 8 + 6.2;
+  const double yTop0 = dBL - fRise0;
+  double bpY = dBL;
+  std::optional<double> bpYRequested;
+  if (o.bustpointToNeckSide) {
+    const double dx =
+        o.bustpointToBustpoint ? nk0 - *o.bustpointToBustpoint / 2 : nk0 - chestW0 / 2 - 0.7;
+    const double n2 = *o.bustpointToNeckSide * *o.bustpointToNeckSide - dx * dx;
+    b.require(n2 > 0,
+              "bustpoint_to_neck_side is shorter than the horizontal distance from the "
+              "neck point to the bust point");
+    bpYRequested = yTop0 + std::sqrt(n2);
+    // Bunka's front rise (B/5 + 8.3) grows faster with the bust than published NP-BP values
+    // (Donnanno's chart): the bust point is kept on or up to 3 cm above the bust line (the
+    // bust dart then stays above the bust level, as in the block); the requested point is drawn as
+    // `bust_point_requested`.
+    bpY = std::clamp(*bpYRequested, dBL - 3.0, dBL);
+  }
   double bustDartOpening = 0;
   if (o.waistDarts) {
     const double yBLc = dBL, yGc = (8 + dBL) / 2 + 0.5, yLevel = dBL + o.underarmDrop;
@@ -36,7 +56,8 @@ BodiceDraft draftBodiceBlock(DraftBuilder& b, double B, double W, double WBL,
       auto open = [&](double width, double apexY) {
         return apexY < yLevel ? width * (yLevel - apexY) / (WBL - apexY) : 0.0;
       };
-      bustDartOpening = open(0.35 * dT, yGc) + open(0.18 * dT, yBLc - 2);
+      bustDartOpening = open(0.35 * dT, yGc) + open(0.18 * dT, yBLc - 2) +
+                        open(0.14 * dT, bpY + 2.5) + open(0.15 * dT, yBLc);
     }
   }
   const double bw = (B + o.easeBust) / 2 + bustDartOpening;
@@ -126,14 +147,9 @@ BodiceDraft draftBodiceBlock(DraftBuilder& b, double B, double W, double WBL,
   Point2 bp(bw - chestW / 2 - 0.7, yBL);
   if (o.bustpointToBustpoint)
     bp.x() = bw - *o.bustpointToBustpoint / 2;
-  if (o.bustpointToNeckSide) {
-    const double dx = bp.x() - snpF.x();
-    const double n2 = *o.bustpointToNeckSide * *o.bustpointToNeckSide - dx * dx;
-    b.require(n2 > 0,
-              "bustpoint_to_neck_side is shorter than the horizontal distance from the "
-              "neck point to the bust point");
-    bp.y() = Bt.y() + std::sqrt(n2);
-  }
+  bp.y() = bpY;
+  if (bpYRequested)
+    b.point("bust_point_requested", Point2(bp.x(), *bpYRequested));
   b.require(bp.y() > yG + 2 && bp.y() < yBL + 4,
             "bustpoint_to_neck_side = " + std::to_string(o.bustpointToNeckSide.value_or(0)) +
                 " cm places the bust point " + std::to_string(bp.y() - yBL) +

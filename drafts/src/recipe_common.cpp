@@ -136,8 +136,9 @@ void addSeam(Pattern& pattern, const std::string& name, const std::string& a, co
   const bool aForward = ea.from == vertexIndex(pa, a1);
   const bool bForward = eb.from == vertexIndex(pb, b1);
   if ((aForward == bForward) != sameDirection) {
-    throw std::logic_error("seam '" + name + "': edges of '" + a + "' and '" + b +
-                           "' run the same way (outline orientation bug)");
+    // Only a distorted outline (absurd measurements) turns a panel round: refuse the body.
+    throw DraftError("recipe '" + pattern.type + "': seam '" + name + "': panels '" + a +
+                     "' and '" + b + "' do not fit together (an outline turned over)");
   }
   pattern.seams.push_back(SeamPair{name, ea, eb, ease});
 }
