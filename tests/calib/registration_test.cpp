@@ -57,9 +57,10 @@ void checkCase(const FormModel& form, const Case& c) {
     worst = std::max(worst, err);
     EXPECT_LT(err, landmarkTolerancePx(c.size)) << c.name << " " << expected[i].first;
   }
-  ::testing::Test::RecordProperty(std::string(c.name) + "_worst_landmark_px", std::to_string(worst));
+  ::testing::Test::RecordProperty(std::string(c.name) + "_worst_landmark_px",
+                                  std::to_string(worst));
   ::testing::Test::RecordProperty(std::string(c.name) + "_px_per_cm_error",
-                 std::to_string(reg.pose.pxPerCm / truth.pxPerCm - 1));
+                                  std::to_string(reg.pose.pxPerCm / truth.pxPerCm - 1));
 }
 
 TEST(Registration, ParametricFormOrthographicSkinAndGrey) {
