@@ -1,0 +1,186 @@
+#include "garmcap/capture/rig.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <opencv2/imgcodecs.hpp>
+
+#include "garmcap/capture/scene.h"
+#include "garmcap/capture/sim.h"
+#include "garmcap/drafts/file_io.h"
+
+namespace garmcap::capture {
+
+namespace {
+
+void onlyKeys(const nlohmann::json& j, const std::vector<std::string>& keys,
+              const std::string& what) {
+  if (!j.is_object())
+    throw RigError(what + ": must be a JSON object");
+  for (const auto& [k, v] : j.items()) {
+    if (std::find(keys.begin(), keys.end(), k) == keys.end()) {
+      throw RigError(what + ": unknown field '" + k + "'");
+    }
+  }
+}
+
+std::string sizeText(const cv::Mat& m) {
+  return std::to_string(m.cols) + "x" + std::to_string(m.rows);
+}
+
+}  // namespace
+
+const RigCaseInfo& Rig::find(const std::string& id) const {
+  for (const auto& c : cases) {
+    if (c.id == id)
+      return c;
+  }
+  throw RigError((dir / "rig.json").string() + ": no case '" + id + "'");
+}
+
+Rig readRig(const std::filesystem::path& dir) {
+  const auto indexPath = dir / "rig.json";
+  const std::string what = indexPath.string();
+  Rig rig;
+  rig.dir = dir;
+  try {
+    rig.index = drafts::readJsonFile(indexPath);
+  } catch (const std::exception& e) {
+    throw RigError(e.what());
+  }
+  onlyKeys(rig.index,
+           {"format", "version", "generator", "form", "width", "height", "seed", "cases"}, what);
+  try {
+    if (drafts::requireString(rig.index, "format", what) != "garmcap-rig") {
+      throw RigError(what + ": field 'format' must be \"garmcap-rig\"");
+    }
+    if (drafts::requireNumber(rig.index, "version", what) != 1) {
+      throw RigError(what + ": field 'version' must be 1");
+    }
+    const auto& cases = drafts::requireField(rig.index, "cases", what);
+    if (!cases.is_array())
+      throw RigError(what + ": field 'cases' must be an array");
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      const std::string cw = what + ": cases[" + std::to_string(i) + "]";
+      onlyKeys(cases[i], {"id", "dir", "type", "attributes", "hard"}, cw);
+      RigCaseInfo c;
+      c.id = drafts::requireString(cases[i], "id", cw);
+      c.dir = dir / drafts::requireString(cases[i], "dir", cw);
+      c.type = drafts::requireString(cases[i], "type", cw);
+      const auto& attrs = drafts::requireField(cases[i], "attributes", cw);
+      if (!attrs.is_object())
+        throw RigError(cw + ": field 'attributes' must be an object");
+      for (const auto& [k, v] : attrs.items()) {
+        if (!v.is_string())
+          throw RigError(cw + ": attribute '" + k + "' must be a string");
+        c.attributes[k] = v.get<std::string>();
+      }
+      const auto& hard = drafts::requireField(cases[i], "hard", cw);
+      if (!hard.is_boolean())
+        throw RigError(cw + ": field 'hard' must be true or false");
+      c.hard = hard.get<bool>();
+      for (const char* f : {"empty.png", "dressed.png", "truth.json"}) {
+        if (!std::filesystem::is_regular_file(c.dir / f)) {
+          throw RigError((c.dir / f).string() + ": missing (case '" + c.id + "' of " + what + ")");
+        }
+      }
+      for (const auto& other : rig.cases) {
+        if (other.id == c.id)
+          throw RigError(cw + ": duplicate case id '" + c.id + "'");
+      }
+      rig.cases.push_back(std::move(c));
+    }
+  } catch (const drafts::ParseError& e) {
+    throw RigError(e.what());
+  }
+  return rig;
+}
+
+cv::Mat loadRigImage(const std::filesystem::path& file) {
+  if (!std::filesystem::is_regular_file(file))
+    throw RigError(file.string() + ": missing");
+  std::string bytes;
+  try {
+    bytes = drafts::readFile(file);
+  } catch (const drafts::FileError& e) {
+    throw RigError(e.what());
+  }
+  cv::Mat img;
+  try {
+    img = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, bytes.data()),
+                       cv::IMREAD_COLOR);
+  } catch (const cv::Exception& e) {
+    throw RigError(file.string() + ": not a readable image (" + e.what() + ")");
+  }
+  if (img.empty())
+    throw RigError(file.string() + ": not a readable image (corrupt or truncated)");
+  return img;
+}
+
+RigCase loadRigCase(const std::filesystem::path& caseDir) {
+  RigCase c;
+  c.dir = caseDir;
+  c.id = caseDir.filename().string();
+  c.empty = loadRigImage(caseDir / "empty.png");
+  c.dressed = loadRigImage(caseDir / "dressed.png");
+  if (c.empty.size() != c.dressed.size()) {
+    throw RigError((caseDir / "dressed.png").string() + ": " + sizeText(c.dressed) +
+                   " differs from " + (caseDir / "empty.png").string() + ": " + sizeText(c.empty) +
+                   " (the two frames must come from the same camera setting)");
+  }
+  try {
+    c.truth = drafts::readJsonFile(caseDir / "truth.json");
+    if (std::filesystem::is_regular_file(caseDir / "calibration.json")) {
+      c.calibration = drafts::readJsonFile(caseDir / "calibration.json");
+    } else if (c.truth.contains("calibration")) {
+      c.calibration = c.truth["calibration"];
+    }
+  } catch (const drafts::ParseError& e) {
+    throw RigError(e.what());
+  } catch (const drafts::FileError& e) {
+    throw RigError(e.what());
+  }
+  return c;
+}
+
+Rig makeRig(const calib::FormModel& form, const std::string& formPath,
+            const std::filesystem::path& outDir, const RigMakeOptions& options) {
+  if (options.count < 1)
+    throw std::invalid_argument("rig make: --count must be at least 1");
+  std::filesystem::create_directories(outDir);
+  nlohmann::json cases = nlohmann::json::array();
+  const auto& types = garmentTypeNames();
+  for (int i = 0; i < options.count; ++i) {
+    char id[32];
+    std::snprintf(id, sizeof id, "case_%03d", i);
+    RandomSceneOptions so;
+    so.size = options.size;
+    so.hardFraction = options.hardFraction;
+    so.type = types[static_cast<std::size_t>(i) % types.size()];
+    so.chart = options.chart;
+    const std::uint64_t caseSeed = options.seed * 1000003ULL + static_cast<std::uint64_t>(i);
+    Scene scene = randomScene(form, formPath, caseSeed, so);
+    const SceneRenderer renderer(form, std::move(scene));
+    writeCase(renderer, outDir / id);
+    const auto& g = renderer.scene().garment;
+    cases.push_back({{"id", id},
+                     {"dir", id},
+                     {"type", g.type},
+                     {"attributes", g.attributes},
+                     {"hard", renderer.scene().hard}});
+    if (options.progress)
+      options.progress(i, options.count, id);
+  }
+  const nlohmann::json index = {
+      {"format", "garmcap-rig"},
+      {"version", 1},
+      {"generator", "garmcap rig make (scene simulator, docs/simulator.md)"},
+      {"form", formPath},
+      {"width", options.size.width},
+      {"height", options.size.height},
+      {"seed", options.seed},
+      {"cases", cases}};
+  drafts::writeJsonFile(outDir / "rig.json", index);
+  return readRig(outDir);
+}
+
+}  // namespace garmcap::capture

@@ -1,0 +1,560 @@
+#include "garmcap/capture/sim_garment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "garmcap/drafts/file_io.h"
+
+namespace garmcap::capture {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Skirts and pants: the waistband's top edge sits this far above the form's waist.
+constexpr double kWaistbandRiseCm = 2.0;
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(1);
+  s << std::fixed << v;
+  return s.str();
+}
+
+double need(const GarmentSpec& spec, const std::string& name) {
+  const auto it = spec.measurements.find(name);
+  if (it == spec.measurements.end()) {
+    throw std::invalid_argument("garment " + spec.type + " has no '" + name + "' measurement");
+  }
+  return it->second;
+}
+
+std::string attr(const GarmentSpec& spec, const std::string& name) {
+  const auto it = spec.attributes.find(name);
+  return it == spec.attributes.end() ? std::string() : it->second;
+}
+
+struct Knot {
+  double h;
+  double c;
+};
+
+// Measured circumferences of the body part of the garment, highest first.
+std::vector<Knot> torsoKnots(const GarmentSpec& spec, const SimFormView& view,
+                             const GarmentHeights& gh) {
+  std::vector<Knot> k;
+  const std::string& t = spec.type;
+  if (t == "top" || t == "dress")
+    k.push_back({view.bustCm(), need(spec, "bust_circ")});
+  k.push_back({view.waistCm(), need(spec, "waist_circ")});
+  if (t != "top")
+    k.push_back({view.hipCm(), need(spec, "hip_circ")});
+  if (t != "pants")
+    k.push_back({gh.hemCm, need(spec, "hem_circ")});
+  return k;
+}
+
+double circFromKnots(const std::vector<Knot>& k, double h) {
+  for (const auto& kn : k) {
+    if (std::abs(h - kn.h) <= kKnotPlateauCm)
+      return kn.c;
+  }
+  if (h >= k.front().h)
+    return k.front().c;
+  if (h <= k.back().h)
+    return k.back().c;
+  for (std::size_t i = 0; i + 1 < k.size(); ++i) {
+    const double hA = k[i].h - kKnotPlateauCm, hB = k[i + 1].h + kKnotPlateauCm;
+    if (h <= k[i].h && h >= k[i + 1].h) {
+      if (hA <= hB)
+        return std::abs(h - k[i].h) < std::abs(h - k[i + 1].h) ? k[i].c : k[i + 1].c;
+      const double t = (hA - h) / (hA - hB);
+      return k[i].c + (k[i + 1].c - k[i].c) * t;
+    }
+  }
+  return k.back().c;
+}
+
+// Fractional coverage of pixel centre x by the span [l, r].
+float spanCover(double x, double l, double r) {
+  return static_cast<float>(std::clamp(std::min(x + 0.5 - l, r - x + 0.5), 0.0, 1.0));
+}
+
+}  // namespace
+
+const std::vector<std::string>& garmentTypeNames() {
+  static const std::vector<std::string> kTypes = {"top", "dress", "skirt", "pants"};
+  return kTypes;
+}
+
+const std::vector<std::string>& garmentMeasurementNames(const std::string& type) {
+  static const std::map<std::string, std::vector<std::string>> kNames = {
+      {"top", {"bust_circ", "waist_circ", "hem_circ", "garment_length", "sleeve_length"}},
+      {"dress",
+       {"bust_circ", "waist_circ", "hip_circ", "hem_circ", "garment_length", "skirt_length",
+        "sleeve_length"}},
+      {"skirt", {"waist_circ", "hip_circ", "hem_circ", "skirt_length"}},
+      {"pants", {"waist_circ", "hip_circ", "outseam", "inseam", "leg_opening_circ"}}};
+  const auto it = kNames.find(type);
+  if (it == kNames.end()) {
+    throw std::invalid_argument("unknown garment type '" + type +
+                                "' (expected top, dress, skirt or pants)");
+  }
+  return it->second;
+}
+
+nlohmann::json GarmentSpec::toJson() const {
+  nlohmann::json m = nlohmann::json::object();
+  for (const auto& [k, v] : measurements)
+    m[k] = std::round(v * 100.0) / 100.0;
+  return {{"type", type},
+          {"attributes", attributes},
+          {"measurements", m},
+          {"details",
+           {{"neckline", neckline},
+            {"neck_depth_cm", neckDepthCm},
+            {"sleeve_flare", sleeveFlare},
+            {"thigh_ease", thighEase},
+            {"hem_wave_cm", hemWaveCm},
+            {"fold_seed", foldSeed}}}};
+}
+
+GarmentSpec GarmentSpec::fromJson(const nlohmann::json& j, const std::string& what) {
+  GarmentSpec s;
+  s.type = drafts::requireString(j, "type", what);
+  std::vector<std::string> names;
+  try {
+    names = garmentMeasurementNames(s.type);
+  } catch (const std::invalid_argument& e) {
+    throw drafts::ParseError(what + ": field 'type': " + e.what());
+  }
+  const auto& a = drafts::requireField(j, "attributes", what);
+  if (!a.is_object())
+    throw drafts::ParseError(what + ": field 'attributes' must be an object");
+  for (const auto& [k, v] : a.items()) {
+    if (!v.is_string()) {
+      throw drafts::ParseError(what + ": attribute '" + k + "' must be a string");
+    }
+    s.attributes[k] = v.get<std::string>();
+  }
+  const bool sleeved = s.type == "top" || s.type == "dress";
+  const bool skirted = s.type == "skirt" || s.type == "dress";
+  for (const auto& [k, v] : s.attributes) {
+    const bool ok = (k == "sleeve" && sleeved && (v == "none" || v == "short" || v == "long")) ||
+                    (k == "skirt" && skirted && (v == "a_line" || v == "h_line"));
+    if (!ok) {
+      throw drafts::ParseError(
+          what + ": attribute '" + k + "' = '" + v + "' is not valid for a " + s.type +
+          " (sleeve: none|short|long for top/dress; skirt: " + "a_line|h_line for skirt/dress)");
+    }
+  }
+  if (sleeved && !s.attributes.count("sleeve")) {
+    throw drafts::ParseError(what + ": a " + s.type + " needs attribute 'sleeve'");
+  }
+  if (skirted && !s.attributes.count("skirt")) {
+    throw drafts::ParseError(what + ": a " + s.type + " needs attribute 'skirt'");
+  }
+  const auto& m = drafts::requireField(j, "measurements", what);
+  if (!m.is_object())
+    throw drafts::ParseError(what + ": field 'measurements' must be an object");
+  for (const auto& [k, v] : m.items()) {
+    if (std::find(names.begin(), names.end(), k) == names.end()) {
+      throw drafts::ParseError(what + ": measurement '" + k + "' does not apply to a " + s.type);
+    }
+    if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0) {
+      throw drafts::ParseError(what + ": measurement '" + k + "' must be a number >= 0 (cm)");
+    }
+    s.measurements[k] = v.get<double>();
+  }
+  for (const auto& n : names) {
+    if (!s.measurements.count(n)) {
+      throw drafts::ParseError(what + ": missing measurement '" + n + "' for a " + s.type);
+    }
+  }
+  if (j.contains("details")) {
+    const auto& d = j["details"];
+    const std::string dw = what + " details";
+    s.neckline = drafts::requireString(d, "neckline", dw);
+    if (s.neckline != "round" && s.neckline != "v") {
+      throw drafts::ParseError(dw + ": field 'neckline' must be round or v");
+    }
+    s.neckDepthCm = drafts::requireNumber(d, "neck_depth_cm", dw);
+    s.sleeveFlare = drafts::requireNumber(d, "sleeve_flare", dw);
+    s.thighEase = drafts::requireNumber(d, "thigh_ease", dw);
+    s.hemWaveCm = drafts::requireNumber(d, "hem_wave_cm", dw);
+    const auto& fs = drafts::requireField(d, "fold_seed", dw);
+    if (!fs.is_number_unsigned())
+      throw drafts::ParseError(dw + ": field 'fold_seed' must be a non-negative integer");
+    s.foldSeed = fs.get<std::uint64_t>();
+  }
+  return s;
+}
+
+GarmentHeights garmentHeights(const GarmentSpec& spec, const SimFormView& view) {
+  GarmentHeights g;
+  if (spec.type == "top" || spec.type == "dress") {
+    g.topCm = view.neckSideCm();
+    g.hemCm = g.topCm - need(spec, "garment_length");
+  } else if (spec.type == "skirt") {
+    g.topCm = view.waistCm() + kWaistbandRiseCm;
+    g.hemCm = view.waistCm() - need(spec, "skirt_length");
+  } else {
+    g.topCm = view.waistCm() + kWaistbandRiseCm;
+    g.hemCm = view.waistCm() - need(spec, "outseam");
+    g.crotchCm = g.hemCm + need(spec, "inseam");
+  }
+  return g;
+}
+
+double garmentCircAt(const GarmentSpec& spec, const SimFormView& view, double heightCm) {
+  return circFromKnots(torsoKnots(spec, view, garmentHeights(spec, view)), heightCm);
+}
+
+void checkGarmentFits(const GarmentSpec& spec, const SimFormView& view) {
+  const auto names = garmentMeasurementNames(spec.type);
+  for (const auto& n : names)
+    need(spec, n);
+  const GarmentHeights gh = garmentHeights(spec, view);
+  const double floor = view.form().minYCm();
+  if (gh.hemCm < floor + 3) {
+    throw std::invalid_argument("the " + spec.type + "'s hem would be " + fmt(gh.hemCm - floor) +
+                                " cm above the floor: too long for this form");
+  }
+  if (spec.type == "top" && gh.hemCm > view.waistCm() - 3) {
+    throw std::invalid_argument("garment_length " + fmt(need(spec, "garment_length")) +
+                                " cm puts the top's hem above the form's waist");
+  }
+  if ((spec.type == "dress" || spec.type == "skirt") && gh.hemCm > view.hipCm() - 3) {
+    throw std::invalid_argument("the " + spec.type + "'s hem would be above the form's hip");
+  }
+  if (spec.type == "top" && view.crotchCm() && gh.hemCm < *view.crotchCm() + 3) {
+    throw std::invalid_argument("garment_length " + fmt(need(spec, "garment_length")) +
+                                " cm reaches below the crotch: that is a dress, not a top");
+  }
+  if (spec.type == "dress") {
+    const double expect = view.neckSideCm() - view.waistCm() + need(spec, "skirt_length");
+    if (std::abs(expect - need(spec, "garment_length")) > 0.5) {
+      throw std::invalid_argument("dress garment_length " + fmt(need(spec, "garment_length")) +
+                                  " cm disagrees with skirt_length: on this form it must be " +
+                                  fmt(expect) + " cm (side neck to waist + skirt_length)");
+    }
+  }
+  // Circumferences against the form at their heights.
+  const auto knots = torsoKnots(spec, view, gh);
+  const std::vector<std::string> knotNames = [&] {
+    std::vector<std::string> v;
+    if (spec.type == "top" || spec.type == "dress")
+      v.push_back("bust_circ");
+    v.push_back("waist_circ");
+    if (spec.type != "top")
+      v.push_back("hip_circ");
+    if (spec.type != "pants")
+      v.push_back("hem_circ");
+    return v;
+  }();
+  for (std::size_t i = 0; i < knots.size(); ++i) {
+    const double h = knots[i].h < view.hipCm() ? view.hipCm() : knots[i].h;
+    const auto sec = view.torsoAtHeight(h);
+    if (!sec)
+      throw std::invalid_argument("the form has no torso section at " + fmt(h) + " cm");
+    if (knots[i].c < sec->circCm + kMinEaseCm) {
+      throw std::invalid_argument(knotNames[i] + " " + fmt(knots[i].c) +
+                                  " cm is smaller than the form's " + fmt(sec->circCm) + " cm + " +
+                                  fmt(kMinEaseCm) +
+                                  " cm ease there: the garment cannot be worn on this form");
+    }
+  }
+  if (spec.type == "pants") {
+    if (!view.crotchCm())
+      throw std::invalid_argument("pants need a form with legs");
+    if (gh.crotchCm > *view.crotchCm() + 0.01 || gh.crotchCm < *view.crotchCm() - 8) {
+      throw std::invalid_argument(
+          "outseam - inseam = " + fmt(need(spec, "outseam") - need(spec, "inseam")) +
+          " cm puts the pants' crotch at " + fmt(gh.crotchCm) +
+          " cm; it must be 0 to 8 cm below the form's crotch at " + fmt(*view.crotchCm()) + " cm");
+    }
+    const int hemRow = static_cast<int>(std::lround(view.rowOfHeight(gh.hemCm + 1.0)));
+    for (int side = 0; side < 2; ++side) {
+      const auto leg = view.legAtRow(hemRow, side);
+      if (!leg)
+        throw std::invalid_argument("the form has no leg at the pants' hem height");
+      if (need(spec, "leg_opening_circ") < leg->circCm + kMinEaseCm) {
+        throw std::invalid_argument("leg_opening_circ " + fmt(need(spec, "leg_opening_circ")) +
+                                    " cm is smaller than the form's leg (" + fmt(leg->circCm) +
+                                    " cm) + ease at the hem");
+      }
+    }
+  }
+  if (spec.type == "top" || spec.type == "dress") {
+    const double sl = need(spec, "sleeve_length");
+    const std::string sleeve = attr(spec, "sleeve");
+    if ((sleeve == "none") != (sl == 0)) {
+      throw std::invalid_argument("sleeve_length " + fmt(sl) + " cm disagrees with sleeve '" +
+                                  sleeve + "' (0 exactly when sleeveless)");
+    }
+    if (sl > 0) {
+      for (int side = 0; side < 2; ++side) {
+        const auto& arm = view.arm(side);
+        if (!arm)
+          throw std::invalid_argument("sleeves need a form with arms");
+        const double maxCm = (arm->tWristPx + 10.0 * view.pose().pxPerCm) / view.pose().pxPerCm;
+        if (sl > maxCm) {
+          throw std::invalid_argument("sleeve_length " + fmt(sl) +
+                                      " cm is longer than the form's arm (" + fmt(maxCm) +
+                                      " cm to 10 cm past the wrist)");
+        }
+      }
+    }
+  }
+}
+
+GarmentLayer layGarment(const GarmentSpec& spec, const SimFormView& view) {
+  checkGarmentFits(spec, view);
+  const cv::Size size = view.size();
+  const double s = view.pose().pxPerCm;
+  const GarmentHeights gh = garmentHeights(spec, view);
+  const auto knots = torsoKnots(spec, view, gh);
+  const bool upper = spec.type == "top" || spec.type == "dress";
+  const bool aLine = attr(spec, "skirt") == "a_line";
+  const auto hipSec = view.torsoAtHeight(view.hipCm());
+  const double hemRowC = view.rowOfHeight(gh.hemCm);
+  const double topRowC = view.rowOfHeight(upper ? view.armpitCm() : gh.topCm);
+  const double lowCm = spec.type == "pants" ? gh.crotchCm : gh.hemCm;
+  const double lowRowC = view.rowOfHeight(lowCm);
+  const double waveLambdaPx = 14.0 * s;
+  const double waveAmpPx = aLine ? spec.hemWaveCm * s : 0.0;
+
+  GarmentLayer g;
+  g.coverage = cv::Mat1f(size, 0.f);
+  // Band edges at each row (for the shoulder column above the armpit).
+  double armpitL = 0, armpitR = 0;
+
+  auto bandAt = [&](int row, double& l, double& r) -> bool {
+    const double h = view.heightOfRow(row);
+    std::optional<RowSection> ref;
+    if (h >= view.hipCm()) {
+      ref = view.torsoAtRow(row);
+    } else if (hipSec) {
+      ref = hipSec;  // skirts hang from the hip; they do not follow the legs
+    }
+    if (!ref)
+      return false;
+    const double c = std::max(circFromKnots(knots, h), ref->circCm + 1.0);
+    const double hw = 0.5 * ref->widthPx() * c / ref->circCm;
+    l = ref->centrePx() - hw;
+    r = ref->centrePx() + hw;
+    return true;
+  };
+
+  // (A) body band: from the armpit (tops, dresses) or the waistband down to the hem or crotch.
+  const int rowStart = std::max(0, static_cast<int>(std::floor(topRowC)));
+  const int rowEnd = std::min(
+      size.height - 1,
+      static_cast<int>(std::ceil((spec.type == "pants" ? lowRowC : hemRowC) + waveAmpPx + 1)));
+  for (int y = rowStart; y <= rowEnd; ++y) {
+    double l, r;
+    if (!bandAt(y, l, r))
+      continue;
+    if (armpitR <= armpitL) {  // the first row of the band: the column above the armpit
+      armpitL = l;
+      armpitR = r;
+    }
+    float* cov = g.coverage.ptr<float>(y);
+    const int x0 = std::max(0, static_cast<int>(std::floor(l)) - 1);
+    const int x1 = std::min(size.width - 1, static_cast<int>(std::ceil(r)) + 1);
+    const double mid = 0.5 * (l + r);
+    for (int x = x0; x <= x1; ++x) {
+      double bottom = spec.type == "pants" ? lowRowC : hemRowC;
+      if (spec.type != "pants" && waveAmpPx > 0) {
+        bottom += waveAmpPx * std::sin(2 * kPi * (x - mid) / waveLambdaPx);
+      }
+      const double vTop = upper ? 1.0 : std::clamp(y - topRowC + 0.5, 0.0, 1.0);
+      const double vBot = std::clamp(bottom - y + 0.5, 0.0, 1.0);
+      cov[x] = std::max(cov[x], spanCover(x, l, r) * static_cast<float>(vTop * vBot));
+    }
+  }
+  if (upper && armpitR <= armpitL) {
+    throw std::invalid_argument("the form has no torso section just below the armpit");
+  }
+
+  // (B) shoulders: the form above the armpit, outside the neckline, not beyond the arms.
+  if (upper) {
+    const double neckRow = view.rowOfHeight(view.neckSideCm());
+    const double a = view.neckHalfWidthPx();
+    const double depthPx = spec.neckDepthCm * s;
+    const double axis = view.axisXPx();
+    for (int y = std::max(0, static_cast<int>(std::floor(neckRow)));
+         y <= static_cast<int>(std::ceil(topRowC)) && y < size.height; ++y) {
+      const float* fc = view.coverage().ptr<float>(y);
+      float* cov = g.coverage.ptr<float>(y);
+      for (int x = 0; x < size.width; ++x) {
+        if (fc[x] <= 0.f)
+          continue;
+        const Eigen::Vector2d p(x, y);
+        bool arm = false;
+        for (int side = 0; side < 2; ++side) {
+          const auto& ax = view.arm(side);
+          if (!ax)
+            continue;
+          const bool outside = side == 0 ? x < armpitL : x > armpitR;
+          if (outside && ax->t(p) > 0)
+            arm = true;
+        }
+        if (arm)
+          continue;
+        const double dx = std::abs(x - axis);
+        double neckY = neckRow;
+        if (dx < a) {
+          const double u = dx / a;
+          neckY += depthPx * (spec.neckline == "v" ? (1.0 - u) : std::sqrt(1.0 - u * u));
+        }
+        const double v = std::clamp(y - neckY + 0.5, 0.0, 1.0);
+        const double below = std::clamp(y - neckRow + 0.5, 0.0, 1.0);
+        cov[x] = std::max(cov[x], fc[x] * static_cast<float>(std::min(v, below)));
+      }
+    }
+  }
+
+  // (C) sleeves along the arm axes.
+  const double sleeveCm = upper ? need(spec, "sleeve_length") : 0.0;
+  if (sleeveCm > 0) {
+    const double L = sleeveCm * s;
+    const double thick = 0.3 * s;
+    for (int side = 0; side < 2; ++side) {
+      const auto& ax = view.arm(side);
+      if (!ax)
+        continue;
+      // Bounding box of the sleeve: the axis segment widened by the largest half-width.
+      const double maxHw = (ax->halfWidthAt(0) + ax->halfWidthAt(L)) * spec.sleeveFlare + thick + 4;
+      const Eigen::Vector2d e0 = ax->originPx - ax->dir * maxHw,
+                            e1 = ax->originPx + ax->dir * (L + 2);
+      const int x0 = std::max(0, static_cast<int>(std::min(e0.x(), e1.x()) - 2 * maxHw));
+      const int x1 =
+          std::min(size.width - 1, static_cast<int>(std::max(e0.x(), e1.x()) + 2 * maxHw));
+      const int y0 = std::max(0, static_cast<int>(std::min(e0.y(), e1.y()) - 2 * maxHw));
+      const int y1 =
+          std::min(size.height - 1, static_cast<int>(std::max(e0.y(), e1.y()) + 2 * maxHw));
+      for (int y = y0; y <= y1; ++y) {
+        float* cov = g.coverage.ptr<float>(y);
+        for (int x = x0; x <= x1; ++x) {
+          const Eigen::Vector2d p(x, y);
+          const double t = ax->t(p);
+          if (t < -maxHw || t > L + 1)
+            continue;
+          const double tc = std::max(t, 0.0);
+          const double flare = 1.0 + (spec.sleeveFlare - 1.0) * std::clamp(tc / L, 0.0, 1.0);
+          const double hw = ax->halfWidthAt(tc) * flare + thick;
+          const double d = ax->d(p) - ax->centreAt(tc);
+          const double across = std::clamp(hw - std::abs(d) + 0.5, 0.0, 1.0);
+          const double along = std::clamp(L - t + 0.5, 0.0, 1.0);
+          // Above the shoulder tip only where the form is (the sleeve head lies on it).
+          double head = 1.0;
+          if (t < 0)
+            head = view.coverage()(y, x);
+          cov[x] = std::max(cov[x], static_cast<float>(across * along * head));
+        }
+      }
+    }
+  }
+
+  // (D) pants legs from the crotch to the hem.
+  if (spec.type == "pants") {
+    const double opening = need(spec, "leg_opening_circ");
+    const double thighRefCm = *view.crotchCm() - 5.0;
+    double seatL = 0, seatR = 0;
+    if (!bandAt(static_cast<int>(std::lround(lowRowC)), seatL, seatR)) {
+      throw std::invalid_argument("the form has no hip section for the pants' seat");
+    }
+    const int thighRow = static_cast<int>(std::lround(view.rowOfHeight(thighRefCm)));
+    const int y0 = std::max(0, static_cast<int>(std::floor(lowRowC)));
+    const int y1 = std::min(size.height - 1, static_cast<int>(std::ceil(hemRowC)) + 1);
+    for (int side = 0; side < 2; ++side) {
+      const auto thigh = view.legAtRow(thighRow, side);
+      if (!thigh)
+        throw std::invalid_argument("the form has no leg 5 cm below its crotch");
+      const double thighCirc = thigh->circCm * spec.thighEase;
+      for (int y = y0; y <= y1; ++y) {
+        const double h = view.heightOfRow(y);
+        const auto ref = h > thighRefCm ? thigh : view.legAtRow(y, side);
+        if (!ref)
+          continue;
+        double c;
+        if (h <= gh.hemCm + kKnotPlateauCm) {
+          c = opening;
+        } else {
+          const double t = (gh.crotchCm - h) / (gh.crotchCm - gh.hemCm - kKnotPlateauCm);
+          c = thighCirc + (opening - thighCirc) * std::clamp(t, 0.0, 1.0);
+        }
+        c = std::max(c, ref->circCm + 1.0);
+        const double hw = 0.5 * ref->widthPx() * c / ref->circCm;
+        double l = ref->centrePx() - hw, r = ref->centrePx() + hw;
+        // The outer edge leaves the seat's line at the crotch and reaches the leg's own over
+        // the next 10 cm (the thigh of real pants; not a measured width).
+        const double blend = std::clamp((gh.crotchCm - h) / 10.0, 0.0, 1.0);
+        if (side == 0)
+          l = seatL + (l - seatL) * blend;
+        else
+          r = seatR + (r - seatR) * blend;
+        const double gap = s * std::min(0.3 + 0.25 * std::max(0.0, gh.crotchCm - h), 3.0);
+        if (side == 0)
+          r = std::min(r, view.axisXPx() - gap);
+        if (side == 1)
+          l = std::max(l, view.axisXPx() + gap);
+        const double vTop = std::clamp(y - lowRowC + 0.5, 0.0, 1.0);
+        const double vBot = std::clamp(hemRowC - y + 0.5, 0.0, 1.0);
+        float* cov = g.coverage.ptr<float>(y);
+        const int xa = std::max(0, static_cast<int>(std::floor(l)) - 1);
+        const int xb = std::min(size.width - 1, static_cast<int>(std::ceil(r)) + 1);
+        for (int x = xa; x <= xb; ++x) {
+          cov[x] = std::max(cov[x], spanCover(x, l, r) * static_cast<float>(vTop * vBot));
+        }
+      }
+    }
+  }
+
+  // Normals, folds and fabric coordinates from the horizontal runs of the garment: each run is
+  // shaded as the front of a tube (a cylinder across the run), folds hang from the top edge and
+  // deepen towards the hem.
+  g.normals = cv::Mat3f(size, cv::Vec3f(0, 0, 1));
+  g.foldShade = cv::Mat1f(size, 0.f);
+  g.uvCm = cv::Mat2f(size, cv::Vec2f(0, 0));
+  const double topRow = view.rowOfHeight(gh.topCm);
+  const double len = std::max(1.0, hemRowC - topRow);
+  const double ph1 = static_cast<double>(spec.foldSeed % 1000) * 0.00628;
+  const double ph2 = static_cast<double>((spec.foldSeed / 1000) % 1000) * 0.00628;
+  for (int y = 0; y < size.height; ++y) {
+    const float* cov = g.coverage.ptr<float>(y);
+    int x = 0;
+    while (x < size.width) {
+      if (cov[x] <= 0.f) {
+        ++x;
+        continue;
+      }
+      const int a = x;
+      while (x < size.width && cov[x] > 0.f)
+        ++x;
+      const int b = x - 1;
+      const double mid = 0.5 * (a + b), hw = std::max(1.0, 0.5 * (b - a + 1));
+      const double v = (y - topRow) / len;  // 0 at the top edge, 1 at the hem
+      const double amp = std::clamp(0.25 + 0.75 * v, 0.0, 1.0) * (aLine ? 1.3 : 1.0);
+      for (int i = a; i <= b; ++i) {
+        const double u = std::clamp((i - mid) / hw, -0.999, 0.999);
+        const double lambda = (aLine ? 9.0 + 6.0 * v : 7.0) * s;
+        const double f =
+            amp * (0.6 * std::sin(2 * kPi * (i - view.axisXPx()) / lambda + ph1 + 2.0 * v) +
+                   0.4 * std::sin(2 * kPi * (i - view.axisXPx()) / (0.47 * lambda) + ph2));
+        const double nx = u + 0.25 * f;
+        const double nz = std::sqrt(std::max(0.05, 1.0 - std::min(1.0, nx * nx)));
+        g.normals(y, i) = cv::Vec3f(static_cast<float>(nx), 0.f, static_cast<float>(nz));
+        g.foldShade(y, i) = static_cast<float>(f);
+        g.uvCm(y, i) = cv::Vec2f(static_cast<float>(hw / s * std::asin(u)),
+                                 static_cast<float>((y - topRow) / s + 0.15 * f));
+      }
+    }
+  }
+  return g;
+}
+
+}  // namespace garmcap::capture
