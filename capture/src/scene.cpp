@@ -71,8 +71,9 @@ Lighting Lighting::fromJson(const nlohmann::json& j, const std::string& what) {
   Lighting l;
   l.screenBgr = vecFrom(j, "screen_bgr", what);
   l.formBgr = vecFrom(j, "form_bgr", what);
-  const cv::Vec3f d = vecFrom(j, "light_dir", what);
-  l.lightDir = Eigen::Vector3d(d[0], d[1], d[2]);
+  vecFrom(j, "light_dir", what);  // validates the shape; read again in double precision
+  const auto& ld = j["light_dir"];
+  l.lightDir = Eigen::Vector3d(ld[0].get<double>(), ld[1].get<double>(), ld[2].get<double>());
   if (l.lightDir.norm() < 1e-6)
     throw drafts::ParseError(what + ": field 'light_dir' must not be zero");
   l.exposure = num(j, "exposure", what);

@@ -108,7 +108,7 @@ const std::vector<std::string>& garmentMeasurementNames(const std::string& type)
 nlohmann::json GarmentSpec::toJson() const {
   nlohmann::json m = nlohmann::json::object();
   for (const auto& [k, v] : measurements)
-    m[k] = std::round(v * 100.0) / 100.0;
+    m[k] = v;  // full precision: scene.json must re-render bit for bit
   return {{"type", type},
           {"attributes", attributes},
           {"measurements", m},
