@@ -103,6 +103,9 @@ nlohmann::json parseJson(std::string_view text, const std::string& what) {
       reason = reason.substr(pos);
     throw ParseError(what + ": malformed JSON at line " + std::to_string(line) + ", column " +
                      std::to_string(column) + ": " + reason);
+  } catch (const nlohmann::json::exception& e) {
+    // e.g. out_of_range.406 for a number like 1e999: still the file's fault, so name it.
+    throw ParseError(what + ": malformed JSON: " + e.what());
   }
 }
 

@@ -59,3 +59,12 @@ TEST(FileIo, StrictFieldsNameTheField) {
     EXPECT_NE(std::string(e.what()).find("'missing'"), std::string::npos);
   }
 }
+
+TEST(FileIo, OutOfRangeNumberIsAParseErrorNamingTheFile) {
+  try {
+    parseJson("{\"a\": 1e999}", "big.json");
+    FAIL() << "expected ParseError";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("big.json"), std::string::npos) << e.what();
+  }
+}

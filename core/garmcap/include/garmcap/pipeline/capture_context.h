@@ -1,0 +1,48 @@
+#pragma once
+// Everything GarmCap needs that depends only on the calibration, built once per calibration and
+// shared by every capture made with it: the form model, the form's geometry in the image (pose
+// without roll; frames are de-rolled first), the body the form stands for, and the reference
+// silhouettes of known garments rendered from the project's drafts on this form (type database).
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "garmcap/calib/form_model.h"
+#include "garmcap/calib/registration.h"
+#include "garmcap/drafts/measurements.h"
+#include "garmcap/pipeline/garment_classifier.h"
+#include "garmcap/pipeline/garment_measurer.h"
+
+namespace garmcap::pipeline {
+
+struct CaptureContext {
+  calib::Calibration calibration;
+  std::shared_ptr<const calib::FormModel> form;
+  std::shared_ptr<const FormView> view;  // form seen with the calibrated pose, roll removed
+  drafts::Measurements body;             // the form's measurements completed from a size chart
+  std::shared_ptr<const GarmentClassifier> classifier;
+  std::vector<std::string> notes;  // what was assumed while building (for result.json)
+};
+
+/// Builds the context from calibration JSON (docs/formats.md). Throws drafts::ParseError for a
+/// malformed calibration, calib::CalibError for a missing or bad form.
+std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& calibration);
+
+/// As buildCaptureContext, but returns the context of the previous call when the calibration is
+/// the same (thread-safe): the daemon and benchmarks capture many garments per calibration.
+std::shared_ptr<const CaptureContext> cachedCaptureContext(const nlohmann::json& calibration);
+
+/// Reference silhouettes of every type and attribute combination, drafted for `body` by the
+/// project's recipes and laid on the form by the garment model of the scene simulator.
+std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view,
+                                                            const drafts::Measurements& body,
+                                                            std::vector<std::string>* notes);
+
+/// The form's own measurements completed, for names the form does not give, from the size of the
+/// korean_women chart whose bust is nearest (drafts need neck-to-waist, arm lengths, ...).
+drafts::Measurements bodyForForm(const calib::FormModel& form);
+
+}  // namespace garmcap::pipeline

@@ -1,0 +1,43 @@
+#pragma once
+// Garment measurements in cm from the garment's silhouette on the calibrated form (seed §5.2.4),
+// by the "similar cross-section" model documented in docs/measurement_model.md: at a form height
+// h, C_garment(h) = C_ref(h) * W_garment_px(h) / W_ref_px(h), where the reference section is the
+// form's torso section at h (for h at or above the hip) or its hip section (below the hip: skirts
+// and hems hang from the hip), C_ref its tape (convex-hull) circumference from the 3D scan and
+// W_ref its projected width. Lengths are vertical distances between form heights; the sleeve is
+// measured along the arm's axis from the shoulder tip.
+
+#include <map>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "garmcap/capture/sim_form.h"
+
+namespace garmcap::pipeline {
+
+using FormView = capture::SimFormView;
+
+struct GarmentLandmark {
+  std::string name;  // "bust_left", "hem_centre", "sleeve_end_left", "crotch", ...
+  cv::Point2d px;
+};
+
+struct GarmentMeasurement {
+  std::map<std::string, double> measurements;  // cm; only those the type has
+  std::vector<GarmentLandmark> landmarks;      // for the review overlay
+  std::vector<std::string> warnings;           // measured, but with a caveat
+};
+
+/// Measurement names per type (top, dress, skirt, pants), as in truth.json.
+const std::vector<std::string>& measurementNamesFor(const std::string& type);
+
+/// Measures a garment of `type` from its mask (CV_8U, non-zero = garment, the frame's size and
+/// without camera roll) on the form seen through `view`. A measurement that cannot be taken (the
+/// garment does not reach the height, no sleeve on a form without arms) is left out and a
+/// warning says why: nothing is invented. Throws std::invalid_argument for an unknown type or a
+/// mask whose size differs from the view's.
+GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
+                                  const std::string& type);
+
+}  // namespace garmcap::pipeline

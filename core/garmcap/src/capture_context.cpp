@@ -1,0 +1,187 @@
+#include "garmcap/pipeline/capture_context.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <opencv2/imgproc.hpp>
+
+#include "garmcap/capture/sim_garment.h"
+#include "garmcap/drafts/recipes.h"
+#include "garmcap/drafts/size_charts.h"
+
+namespace garmcap::pipeline {
+namespace {
+
+// One garment per type and attributes at three lengths, so that the database covers the lengths
+// garments come in.
+struct Variant {
+  std::string type;
+  std::map<std::string, std::string> attributes;
+  double lengthFactor;
+};
+
+std::vector<Variant> variants() {
+  std::vector<Variant> v;
+  for (double f : {0.6, 1.0, 1.4}) {
+    for (const char* sleeve : {"none", "short", "long"}) {
+      v.push_back({"top", {{"sleeve", sleeve}}, f});
+      for (const char* skirt : {"a_line", "h_line"})
+        v.push_back({"dress", {{"sleeve", sleeve}, {"skirt", skirt}}, f});
+    }
+    for (const char* skirt : {"a_line", "h_line"})
+      v.push_back({"skirt", {{"skirt", skirt}}, f});
+    v.push_back({"pants", {}, f});
+  }
+  return v;
+}
+
+double designDefault(const std::string& recipe, const std::string& name) {
+  for (const auto& p : drafts::garmentType(recipe).design)
+    if (p.name == name)
+      return p.defaultValue;
+  throw std::invalid_argument("recipe '" + recipe + "' has no design parameter '" + name + "'");
+}
+
+// The garment a recipe drafts for `body` with its default ease and design, in the measurement
+// names of the pipeline: circumference = body + the recipe's ease, lengths from its length
+// parameters (scaled by the variant), made wearable on this form in the simulator's model (a
+// little ease over the form wherever it is measured, hems on the form).
+capture::GarmentSpec referenceGarment(const Variant& v, const drafts::Measurements& body,
+                                      const FormView& view) {
+  const bool skirted = v.attributes.count("skirt") != 0;
+  const std::string recipe = v.type == "top"     ? "blouse"
+                             : v.type == "pants" ? "pants"
+                             : v.type == "dress"
+                                 ? "dress"
+                                 : (v.attributes.at("skirt") == "a_line" ? "skirt_a" : "skirt_h");
+  auto formCirc = [&](double h) {
+    const auto sec = view.torsoAtHeight(std::max(h, view.hipCm()));
+    return sec ? sec->circCm : 0.0;
+  };
+  auto eased = [&](const char* name, const char* ease, double h) {
+    return std::max(body.get(name) + designDefault(recipe, ease),
+                    formCirc(h) + capture::kMinEaseCm + 1.0);
+  };
+  const double floorCm = view.form().minYCm();
+  std::map<std::string, double> m;
+  if (v.type == "top" || v.type == "dress")
+    m["bust_circ"] = eased("bust_circ", "ease_bust", view.bustCm());
+  m["waist_circ"] = eased("waist_circ", "ease_waist", view.waistCm());
+  if (v.type != "top")
+    m["hip_circ"] = eased("hip_circ", "ease_hip", view.hipCm());
+  if (skirted) {
+    const double len = std::clamp(designDefault(recipe, "skirt_length") * v.lengthFactor,
+                                  view.waistCm() - view.hipCm() + 8, view.waistCm() - floorCm - 10);
+    m["skirt_length"] = len;
+    const double flare = v.attributes.at("skirt") == "a_line"
+                             ? std::max(8.0, designDefault(recipe, "hem_flare"))
+                             : 0.0;
+    m["hem_circ"] =
+        std::max(m["hip_circ"] + 4 * flare * v.lengthFactor, formCirc(view.hipCm()) + 3);
+    if (v.type == "dress")
+      m["garment_length"] = view.neckSideCm() - view.waistCm() + len;
+  }
+  if (v.type == "top") {
+    const double below = designDefault(recipe, "blouse_length") * v.lengthFactor;
+    const double hem = std::clamp(view.waistCm() - below, view.hipCm() - 12, view.waistCm() - 4);
+    m["garment_length"] = view.neckSideCm() - hem;
+    m["hem_circ"] =
+        std::max(body.get("hip_circ") + designDefault(recipe, "ease_hip"), formCirc(hem) + 4);
+  }
+  if (v.attributes.count("sleeve")) {
+    const std::string& sl = v.attributes.at("sleeve");
+    const double arm = body.get("arm_shoulder_tip_to_wrist");
+    m["sleeve_length"] =
+        sl == "none"
+            ? 0.0
+            : (sl == "short" ? 0.3 * arm : std::min(1.0, 0.9 + 0.1 * v.lengthFactor) * arm);
+  }
+  if (v.type == "pants") {
+    const double crotch = view.crotchCm().value_or(view.hipCm() - 10) - 2;
+    const double outseam = designDefault(recipe, "pants_length") *
+                           body.get("leg_waist_side_to_floor") * std::min(1.0, v.lengthFactor);
+    const double hem = std::clamp(view.waistCm() - outseam, floorCm + 6, crotch - 20);
+    m["outseam"] = view.waistCm() - hem;
+    m["inseam"] = crotch - hem;
+    m["leg_opening_circ"] = 2 * designDefault(recipe, "hem_width") + 2;
+  }
+  capture::GarmentSpec spec;
+  spec.type = v.type;
+  spec.attributes = v.attributes;
+  spec.measurements = m;
+  return spec;
+}
+
+}  // namespace
+
+drafts::Measurements bodyForForm(const calib::FormModel& form) {
+  const auto& chart = drafts::sizeChart("korean_women");
+  const double bust = form.measurements().find("bust_circ").value_or(0);
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < chart.bodies.size(); ++i)
+    if (std::abs(chart.bodies[i].get("bust_circ") - bust) <
+        std::abs(chart.bodies[best].get("bust_circ") - bust))
+      best = i;
+  drafts::Measurements body = chart.bodies[best];
+  for (const auto& [name, value] : form.measurements().values())
+    if (drafts::isKnownMeasurement(name))
+      body.set(name, value);
+  return body;
+}
+
+std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view,
+                                                            const drafts::Measurements& body,
+                                                            std::vector<std::string>* notes) {
+  std::vector<ReferenceSilhouette> refs;
+  for (const auto& v : variants()) {
+    if (v.type == "pants" && !view.crotchCm())
+      continue;  // a form without legs wears no pants
+    if (v.attributes.count("sleeve") && v.attributes.at("sleeve") != "none" && !view.arm(0) &&
+        !view.arm(1))
+      continue;
+    try {
+      const capture::GarmentSpec spec = referenceGarment(v, body, view);
+      capture::checkGarmentFits(spec, view);
+      const capture::GarmentLayer layer = capture::layGarment(spec, view);
+      cv::Mat mask = layer.coverage > 0.5f;
+      refs.push_back({v.type, v.attributes, mask});
+    } catch (const std::exception& e) {
+      if (notes)
+        notes->push_back("reference " + v.type + " not rendered: " + e.what());
+    }
+  }
+  return refs;
+}
+
+std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& calibration) {
+  auto ctx = std::make_shared<CaptureContext>();
+  ctx->calibration = calib::calibrationFromJson(calibration, "calibration");
+  ctx->form = std::make_shared<const calib::FormModel>(
+      calib::FormModel::load(ctx->calibration.formSidecar));
+  calib::FormPose upright = ctx->calibration.pose;
+  upright.rollRad = 0;  // frames are de-rolled about the world origin's image position
+  ctx->view = std::make_shared<const FormView>(*ctx->form, upright, ctx->calibration.imageSize);
+  ctx->body = bodyForForm(*ctx->form);
+  auto refs = renderReferenceSilhouettes(*ctx->view, ctx->body, &ctx->notes);
+  ctx->classifier = std::make_shared<const GarmentClassifier>(std::move(refs));
+  return ctx;
+}
+
+std::shared_ptr<const CaptureContext> cachedCaptureContext(const nlohmann::json& calibration) {
+  static std::mutex mutex;
+  static std::string key;
+  static std::shared_ptr<const CaptureContext> cached;
+  const std::string k = calibration.dump();
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (cached && key == k)
+      return cached;
+  }
+  auto built = buildCaptureContext(calibration);
+  std::lock_guard<std::mutex> lock(mutex);
+  key = k;
+  cached = built;
+  return cached;
+}
+
+}  // namespace garmcap::pipeline

@@ -1,0 +1,358 @@
+#include "garmcap/pipeline/garment_measurer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+namespace garmcap::pipeline {
+namespace {
+
+using capture::RowSection;
+
+// Half-height of the band of rows averaged for a circumference: inside the ±1.5 cm the garment
+// keeps its circumference around a measured height (docs/measurement_model.md).
+constexpr double kBandCm = 1.0;
+// Hem circumference is read this far above the hem edge.
+constexpr double kAboveHemCm = 1.25;
+// Gaps in a mask run up to this many pixels are bridged (GrabCut specks, printed motifs).
+constexpr int kMaxGapPx = 2;
+
+bool on(const cv::Mat& mask, int row, int col) {
+  return row >= 0 && row < mask.rows && col >= 0 && col < mask.cols &&
+         mask.at<uchar>(row, col) != 0;
+}
+
+// The run of set pixels in `row` that contains `col` (gaps of kMaxGapPx bridged), as
+// [left edge, right edge] in pixel-edge coordinates; nullopt when `col` is not set.
+std::optional<std::pair<double, double>> runAt(const cv::Mat& mask, int row, int col,
+                                               int limitLeft = -1, int limitRight = -1) {
+  if (row < 0 || row >= mask.rows)
+    return std::nullopt;
+  if (!on(mask, row, col)) {
+    // Allow the centre to sit in a tiny gap.
+    int c = -1;
+    for (int d = 1; d <= kMaxGapPx && c < 0; ++d) {
+      if (on(mask, row, col - d))
+        c = col - d;
+      else if (on(mask, row, col + d))
+        c = col + d;
+    }
+    if (c < 0)
+      return std::nullopt;
+    col = c;
+  }
+  const int lo = limitLeft >= 0 ? limitLeft : 0;
+  const int hi = limitRight >= 0 ? std::min(limitRight, mask.cols - 1) : mask.cols - 1;
+  int l = col, r = col;
+  for (int x = col - 1; x >= lo; --x) {
+    if (on(mask, row, x))
+      l = x;
+    else if (col - x > 0 && l - x > kMaxGapPx)
+      break;
+  }
+  for (int x = col + 1; x <= hi; ++x) {
+    if (on(mask, row, x))
+      r = x;
+    else if (x - r > kMaxGapPx)
+      break;
+  }
+  return std::make_pair(static_cast<double>(l), static_cast<double>(r + 1));
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Context {
+  const cv::Mat& mask;
+  const FormView& view;
+  double s;  // px per cm
+  GarmentMeasurement& out;
+};
+
+// Reference section for a height: the torso there, or the hip section below the hip.
+std::optional<RowSection> referenceAt(const FormView& view, double heightCm) {
+  return view.torsoAtHeight(std::max(heightCm, view.hipCm()));
+}
+
+// Columns the body's run may not pass: the inner edges of the form's arms at `row` (so a sleeve
+// that touches the bodice is not counted as body width).
+std::pair<int, int> armLimits(const FormView& view, int row, const RowSection& torso) {
+  int left = 0, right = view.size().width - 1;
+  const float* cov = view.coverage().ptr<float>(row);
+  for (int x = static_cast<int>(torso.leftPx) - 2; x >= 0; --x)
+    if (cov[x] > 0.5f) {
+      left = x + 1;
+      break;
+    }
+  for (int x = static_cast<int>(torso.rightPx) + 2; x < view.size().width; ++x)
+    if (cov[x] > 0.5f) {
+      right = x - 1;
+      break;
+    }
+  return {left, right};
+}
+
+// Circumference at form height h by the similar-section model, median over a band of rows.
+std::optional<double> circumferenceAt(Context& c, double heightCm, const std::string& name) {
+  std::vector<double> values;
+  bool limited = false;
+  cv::Point2d left, right;
+  const int r0 = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm + kBandCm)));
+  const int r1 = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm - kBandCm)));
+  const auto ref = referenceAt(c.view, heightCm);
+  if (!ref || ref->widthPx() <= 1 || ref->circCm <= 0)
+    return std::nullopt;
+  for (int row = r0; row <= r1; ++row) {
+    if (row < 0 || row >= c.mask.rows)
+      continue;
+    const double h = c.view.heightOfRow(row);
+    const auto section = referenceAt(c.view, h);
+    const auto torsoHere = c.view.torsoAtRow(row);
+    if (!section)
+      continue;
+    int limL = -1, limR = -1;
+    if (torsoHere && h < c.view.armpitCm())
+      std::tie(limL, limR) = armLimits(c.view, row, *torsoHere);
+    const auto run =
+        runAt(c.mask, row, static_cast<int>(std::lround(section->centrePx())), limL, limR);
+    if (!run)
+      continue;
+    if ((limL >= 0 && run->first <= limL) || (limR >= 0 && run->second >= limR + 1))
+      limited = true;
+    values.push_back(section->circCm * (run->second - run->first) / section->widthPx());
+    left = {run->first, static_cast<double>(row)};
+    right = {run->second, static_cast<double>(row)};
+  }
+  if (values.size() < 2) {
+    c.out.warnings.push_back(name + ": the garment does not cover the form at " +
+                             std::to_string(static_cast<int>(std::lround(heightCm))) + " cm");
+    return std::nullopt;
+  }
+  if (limited)
+    c.out.warnings.push_back(name +
+                             ": the body reaches the form's arm; the width may include a sleeve");
+  const std::string base = name.substr(0, name.find("_circ"));
+  c.out.landmarks.push_back({base + "_left", left});
+  c.out.landmarks.push_back({base + "_right", right});
+  return median(values);
+}
+
+// Lowest garment row below `fromRow` along column `col` (following the run down).
+std::optional<int> lowestRow(const cv::Mat& mask, int col, int fromRow) {
+  if (!on(mask, fromRow, col))
+    return std::nullopt;
+  int row = fromRow;
+  int gap = 0;
+  for (int r = fromRow + 1; r < mask.rows; ++r) {
+    if (on(mask, r, col)) {
+      row = r;
+      gap = 0;
+    } else if (++gap > kMaxGapPx) {
+      break;
+    }
+  }
+  return row;
+}
+
+struct SleeveEnd {
+  double lengthCm = 0;
+  cv::Point2d endPx;
+};
+
+// Sleeve length on one arm: along the arm axis from the shoulder tip, as far as the garment
+// covers the outer half of the arm (the side away from the body, which a bodice never reaches).
+std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
+  const auto& arm = c.view.arm(side);
+  if (!arm)
+    return std::nullopt;
+  // Sign of d on the arm's outer side.
+  const Eigen::Vector2d away(side == 0 ? -1.0 : 1.0, 0.0);
+  const double outerSign =
+      arm->d(arm->originPx + away * 10.0) - arm->d(arm->originPx) > 0 ? 1.0 : -1.0;
+  const double step = std::max(1.0, 0.5 * c.s);  // bins of 0.5 cm along the arm
+  const double tMax = arm->tWristPx + 10.0 * c.s;
+  const Eigen::Vector2d normal(arm->dir.y(), -arm->dir.x());  // direction of increasing d
+  double lastCovered = -1;
+  int misses = 0;
+  for (double t = 0.5 * c.s; t <= tMax; t += step) {
+    const double hw = arm->halfWidthAt(t);
+    if (hw < 1)
+      break;
+    int set = 0, total = 0;
+    for (double f = 0.25; f <= 0.85; f += 0.1) {
+      const double d = arm->centreAt(t) + outerSign * f * hw;
+      const Eigen::Vector2d p = arm->originPx + arm->dir * t + normal * d;
+      const int x = static_cast<int>(std::lround(p.x())), y = static_cast<int>(std::lround(p.y()));
+      if (x < 0 || y < 0 || x >= c.mask.cols || y >= c.mask.rows)
+        continue;
+      ++total;
+      set += on(c.mask, y, x) ? 1 : 0;
+    }
+    if (total > 0 && set * 2 > total) {
+      lastCovered = t;
+      misses = 0;
+    } else if (lastCovered < 0 && t > 3.0 * c.s) {
+      return SleeveEnd{0.0, {}};  // nothing on the arm near the shoulder: sleeveless
+    } else if (lastCovered >= 0 && lastCovered < 5.0 * c.s && t > 6.0 * c.s) {
+      return SleeveEnd{0.0, {}};  // only the shoulder's edge: sleeveless
+    } else if (lastCovered >= 0 && ++misses >= 3) {
+      break;
+    }
+  }
+  // The bodice's shoulder covers the arm's root for a few cm; a sleeve (8 cm and more) goes on.
+  if (lastCovered < 5.0 * c.s)
+    return SleeveEnd{0.0, {}};
+  // Refine the end: the farthest garment pixel along the axis within the arm's tube near the
+  // coarse end.
+  double tEnd = lastCovered;
+  for (double t = lastCovered; t <= lastCovered + 2 * step; t += 0.5) {
+    const double hw = arm->halfWidthAt(t);
+    bool any = false;
+    for (double f = -0.8; f <= 0.8; f += 0.2) {
+      const Eigen::Vector2d p = arm->originPx + arm->dir * t + normal * (arm->centreAt(t) + f * hw);
+      if (on(c.mask, static_cast<int>(std::lround(p.y())), static_cast<int>(std::lround(p.x()))))
+        any = true;
+    }
+    if (any)
+      tEnd = t;
+  }
+  const Eigen::Vector2d e = arm->originPx + arm->dir * tEnd;
+  return SleeveEnd{(tEnd + 0.5) / c.s, {e.x(), e.y()}};
+}
+
+}  // namespace
+
+const std::vector<std::string>& measurementNamesFor(const std::string& type) {
+  static const std::map<std::string, std::vector<std::string>> kNames = {
+      {"top", {"bust_circ", "waist_circ", "hem_circ", "garment_length", "sleeve_length"}},
+      {"dress",
+       {"bust_circ", "waist_circ", "hip_circ", "hem_circ", "garment_length", "skirt_length",
+        "sleeve_length"}},
+      {"skirt", {"waist_circ", "hip_circ", "hem_circ", "skirt_length"}},
+      {"pants", {"waist_circ", "hip_circ", "outseam", "inseam", "leg_opening_circ"}},
+  };
+  const auto it = kNames.find(type);
+  if (it == kNames.end())
+    throw std::invalid_argument("unknown garment type '" + type + "' (top, dress, skirt, pants)");
+  return it->second;
+}
+
+GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
+                                  const std::string& type) {
+  const auto& names = measurementNamesFor(type);
+  if (garmentMask.size() != view.size() || garmentMask.type() != CV_8UC1)
+    throw std::invalid_argument("measure: the garment mask must be CV_8UC1 of the frame's size");
+  GarmentMeasurement out;
+  Context c{garmentMask, view, view.pose().pxPerCm, out};
+  auto wants = [&](const std::string& n) {
+    return std::find(names.begin(), names.end(), n) != names.end();
+  };
+  auto put = [&](const std::string& n, std::optional<double> v) {
+    if (v && std::isfinite(*v))
+      out.measurements[n] = *v;
+  };
+
+  if (wants("bust_circ"))
+    put("bust_circ", circumferenceAt(c, view.bustCm(), "bust_circ"));
+  if (wants("waist_circ"))
+    put("waist_circ", circumferenceAt(c, view.waistCm(), "waist_circ"));
+  if (wants("hip_circ"))
+    put("hip_circ", circumferenceAt(c, view.hipCm(), "hip_circ"));
+
+  // Top edge and hem at the centre front (the body axis column).
+  const int axisCol = static_cast<int>(std::lround(view.axisXPx()));
+  const int waistRow = static_cast<int>(std::lround(view.rowOfHeight(view.waistCm())));
+  if (type == "pants") {
+    const int hipRow = static_cast<int>(std::lround(view.rowOfHeight(view.hipCm())));
+    // Crotch: going down the axis from the hip, the first row where the legs part.
+    std::optional<int> crotchRow;
+    for (int r = hipRow; r < garmentMask.rows; ++r)
+      if (!on(garmentMask, r, axisCol) && !on(garmentMask, r + 1, axisCol)) {
+        crotchRow = r;
+        break;
+      }
+    std::vector<double> hems, openings;
+    for (int side = 0; side < 2 && crotchRow; ++side) {
+      const auto leg = view.legAtRow(*crotchRow + static_cast<int>(5 * c.s), side);
+      if (!leg)
+        continue;
+      const auto low = lowestRow(garmentMask, static_cast<int>(std::lround(leg->centrePx())),
+                                 *crotchRow + static_cast<int>(5 * c.s));
+      if (!low)
+        continue;
+      hems.push_back(*low + 1.0);  // bottom edge of the last covered row
+      out.landmarks.push_back(
+          {side == 0 ? "hem_left" : "hem_right", {leg->centrePx(), *low + 1.0}});
+      const int row = static_cast<int>(std::lround(*low - kAboveHemCm * c.s));
+      const auto legHere = view.legAtRow(row, side);
+      const auto run =
+          legHere ? runAt(garmentMask, row, static_cast<int>(std::lround(legHere->centrePx())),
+                          side == 0 ? -1 : axisCol, side == 0 ? axisCol : -1)
+                  : std::nullopt;
+      if (legHere && run && legHere->widthPx() > 1)
+        openings.push_back(legHere->circCm * (run->second - run->first) / legHere->widthPx());
+    }
+    if (!crotchRow || hems.empty()) {
+      out.warnings.push_back("pants: no crotch or leg hem found in the silhouette");
+    } else {
+      const double hemH = view.heightOfRow(median(hems));
+      out.landmarks.push_back(
+          {"crotch", {static_cast<double>(axisCol), static_cast<double>(*crotchRow)}});
+      put("outseam", view.waistCm() - hemH);
+      put("inseam", view.heightOfRow(*crotchRow) - hemH);
+      if (!openings.empty())
+        put("leg_opening_circ", median(openings));
+    }
+    return out;
+  }
+
+  const auto hemRowOpt = lowestRow(garmentMask, axisCol, std::min(waistRow, garmentMask.rows - 1));
+  if (!hemRowOpt) {
+    out.warnings.push_back("the garment does not cover the centre front at the waist");
+    return out;
+  }
+  const double hemEdge = *hemRowOpt + 1.0;  // lower edge of the last covered row
+  const double hemH = view.heightOfRow(hemEdge);
+  out.landmarks.push_back({"hem_centre", {static_cast<double>(axisCol), hemEdge}});
+  if (wants("hem_circ"))
+    put("hem_circ", circumferenceAt(c, hemH + kAboveHemCm, "hem_circ"));
+  if (wants("skirt_length"))
+    put("skirt_length", view.waistCm() - hemH);
+  if (wants("garment_length")) {
+    // The garment's highest point (the side neck): the first covered row near the body axis.
+    const int halfNeck =
+        static_cast<int>(std::ceil(view.neckHalfWidthPx())) + static_cast<int>(3 * c.s);
+    int top = -1;
+    for (int r = 0; r < garmentMask.rows && top < 0; ++r)
+      for (int x = std::max(0, axisCol - halfNeck);
+           x <= std::min(garmentMask.cols - 1, axisCol + halfNeck); ++x)
+        if (on(garmentMask, r, x)) {
+          top = r;
+          break;
+        }
+    if (top >= 0) {
+      put("garment_length", view.heightOfRow(static_cast<double>(top)) - hemH);
+      out.landmarks.push_back({"neck", {static_cast<double>(axisCol), static_cast<double>(top)}});
+    }
+  }
+  if (wants("sleeve_length")) {
+    std::vector<double> lengths;
+    for (int side = 0; side < 2; ++side)
+      if (const auto s = sleeveOnArm(c, side)) {
+        lengths.push_back(s->lengthCm);
+        if (s->lengthCm > 0)
+          out.landmarks.push_back({side == 0 ? "sleeve_end_left" : "sleeve_end_right", s->endPx});
+      }
+    if (lengths.empty())
+      out.warnings.push_back("sleeve_length: the form has no arms");
+    else
+      put("sleeve_length", median(lengths));
+  }
+  return out;
+}
+
+}  // namespace garmcap::pipeline
