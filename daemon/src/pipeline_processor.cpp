@@ -1,8 +1,5 @@
 // The production CaptureProcessor: calib/ for the bare-form frame, core/garmcap's runCapture for
 // the dressed frame, core/dsw for the size run.
-//
-// An entry point that is not implemented yet in a build resolves to daemon/fallback/ (linked
-// after the real libraries), which throws a message naming the missing stage.
 
 #include <spdlog/spdlog.h>
 
