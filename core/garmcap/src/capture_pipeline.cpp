@@ -23,7 +23,7 @@ using Reason = CaptureError::Reason;
 
 // Camera or form shifts below this are re-registered; above it the capture is refused.
 constexpr double kMaxShiftCm = 1.0;
-constexpr double kMinShiftPx = 0.5;
+constexpr double kMinShiftPx = 1.0;
 
 class StageTimer {
  public:
@@ -74,27 +74,29 @@ calib::KeyResult key(const cv::Mat& bgr, const std::string& what) {
   }
 }
 
-// Shift of the dressed frame against the bare-form frame, from the parts no garment covers: the
-// top of the form (head or neck) gives dy, the column centre of the form's top rows gives dx.
-cv::Point2d estimateShift(const cv::Mat& formMask, const cv::Mat& dressedFg, double pxPerCm) {
-  auto topRow = [](const cv::Mat& m) {
-    for (int r = 0; r < m.rows; ++r)
-      if (cv::countNonZero(m.row(r)) > 0)
-        return r;
-    return -1;
+// Shift of the dressed frame against the bare-form frame by phase correlation of the two
+// frames' edge images: the parts no garment changes (screen texture, head, arms, legs, the stand)
+// agree at the true shift, and phase correlation is robust to the garment, which changes only a
+// part of the picture. Computed at about 0.5 MP and scaled back.
+cv::Point2d estimateShift(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr) {
+  const double scale = std::min(1.0, std::sqrt(0.5e6 / static_cast<double>(emptyBgr.total())));
+  auto edges = [&](const cv::Mat& bgr) {
+    cv::Mat g, small, gx, gy, mag;
+    cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
+    cv::resize(g, small, cv::Size(), scale, scale, cv::INTER_AREA);
+    small.convertTo(small, CV_32F);
+    cv::GaussianBlur(small, small, cv::Size(3, 3), 0);
+    cv::Sobel(small, gx, CV_32F, 1, 0);
+    cv::Sobel(small, gy, CV_32F, 0, 1);
+    cv::magnitude(gx, gy, mag);
+    return mag;
   };
-  const int te = topRow(formMask), td = topRow(dressedFg);
-  if (te < 0 || td < 0)
-    return {0, 0};
-  // Column centre over the top 6 cm (the head or neck, never covered by a garment).
-  const int band = std::max(3, static_cast<int>(6 * pxPerCm));
-  auto centreX = [&](const cv::Mat& m, int top) {
-    const cv::Rect r(0, top, m.cols, std::min(band, m.rows - top));
-    const cv::Moments mo = cv::moments(m(r), true);
-    return mo.m00 > 0 ? mo.m10 / mo.m00 : 0.0;
-  };
-  // Sub-pixel top edge from the coverage of the first rows.
-  return {centreX(dressedFg, td) - centreX(formMask, te), static_cast<double>(td - te)};
+  const cv::Mat a = edges(emptyBgr), b = edges(dressedBgr);
+  cv::Mat window;
+  cv::createHanningWindow(window, a.size(), CV_32F);
+  double response = 0;
+  const cv::Point2d shift = cv::phaseCorrelate(a, b, window, &response);
+  return {shift.x / scale, shift.y / scale};
 }
 
 void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeasurement& m,
@@ -176,9 +178,9 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   }
 
   // 2. Key both frames; check the camera and form have not moved.
-  const calib::KeyResult keyE = key(empty, "bare-form frame");
-  calib::KeyResult keyD = key(dressed, "dressed frame");
-  const cv::Point2d shift = estimateShift(keyE.mask, keyD.mask, s);
+  // The shift comes first: a moved camera can also push the form against the frame's edge, and
+  // "the camera moved" is the reason staff can act on.
+  const cv::Point2d shift = estimateShift(empty, dressed);
   const double shiftPx = std::hypot(shift.x, shift.y);
   if (shiftPx > kMaxShiftCm * s)
     throw CaptureError(Reason::kCameraMoved,
@@ -188,9 +190,10 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   if (shiftPx > kMinShiftPx) {
     const cv::Mat back = (cv::Mat_<double>(2, 3) << 1, 0, -shift.x, 0, 1, -shift.y);
     cv::warpAffine(dressed, dressed, back, dressed.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-    keyD = key(dressed, "dressed frame");
     result.warnings.push_back("re-registered a camera shift of " + fmt1(shiftPx) + " px");
   }
+  const calib::KeyResult keyE = key(empty, "bare-form frame");
+  const calib::KeyResult keyD = key(dressed, "dressed frame");
   timer.done("registration");
 
   // 3. Masks (seed §5.2.2): the form (bare frame), the form still exposed in the dressed frame

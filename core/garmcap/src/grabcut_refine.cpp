@@ -35,6 +35,12 @@ bool hasBothClasses(const cv::Mat& trimap) {
   return fgCount > 0 && fgCount < static_cast<int>(trimap.total());
 }
 
+// GrabCut seeds its k-means from OpenCV's thread-local RNG: fix it so a capture gives the same
+// silhouette every time, whatever ran before on this thread.
+void seedGrabCutRng() {
+  cv::theRNG().state = 0x9e3779b97f4a7c15ULL;
+}
+
 cv::Mat foreground(const cv::Mat& labels) {
   return ((labels == kFgd) | (labels == kPrFgd));
 }
@@ -47,6 +53,7 @@ cv::Mat grabCutFullResolution(const cv::Mat& bgr, const cv::Mat& trimap, int ite
     return foreground(trimap);
   cv::Mat labels = trimap.clone();
   cv::Mat bgdModel, fgdModel;
+  seedGrabCutRng();
   cv::grabCut(bgr, labels, cv::Rect(), bgdModel, fgdModel, std::max(1, iterations),
               cv::GC_INIT_WITH_MASK);
   return foreground(labels);
@@ -70,6 +77,7 @@ cv::Mat grabCutCoarseToFine(const cv::Mat& bgr, const cv::Mat& trimap,
   cv::Mat bgdModel, fgdModel;
   if (!hasBothClasses(smallLabels))
     return foreground(trimap);
+  seedGrabCutRng();
   cv::grabCut(smallBgr, smallLabels, cv::Rect(), bgdModel, fgdModel, options.iterations,
               cv::GC_INIT_WITH_MASK);
 
