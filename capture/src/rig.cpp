@@ -134,6 +134,12 @@ RigCase loadRigCase(const std::filesystem::path& caseDir) {
     } else if (c.truth.contains("calibration")) {
       c.calibration = c.truth["calibration"];
     }
+    // A relative form path in a case's calibration is relative to the case folder, so that a rig
+    // can be moved or cloned together with the form it names.
+    if (c.calibration.is_object() && c.calibration.contains("form") && c.calibration["form"].is_string()) {
+      const std::filesystem::path form = c.calibration["form"].get<std::string>();
+      if (form.is_relative()) c.calibration["form"] = (caseDir / form).lexically_normal().string();
+    }
   } catch (const drafts::ParseError& e) {
     throw RigError(e.what());
   } catch (const drafts::FileError& e) {
@@ -142,8 +148,10 @@ RigCase loadRigCase(const std::filesystem::path& caseDir) {
   return c;
 }
 
-Rig makeRig(const calib::FormModel& form, const std::string& formPath,
+Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
             const std::filesystem::path& outDir, const RigMakeOptions& options) {
+  // Cases name their form; a relative name would later be read relative to the case folder.
+  const std::string formPath = std::filesystem::absolute(formPathArg).lexically_normal().string();
   if (options.count < 1)
     throw std::invalid_argument("rig make: --count must be at least 1");
   std::filesystem::create_directories(outDir);
