@@ -105,11 +105,24 @@ std::filesystem::path makeRig(const std::filesystem::path& root) {
   return rig;
 }
 
+// A one-case replay rig holding a case of the bundled simulator rig (a real form on a green
+// screen, with its dressed frame): the station calibrates on it and GarmCap measures it.
+std::filesystem::path makeSimulatedRig(const std::filesystem::path& root) {
+  const auto rig = root / "simrig";
+  const auto src = std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig" / "case_002";
+  std::filesystem::create_directories(rig / "c1");
+  for (const char* f : {"empty.png", "dressed.png", "truth.json"})
+    std::filesystem::copy_file(src / f, rig / "c1" / f);
+  std::ofstream(rig / "rig.json") << R"({"cases": ["c1"]})";
+  return rig;
+}
+
 // The daemon as a child process; its port is read from its first stdout line.
 class Daemon {
  public:
-  explicit Daemon(const std::filesystem::path& data, std::vector<std::string> extra = {}) {
-    const auto rig = makeRig(data);
+  explicit Daemon(const std::filesystem::path& data, std::vector<std::string> extra = {},
+                  std::filesystem::path rigDir = {}) {
+    const auto rig = rigDir.empty() ? makeRig(data) : rigDir;
     int out[2];
     if (pipe(out) != 0)
       throw std::runtime_error("pipe");
@@ -376,10 +389,10 @@ TEST(DaemonE2E, SigkillDuringCapturesLosesNothing) {
               jobs.empty() ? "0" : jobs[0].c_str(), rowSet.size());
 }
 
-// Needs calib's bare-form registration and core/garmcap's runCapture (fails until they land).
+// The bare form and five captures of a simulated skirt through the button and the API.
 TEST(DaemonE2E, CaptureBareFormAndFiveGarments) {
   TempDir dir;
-  Daemon d(dir.path());
+  Daemon d(dir.path(), {}, makeSimulatedRig(dir.path()));
   auto cal = d.waitJob(d.post("/api/button").json()["job"]);  // uncalibrated: the bare form
   ASSERT_EQ(cal["state"], "done") << cal.dump();
   ASSERT_EQ(d.get("/api/status").json()["state"], "ready");
