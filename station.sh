@@ -59,8 +59,9 @@ configure_and_build() {  # $1 = build dir, rest = extra cmake args
 
 build() { configure_and_build "$ROOT/build"; }
 
-run_tests() {  # $1 = build dir
-  (cd "$1" && ctest --output-on-failure -j "$JOBS" --timeout 600)
+run_tests() {  # $1 = build dir; GARMCAP_CTEST_ARGS adds ctest arguments (e.g. "-L unit")
+  # shellcheck disable=SC2086
+  (cd "$1" && ctest --output-on-failure -j "$JOBS" --timeout 600 ${GARMCAP_CTEST_ARGS:-})
 }
 
 run_station() {
