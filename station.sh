@@ -25,7 +25,7 @@ PACKAGES=(
   # capture: cameras and GPIO
   libcamera-dev libgpiod-dev gpiod
   # daemon: service, catalog, config, systemd
-  libboost-dev libsqlite3-dev sqlite3 libtoml11-dev libsystemd-dev systemd
+  libboost-dev libsqlite3-dev sqlite3 libtoml11-dev libsystemd-dev systemd nettle-dev
   # tests: unit tests, benchmarks, CGAL peer check, SVG and PDF rendering checks
   libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev librsvg2-bin poppler-utils
   # web UI browser test (headless chromium), Valentina .vit interop test, ZIP check
