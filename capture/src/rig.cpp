@@ -10,6 +10,8 @@
 
 namespace garmcap::capture {
 
+using calib::garmentTypeNames;
+
 namespace {
 
 void onlyKeys(const nlohmann::json& j, const std::vector<std::string>& keys,
@@ -136,9 +138,11 @@ RigCase loadRigCase(const std::filesystem::path& caseDir) {
     }
     // A relative form path in a case's calibration is relative to the case folder, so that a rig
     // can be moved or cloned together with the form it names.
-    if (c.calibration.is_object() && c.calibration.contains("form") && c.calibration["form"].is_string()) {
+    if (c.calibration.is_object() && c.calibration.contains("form") &&
+        c.calibration["form"].is_string()) {
       const std::filesystem::path form = c.calibration["form"].get<std::string>();
-      if (form.is_relative()) c.calibration["form"] = (caseDir / form).lexically_normal().string();
+      if (form.is_relative())
+        c.calibration["form"] = (caseDir / form).lexically_normal().string();
     }
   } catch (const drafts::ParseError& e) {
     throw RigError(e.what());

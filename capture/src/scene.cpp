@@ -9,6 +9,12 @@
 
 namespace garmcap::capture {
 
+using calib::FormView;
+using calib::garmentMeasurementNames;
+using calib::GarmentSpec;
+using calib::garmentTypeNames;
+using calib::kMinEaseCm;
+
 namespace {
 
 nlohmann::json vecJson(const cv::Vec3f& v) {
@@ -240,7 +246,7 @@ Scene randomScene(const calib::FormModel& form, const std::string& formPath, std
   // Garment: sampled in a view a few hundred pixels tall (the measurements do not depend on
   // the image size; the arms' length does, and is converted to cm).
   const cv::Size small(300, 400);
-  const SimFormView view(form, fitPose(form, small, 0.05), small);
+  const FormView view(form, fitPose(form, small, 0.05), small);
   const double sc = view.pose().pxPerCm;
   GarmentSpec& g = s.garment;
   g.type = options.type.empty() ? garmentTypeNames()[rng() % 4] : options.type;

@@ -1,16 +1,23 @@
 #include "garmcap/capture/sim.h"
 
-#include "garmcap/calib/registration.h"
-
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "garmcap/calib/registration.h"
 #include "garmcap/drafts/file_io.h"
 
 namespace garmcap::capture {
+
+using calib::checkGarmentFits;
+using calib::GarmentHeights;
+using calib::garmentHeights;
+using calib::GarmentLayer;
+using calib::garmentMeasurementNames;
+using calib::GarmentSpec;
+using calib::layGarment;
 
 namespace {
 

@@ -36,7 +36,7 @@ std::map<std::string, double> readGarmentMeasurements(const std::string& path,
   const auto& m = drafts::requireField(j, "measurements", path);
   if (!m.is_object())
     throw drafts::ParseError(path + ": field 'measurements' must be an object");
-  const auto& names = capture::garmentMeasurementNames(type);
+  const auto& names = calib::garmentMeasurementNames(type);
   std::map<std::string, double> out;
   for (const auto& [k, v] : m.items()) {
     if (std::find(names.begin(), names.end(), k) == names.end()) {
@@ -98,19 +98,19 @@ void runRender(const RenderArgs& a) {
   } else {
     const auto& body = drafts::sizeChart(a.chart).body(a.size);
     std::string recipe;
-    m = capture::garmentFromDraft(g.type, g.attributes, body, &recipe);
+    m = calib::garmentFromDraft(g.type, g.attributes, body, &recipe);
     std::fprintf(stderr, "garmcap render: drafted with recipe '%s' for %s size %s\n",
                  recipe.c_str(), a.chart.c_str(), a.size.c_str());
   }
   // Lengths that depend on the form: a dress's garment_length follows from its skirt_length.
-  const capture::SimFormView probe(form, capture::fitPose(form, {300, 400}), {300, 400});
+  const calib::FormView probe(form, capture::fitPose(form, {300, 400}), {300, 400});
   if (g.type == "dress" && m.count("skirt_length") &&
       (!m.count("garment_length") || a.measurements.empty())) {
     m["garment_length"] = probe.neckSideCm() - probe.waistCm() + m["skirt_length"];
   }
   if ((g.type == "top" || g.type == "dress") && g.attributes["sleeve"] == "none")
     m["sleeve_length"] = 0;
-  for (const auto& n : capture::garmentMeasurementNames(g.type)) {
+  for (const auto& n : calib::garmentMeasurementNames(g.type)) {
     if (!m.count(n))
       throw std::invalid_argument("no '" + n + "' for the " + g.type +
                                   " (give it in --measurements)");

@@ -9,9 +9,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "garmcap/capture/sim_garment.h"
+#include "garmcap/calib/garment_model.h"
 
 namespace garmcap::capture {
+
+using calib::garmentMeasurementNames;
 namespace {
 
 const std::filesystem::path kRig = std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig";

@@ -13,6 +13,8 @@
 #include "garmcap/capture/scene.h"
 
 namespace garmcap::capture {
+
+using calib::garmentMeasurementNames;
 namespace {
 
 const std::string kForm =

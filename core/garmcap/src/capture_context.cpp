@@ -5,7 +5,7 @@
 #include <mutex>
 #include <opencv2/imgproc.hpp>
 
-#include "garmcap/capture/sim_garment.h"
+#include "garmcap/calib/garment_model.h"
 #include "garmcap/drafts/recipes.h"
 #include "garmcap/drafts/size_charts.h"
 
@@ -46,8 +46,8 @@ double designDefault(const std::string& recipe, const std::string& name) {
 // names of the pipeline: circumference = body + the recipe's ease, lengths from its length
 // parameters (scaled by the variant), made wearable on this form in the simulator's model (a
 // little ease over the form wherever it is measured, hems on the form).
-capture::GarmentSpec referenceGarment(const Variant& v, const drafts::Measurements& body,
-                                      const FormView& view) {
+calib::GarmentSpec referenceGarment(const Variant& v, const drafts::Measurements& body,
+                                    const FormView& view) {
   const bool skirted = v.attributes.count("skirt") != 0;
   const std::string recipe = v.type == "top"     ? "blouse"
                              : v.type == "pants" ? "pants"
@@ -60,7 +60,7 @@ capture::GarmentSpec referenceGarment(const Variant& v, const drafts::Measuremen
   };
   auto eased = [&](const char* name, const char* ease, double h) {
     return std::max(body.get(name) + designDefault(recipe, ease),
-                    formCirc(h) + capture::kMinEaseCm + 1.0);
+                    formCirc(h) + calib::kMinEaseCm + 1.0);
   };
   const double floorCm = view.form().minYCm();
   std::map<std::string, double> m;
@@ -105,7 +105,7 @@ capture::GarmentSpec referenceGarment(const Variant& v, const drafts::Measuremen
     m["inseam"] = crotch - hem;
     m["leg_opening_circ"] = 2 * designDefault(recipe, "hem_width") + 2;
   }
-  capture::GarmentSpec spec;
+  calib::GarmentSpec spec;
   spec.type = v.type;
   spec.attributes = v.attributes;
   spec.measurements = m;
@@ -140,9 +140,9 @@ std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view
         !view.arm(1))
       continue;
     try {
-      const capture::GarmentSpec spec = referenceGarment(v, body, view);
-      capture::checkGarmentFits(spec, view);
-      const capture::GarmentLayer layer = capture::layGarment(spec, view);
+      const calib::GarmentSpec spec = referenceGarment(v, body, view);
+      calib::checkGarmentFits(spec, view);
+      const calib::GarmentLayer layer = calib::layGarment(spec, view);
       cv::Mat mask = layer.coverage > 0.5f;
       refs.push_back({v.type, v.attributes, mask});
     } catch (const std::exception& e) {

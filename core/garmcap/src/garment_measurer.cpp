@@ -8,7 +8,7 @@
 namespace garmcap::pipeline {
 namespace {
 
-using capture::RowSection;
+using calib::RowSection;
 
 // Half-height of the band of rows averaged for a circumference: inside the ±1.5 cm the garment
 // keeps its circumference around a measured height (docs/measurement_model.md).

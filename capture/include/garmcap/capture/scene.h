@@ -13,9 +13,9 @@
 #include <string>
 
 #include "garmcap/calib/form_model.h"
+#include "garmcap/calib/garment_model.h"
 #include "garmcap/calib/projection.h"
 #include "garmcap/capture/fabric.h"
-#include "garmcap/capture/sim_garment.h"
 
 namespace garmcap::capture {
 
@@ -54,7 +54,7 @@ struct Scene {
   cv::Size size{0, 0};   // image size, px
   calib::FormPose pose;  // orthographic or perspective; roll applied to both frames
   Lighting lighting;
-  GarmentSpec garment;
+  calib::GarmentSpec garment;
   Fabric fabric;
   Shake shake;
   std::uint64_t seed = 1;  // sensor noise (each frame its own stream)

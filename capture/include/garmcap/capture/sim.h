@@ -17,8 +17,8 @@
 #include <opencv2/core.hpp>
 
 #include "garmcap/calib/form_model.h"
+#include "garmcap/calib/form_view.h"
 #include "garmcap/capture/scene.h"
-#include "garmcap/capture/sim_form.h"
 
 namespace garmcap::capture {
 
@@ -28,7 +28,7 @@ class SceneRenderer {
   SceneRenderer(const calib::FormModel& form, Scene scene);
 
   const Scene& scene() const { return scene_; }
-  const SimFormView& view() const { return view_; }
+  const calib::FormView& view() const { return view_; }
 
   /// 8-bit BGR frames of scene().size.
   cv::Mat renderEmpty() const;
@@ -51,7 +51,7 @@ class SceneRenderer {
 
   const calib::FormModel* form_;
   Scene scene_;
-  SimFormView view_;
+  calib::FormView view_;
 };
 
 /// Writes a rig case folder: empty.png, dressed.png, truth.json, calibration.json, scene.json.

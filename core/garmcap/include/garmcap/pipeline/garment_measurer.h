@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "garmcap/capture/sim_form.h"
+#include "garmcap/calib/form_view.h"
 
 namespace garmcap::pipeline {
 
-using FormView = capture::SimFormView;
+using FormView = calib::FormView;
 
 struct GarmentLandmark {
   std::string name;  // "bust_left", "hem_centre", "sleeve_end_left", "crotch", ...

@@ -1,4 +1,4 @@
-#include "garmcap/capture/sim_form.h"
+#include "garmcap/calib/form_view.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -12,7 +12,7 @@
 
 #include "garmcap/calib/slicer.h"
 
-namespace garmcap::capture {
+namespace garmcap::calib {
 
 namespace {
 
@@ -30,7 +30,7 @@ struct Projected {
   int n = 0;
 };
 
-void addPoint(Projected& p, const calib::FormPose& pose, double x, double y, double z) {
+void addPoint(Projected& p, const FormPose& pose, double x, double y, double z) {
   const Eigen::Vector2d q = calib::projectPoint(pose, {x, y, z});
   p.minX = std::min(p.minX, q.x());
   p.maxX = std::max(p.maxX, q.x());
@@ -74,11 +74,11 @@ double ArmAxis::centreAt(double tPx) const {
   return lerpD(centreOffsetPx[i0], centreOffsetPx[i1], i - static_cast<double>(i0));
 }
 
-SimFormView::SimFormView(const calib::FormModel& form, const calib::FormPose& pose, cv::Size size)
+FormView::FormView(const FormModel& form, const FormPose& pose, cv::Size size)
     : form_(&form), pose_(pose), size_(size) {
   if (std::abs(pose.rollRad) > 1e-12) {
     throw std::invalid_argument(
-        "SimFormView: the pose must have no roll (the renderer rolls the image)");
+        "FormView: the pose must have no roll (the renderer rolls the image)");
   }
   const auto& lm = form.landmarks();
   if (!lm.bust || !lm.waist || !lm.hip || !lm.armpit) {
@@ -106,7 +106,7 @@ SimFormView::SimFormView(const calib::FormModel& form, const calib::FormPose& po
   findArms();
 }
 
-void SimFormView::rasteriseNormals() {
+void FormView::rasteriseNormals() {
   const auto& mesh = form_->mesh();
   std::vector<Eigen::Vector3d> vn(mesh.vertices.size(), Eigen::Vector3d::Zero());
   for (const auto& f : mesh.faces) {
@@ -193,8 +193,7 @@ struct WorldSample {
   std::array<double, 2> legCirc{0, 0};
 };
 
-std::shared_ptr<const std::vector<WorldSample>> worldSamples(const calib::FormModel& form,
-                                                             double armpit,
+std::shared_ptr<const std::vector<WorldSample>> worldSamples(const FormModel& form, double armpit,
                                                              std::optional<double> crotch) {
   static std::mutex mutex;
   static std::map<std::tuple<const void*, std::size_t, double, double>,
@@ -248,7 +247,7 @@ std::shared_ptr<const std::vector<WorldSample>> worldSamples(const calib::FormMo
   return out;
 }
 
-std::optional<RowSection> projectHull(const calib::FormPose& pose,
+std::optional<RowSection> projectHull(const FormPose& pose,
                                       const std::vector<Eigen::Vector2d>& hull, double h,
                                       double circ) {
   if (hull.empty())
@@ -261,7 +260,7 @@ std::optional<RowSection> projectHull(const calib::FormPose& pose,
 
 }  // namespace
 
-void SimFormView::buildRowTables() {
+void FormView::buildRowTables() {
   const auto samples = worldSamples(*form_, armpit_, crotch_);
   std::vector<std::optional<RowSection>> torso, leg0, leg1;
   for (const auto& w : *samples) {
@@ -294,11 +293,11 @@ void SimFormView::buildRowTables() {
   neckHalfWidthPx_ = 0.5 * neck.widthCm * pose_.pxPerCm;
 }
 
-double SimFormView::rowOfHeight(double heightCm) const {
+double FormView::rowOfHeight(double heightCm) const {
   return calib::projectPoint(pose_, {form_->axisXCm(), heightCm, form_->axisZCm()}).y();
 }
 
-double SimFormView::heightOfRow(double row) const {
+double FormView::heightOfRow(double row) const {
   // sampleRows_ decreases with height; invert by interpolation (extrapolate at the ends).
   const std::size_t n = sampleRows_.size();
   if (n < 2)
@@ -310,13 +309,13 @@ double SimFormView::heightOfRow(double row) const {
   return lerpD(sampleHeights_[i], sampleHeights_[i + 1], t);
 }
 
-std::optional<RowSection> SimFormView::torsoAtRow(int row) const {
+std::optional<RowSection> FormView::torsoAtRow(int row) const {
   if (row < 0 || row >= size_.height)
     return std::nullopt;
   return torsoRows_[static_cast<std::size_t>(row)];
 }
 
-std::optional<RowSection> SimFormView::torsoAtHeight(double heightCm) const {
+std::optional<RowSection> FormView::torsoAtHeight(double heightCm) const {
   const calib::FormSection s = form_->section(heightCm);
   if (s.torsoLoops.empty() || s.circumferenceCm <= 0)
     return std::nullopt;
@@ -328,13 +327,13 @@ std::optional<RowSection> SimFormView::torsoAtHeight(double heightCm) const {
   return RowSection{heightCm, p.minX, p.maxX, s.circumferenceCm};
 }
 
-std::optional<RowSection> SimFormView::legAtRow(int row, int side) const {
+std::optional<RowSection> FormView::legAtRow(int row, int side) const {
   if (row < 0 || row >= size_.height || side < 0 || side > 1)
     return std::nullopt;
   return legRows_[static_cast<std::size_t>(side)][static_cast<std::size_t>(row)];
 }
 
-void SimFormView::findArms() {
+void FormView::findArms() {
   const int armpitRow = static_cast<int>(std::ceil(rowOfHeight(armpit_))) + 2;
   const double margin = 0.5 * pose_.pxPerCm;
   for (int side = 0; side < 2; ++side) {
@@ -467,4 +466,4 @@ void SimFormView::findArms() {
   }
 }
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::calib

@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "garmcap/capture/sim_form.h"
+#include "garmcap/calib/form_view.h"
 #include "garmcap/drafts/measurements.h"
 
-namespace garmcap::capture {
+namespace garmcap::calib {
 
 /// Measurement names of truth.json, and which apply to a type ("top", "dress", "skirt",
 /// "pants"). Throws std::invalid_argument for an unknown type.
@@ -54,7 +54,7 @@ struct GarmentSpec {
 /// pants crotch no higher than the form's and at most 8 cm below it, sleeve within the arm.
 /// Throws std::invalid_argument with a sentence naming the measurement, its value and the
 /// limit.
-void checkGarmentFits(const GarmentSpec& spec, const SimFormView& view);
+void checkGarmentFits(const GarmentSpec& spec, const FormView& view);
 
 /// Derived heights (cm) of a garment on this form: hem, top edge, pants crotch.
 struct GarmentHeights {
@@ -62,7 +62,7 @@ struct GarmentHeights {
   double hemCm = 0;     // centre-front hem
   double crotchCm = 0;  // pants only
 };
-GarmentHeights garmentHeights(const GarmentSpec& spec, const SimFormView& view);
+GarmentHeights garmentHeights(const GarmentSpec& spec, const FormView& view);
 
 /// The garment drawn into the view's image: coverage 0..1, a shading factor (folds and the
 /// garment's own roundness) and fabric surface coordinates (cm) for every covered pixel.
@@ -72,10 +72,10 @@ struct GarmentLayer {
   cv::Mat1f foldShade;  // multiplicative, about 1
   cv::Mat2f uvCm;       // fabric coordinates (across, down)
 };
-GarmentLayer layGarment(const GarmentSpec& spec, const SimFormView& view);
+GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view);
 
 /// Garment circumference (cm) at form height h under the model (knots with plateaus).
-double garmentCircAt(const GarmentSpec& spec, const SimFormView& view, double heightCm);
+double garmentCircAt(const GarmentSpec& spec, const FormView& view, double heightCm);
 
 /// Garment measurements from body measurements through the project's drafts: the recipe for
 /// the type and attributes, drafted for `body`, measured on its panels. Throws
@@ -86,4 +86,4 @@ std::map<std::string, double> garmentFromDraft(const std::string& type,
                                                const drafts::Measurements& body,
                                                std::string* recipeUsed = nullptr);
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::calib

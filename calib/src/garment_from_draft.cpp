@@ -2,11 +2,11 @@
 // given measurements does not link the recipes.
 #include <stdexcept>
 
-#include "garmcap/capture/sim_garment.h"
+#include "garmcap/calib/garment_model.h"
 #include "garmcap/drafts/panel_measure.h"
 #include "garmcap/drafts/recipes.h"
 
-namespace garmcap::capture {
+namespace garmcap::calib {
 
 std::map<std::string, double> garmentFromDraft(const std::string& type,
                                                const std::map<std::string, std::string>& attributes,
@@ -67,4 +67,4 @@ std::map<std::string, double> garmentFromDraft(const std::string& type,
   return out;
 }
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::calib

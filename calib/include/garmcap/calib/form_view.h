@@ -14,7 +14,7 @@
 #include "garmcap/calib/form_model.h"
 #include "garmcap/calib/projection.h"
 
-namespace garmcap::capture {
+namespace garmcap::calib {
 
 /// Image-space cross-section of the form at one image row: left/right edge x (px) of the torso
 /// (or of one leg) and its circumference in cm (convex hull of the section, a tape measure).
@@ -45,15 +45,15 @@ struct ArmAxis {
   double centreAt(double tPx) const;
 };
 
-class SimFormView {
+class FormView {
  public:
   /// Projects `form` with `pose` (roll must be 0: the renderer rolls the finished image) into
   /// an image of `size`. Throws std::invalid_argument when the form lacks the bust, waist, hip
   /// or armpit landmarks or when the form does not fit in the image.
-  SimFormView(const calib::FormModel& form, const calib::FormPose& pose, cv::Size size);
+  FormView(const FormModel& form, const FormPose& pose, cv::Size size);
 
-  const calib::FormModel& form() const { return *form_; }
-  const calib::FormPose& pose() const { return pose_; }
+  const FormModel& form() const { return *form_; }
+  const FormPose& pose() const { return pose_; }
   cv::Size size() const { return size_; }
 
   /// Coverage 0..1 (CV_32F) and unit normals (CV_32FC3: x right, y up, z to camera) where
@@ -101,8 +101,8 @@ class SimFormView {
   void buildRowTables();
   void findArms();
 
-  const calib::FormModel* form_;
-  calib::FormPose pose_;
+  const FormModel* form_;
+  FormPose pose_;
   cv::Size size_;
   cv::Mat1f coverage_;
   cv::Mat3f normals_;
@@ -118,4 +118,4 @@ class SimFormView {
   std::array<std::optional<ArmAxis>, 2> arms_;
 };
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::calib

@@ -1,4 +1,4 @@
-#include "garmcap/capture/sim_garment.h"
+#include "garmcap/calib/garment_model.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "garmcap/drafts/file_io.h"
 
-namespace garmcap::capture {
+namespace garmcap::calib {
 
 namespace {
 
@@ -42,7 +42,7 @@ struct Knot {
 };
 
 // Measured circumferences of the body part of the garment, highest first.
-std::vector<Knot> torsoKnots(const GarmentSpec& spec, const SimFormView& view,
+std::vector<Knot> torsoKnots(const GarmentSpec& spec, const FormView& view,
                              const GarmentHeights& gh) {
   std::vector<Knot> k;
   const std::string& t = spec.type;
@@ -192,7 +192,7 @@ GarmentSpec GarmentSpec::fromJson(const nlohmann::json& j, const std::string& wh
   return s;
 }
 
-GarmentHeights garmentHeights(const GarmentSpec& spec, const SimFormView& view) {
+GarmentHeights garmentHeights(const GarmentSpec& spec, const FormView& view) {
   GarmentHeights g;
   if (spec.type == "top" || spec.type == "dress") {
     g.topCm = view.neckSideCm();
@@ -208,11 +208,11 @@ GarmentHeights garmentHeights(const GarmentSpec& spec, const SimFormView& view) 
   return g;
 }
 
-double garmentCircAt(const GarmentSpec& spec, const SimFormView& view, double heightCm) {
+double garmentCircAt(const GarmentSpec& spec, const FormView& view, double heightCm) {
   return circFromKnots(torsoKnots(spec, view, garmentHeights(spec, view)), heightCm);
 }
 
-void checkGarmentFits(const GarmentSpec& spec, const SimFormView& view) {
+void checkGarmentFits(const GarmentSpec& spec, const FormView& view) {
   const auto names = garmentMeasurementNames(spec.type);
   for (const auto& n : names)
     need(spec, n);
@@ -310,7 +310,7 @@ void checkGarmentFits(const GarmentSpec& spec, const SimFormView& view) {
   }
 }
 
-GarmentLayer layGarment(const GarmentSpec& spec, const SimFormView& view) {
+GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
   checkGarmentFits(spec, view);
   const cv::Size size = view.size();
   const double s = view.pose().pxPerCm;
@@ -557,4 +557,4 @@ GarmentLayer layGarment(const GarmentSpec& spec, const SimFormView& view) {
   return g;
 }
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::calib
