@@ -19,9 +19,6 @@ namespace {
 // Sections are sampled this often along the height and interpolated per image row: the form's
 // outline changes slowly, and slicing the mesh once per row would cost seconds at 12 MP.
 constexpr double kSectionStepCm = 0.25;
-// A shoulder tip is where the top outline, walking outward from the neck, first gets steeper
-// than this (the shoulder line slopes ~20 degrees, an A-posed arm ~45 degrees).
-constexpr double kShoulderTipSlope = 0.6;
 
 struct Projected {
   double minX = std::numeric_limits<double>::max();
@@ -392,19 +389,39 @@ void FormView::findArms() {
     if (dir.y() < 0)
       dir = -dir;
 
-    // Shoulder tip from the top outline, walking outward from the side neck.
+    // Shoulder tip from the top outline between the side neck and the arm's top edge at the
+    // armpit's height: the corner where the gentle shoulder line (~20 degrees) turns into the
+    // steeper arm (~45 degrees in an A-pose), taken as the outline point farthest above the
+    // chord between those two ends. A slope threshold is not used: at a few px per cm the
+    // outline's steps make the shoulder's slope cross any threshold near the neck.
     const int step = side == 0 ? -1 : 1;
-    const int window = std::max(2, static_cast<int>(std::lround(pose_.pxPerCm)));
-    int x = static_cast<int>(std::lround(axisXPx_ + step * neckHalfWidthPx_));
+    const int xNeck = static_cast<int>(std::lround(axisXPx_ + step * neckHalfWidthPx_));
     std::optional<Eigen::Vector2d> tip;
-    for (; x + step * window >= 0 && x + step * window < size_.width; x += step) {
-      const int a = topOutline_[static_cast<std::size_t>(x)];
-      const int b = topOutline_[static_cast<std::size_t>(x + step * window)];
-      if (a < 0 || b < 0)
-        break;
-      if (static_cast<double>(b - a) / window > kShoulderTipSlope) {
-        tip = Eigen::Vector2d(x, a);
-        break;
+    if (xNeck >= 0 && xNeck < size_.width && topOutline_[static_cast<std::size_t>(xNeck)] >= 0) {
+      int xEnd = xNeck;
+      for (int x = xNeck; x >= 0 && x < size_.width; x += step) {
+        const int y = topOutline_[static_cast<std::size_t>(x)];
+        if (y < 0)
+          break;
+        xEnd = x;
+        if (y >= armpitRow)
+          break;
+      }
+      const Eigen::Vector2d a(xNeck, topOutline_[static_cast<std::size_t>(xNeck)]);
+      const Eigen::Vector2d b(xEnd, topOutline_[static_cast<std::size_t>(xEnd)]);
+      const Eigen::Vector2d chord = b - a;
+      if (chord.norm() > 2 * pose_.pxPerCm) {
+        double best = 0;
+        for (int x = xNeck; x != xEnd + step; x += step) {
+          const Eigen::Vector2d p(x, topOutline_[static_cast<std::size_t>(x)]);
+          const Eigen::Vector2d r = p - a;
+          // Signed height above the chord (image y grows downward): a cross product.
+          const double above = -step * (r.y() * chord.x() - r.x() * chord.y()) / chord.norm();
+          if (above > best) {
+            best = above;
+            tip = p;
+          }
+        }
       }
     }
     if (!tip)
@@ -453,12 +470,35 @@ void FormView::findArms() {
         arm.centreOffsetPx[b] = arm.centreOffsetPx[b - 1];
       }
     }
-    // Wrist: the narrowest part of the lower arm, before the hand widens.
+    // Above the armpit the torso's edge clips the arm's inner side, so those bins read too
+    // narrow and off-centre: give them the arm's section just below the armpit, where it
+    // leaves the torso.
+    if (atArmpit) {
+      const Eigen::Vector2d armpitPt(side == 0 ? atArmpit->leftPx : atArmpit->rightPx,
+                                     rowOfHeight(atArmpit->heightCm));
+      const double tArmpit = arm.t(armpitPt);
+      if (tArmpit > 0) {
+        const auto bArmpit =
+            std::min(bins - 1, static_cast<std::size_t>(std::ceil(tArmpit / arm.binPx)));
+        for (std::size_t b = 0; b < bArmpit; ++b) {
+          if (arm.halfWidthPx[b] < arm.halfWidthPx[bArmpit]) {
+            arm.halfWidthPx[b] = arm.halfWidthPx[bArmpit];
+            arm.centreOffsetPx[b] = arm.centreOffsetPx[bArmpit];
+          }
+        }
+      }
+    }
+    // Wrist: the narrowest part of the forearm. A hand seen edge-on (palm to the body, as in an
+    // A-pose) can be narrower than the wrist, so the search stays where the wrist is on an
+    // adult (shoulder tip to wrist ~ 0.74 of shoulder tip to fingertip), on a 3-bin average.
     double best = std::numeric_limits<double>::max();
-    for (auto b = static_cast<std::size_t>(0.55 * static_cast<double>(bins));
-         b < static_cast<std::size_t>(0.92 * static_cast<double>(bins)); ++b) {
-      if (arm.halfWidthPx[b] < best) {
-        best = arm.halfWidthPx[b];
+    const auto b0 =
+        std::max<std::size_t>(1, static_cast<std::size_t>(0.62 * static_cast<double>(bins)));
+    const auto b1 = std::min(bins - 1, static_cast<std::size_t>(0.82 * static_cast<double>(bins)));
+    for (std::size_t b = b0; b < b1; ++b) {
+      const double w = arm.halfWidthPx[b - 1] + arm.halfWidthPx[b] + arm.halfWidthPx[b + 1];
+      if (w < best) {
+        best = w;
         arm.tWristPx = (static_cast<double>(b) + 0.5) * arm.binPx;
       }
     }

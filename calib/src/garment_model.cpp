@@ -422,6 +422,7 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
   if (sleeveCm > 0) {
     const double L = sleeveCm * s;
     const double thick = 0.3 * s;
+    const double sleeveTopRow = view.rowOfHeight(view.neckSideCm());
     for (int side = 0; side < 2; ++side) {
       const auto& ax = view.arm(side);
       if (!ax)
@@ -449,10 +450,11 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
           const double d = ax->d(p) - ax->centreAt(tc);
           const double across = std::clamp(hw - std::abs(d) + 0.5, 0.0, 1.0);
           const double along = std::clamp(L - t + 0.5, 0.0, 1.0);
-          // Above the shoulder tip only where the form is (the sleeve head lies on it).
+          // Above the shoulder tip only where the form is (the sleeve head lies on it), and
+          // never above the side neck: the arm's axis, extended past the tip, runs up the neck.
           double head = 1.0;
           if (t < 0)
-            head = view.coverage()(y, x);
+            head = y + 0.5 < sleeveTopRow ? 0.0 : view.coverage()(y, x);
           cov[x] = std::max(cov[x], static_cast<float>(across * along * head));
         }
       }
