@@ -1,5 +1,6 @@
 #include "garmcap/pipeline/garment_measurer.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -12,6 +13,10 @@ using calib::RowSection;
 
 // Half-height of the band of rows averaged for a circumference: inside the ±1.5 cm the garment
 // keeps its circumference around a measured height (docs/measurement_model.md).
+// How far below a height hidden by sleeves a circumference may be read instead.
+constexpr double kHiddenSearchCm = 6.0;
+// Span of clear rows a hidden circumference is extrapolated from.
+constexpr double kFitSpanCm = 4.0;
 constexpr double kBandCm = 1.0;
 // Hem circumference is read this far above the hem edge.
 constexpr double kAboveHemCm = 1.25;
@@ -97,47 +102,124 @@ std::pair<int, int> armLimits(const FormView& view, int row, const RowSection& t
 }
 
 // Circumference at form height h by the similar-section model, median over a band of rows.
+// Rows where the garment runs into the form's arm are left out: there a sleeve lying on the
+// bodice hides the body's side seam, and the run holds sleeve and the gap to the arm. When the
+// whole band is hidden so, the nearest rows below it (up to kHiddenSearchCm) that show the side
+// stand in, and a warning says how far below.
 std::optional<double> circumferenceAt(Context& c, double heightCm, const std::string& name) {
-  std::vector<double> values;
-  bool limited = false;
-  cv::Point2d left, right;
-  const int r0 = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm + kBandCm)));
-  const int r1 = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm - kBandCm)));
   const auto ref = referenceAt(c.view, heightCm);
   if (!ref || ref->widthPx() <= 1 || ref->circCm <= 0)
     return std::nullopt;
-  for (int row = r0; row <= r1; ++row) {
+  struct RowValue {
+    double circCm;
+    cv::Point2d left, right;
+  };
+  // Circumference read at one row; nullopt where the garment is absent, `hidden` where the run
+  // reaches the arm.
+  auto readRow = [&](int row, bool& hidden) -> std::optional<RowValue> {
+    hidden = false;
     if (row < 0 || row >= c.mask.rows)
-      continue;
+      return std::nullopt;
     const double h = c.view.heightOfRow(row);
     const auto section = referenceAt(c.view, h);
-    const auto torsoHere = c.view.torsoAtRow(row);
     if (!section)
-      continue;
+      return std::nullopt;
+    const auto torsoHere = c.view.torsoAtRow(row);
     int limL = -1, limR = -1;
     if (torsoHere && h < c.view.armpitCm())
       std::tie(limL, limR) = armLimits(c.view, row, *torsoHere);
     const auto run =
         runAt(c.mask, row, static_cast<int>(std::lround(section->centrePx())), limL, limR);
     if (!run)
+      return std::nullopt;
+    hidden = (limL >= 0 && run->first <= limL) || (limR >= 0 && run->second >= limR + 1);
+    return RowValue{section->circCm * (run->second - run->first) / section->widthPx(),
+                    {static_cast<double>(run->first), static_cast<double>(row)},
+                    {static_cast<double>(run->second), static_cast<double>(row)}};
+  };
+  const int r0 = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm + kBandCm)));
+  const int r1 = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm - kBandCm)));
+  std::vector<RowValue> clear;
+  int covered = 0;
+  for (int row = r0; row <= r1; ++row) {
+    bool hidden = false;
+    const auto v = readRow(row, hidden);
+    if (!v)
       continue;
-    if ((limL >= 0 && run->first <= limL) || (limR >= 0 && run->second >= limR + 1))
-      limited = true;
-    values.push_back(section->circCm * (run->second - run->first) / section->widthPx());
-    left = {run->first, static_cast<double>(row)};
-    right = {run->second, static_cast<double>(row)};
+    ++covered;
+    if (!hidden)
+      clear.push_back(*v);
   }
-  if (values.size() < 2) {
+  if (covered < 2) {
     c.out.warnings.push_back(name + ": the garment does not cover the form at " +
                              std::to_string(static_cast<int>(std::lround(heightCm))) + " cm");
     return std::nullopt;
   }
-  if (limited)
-    c.out.warnings.push_back(name +
-                             ": the body reaches the form's arm; the width may include a sleeve");
+  if (clear.size() < 2) {
+    // Hidden band: fit a line C(h) over the clear rows just below it (up to kFitSpanCm of
+    // them). The bust is where a top is widest between shoulder and waist, so C(h) is taken as
+    // a parabola with its top at the bust, C_b - k (h_b - h)^2: the line is its tangent at the
+    // window's centre h_c, and C_b = C(h_c) + slope (h_b - h_c) / 2 (a straight extrapolation
+    // overshoots by as much as the nearest row falls short). A garment that widens downward
+    // has no such top; it gets the nearest clear row's value.
+    clear.clear();
+    std::vector<double> heights;
+    const int rLimit =
+        static_cast<int>(std::lround(c.view.rowOfHeight(heightCm - kHiddenSearchCm)));
+    double firstClearH = 0;
+    for (int row = r1 + 1; row <= rLimit; ++row) {
+      bool hidden = false;
+      const auto v = readRow(row, hidden);
+      const double h = c.view.heightOfRow(row);
+      if (v && !hidden) {
+        if (clear.empty())
+          firstClearH = h;
+        if (firstClearH - h > kFitSpanCm)
+          break;
+        clear.push_back(*v);
+        heights.push_back(h);
+      } else if (!clear.empty()) {
+        break;  // one run of clear rows, the nearest
+      }
+    }
+    if (clear.size() < 3) {
+      c.out.warnings.push_back(name + ": sleeves cover the garment's sides at " +
+                               std::to_string(static_cast<int>(std::lround(heightCm))) +
+                               " cm and below; not measured");
+      return std::nullopt;
+    }
+    Eigen::MatrixXd a(static_cast<Eigen::Index>(clear.size()), 2);
+    Eigen::VectorXd b(static_cast<Eigen::Index>(clear.size()));
+    for (std::size_t i = 0; i < clear.size(); ++i) {
+      a(static_cast<Eigen::Index>(i), 0) = 1.0;
+      a(static_cast<Eigen::Index>(i), 1) = heights[i] - heightCm;
+      b(static_cast<Eigen::Index>(i)) = clear[i].circCm;
+    }
+    const Eigen::Vector2d fit = a.colPivHouseholderQr().solve(b);
+    double hCentre = 0;
+    for (const double h : heights)
+      hCentre += h;
+    hCentre /= static_cast<double>(heights.size());
+    const double slope = fit(1);  // cm of circumference per cm of height (up)
+    const double atCentre = fit(0) + slope * (hCentre - heightCm);
+    const double estimate =
+        slope > 0 ? atCentre + 0.5 * slope * (heightCm - hCentre) : clear.front().circCm;
+    const double below = heightCm - firstClearH;
+    c.out.warnings.push_back(name + ": sleeves cover the sides at the " +
+                             name.substr(0, name.find("_circ")) + "; estimated from " +
+                             std::to_string(static_cast<int>(std::lround(below))) +
+                             " cm lower, where the sides show");
+    const std::string base = name.substr(0, name.find("_circ"));
+    c.out.landmarks.push_back({base + "_left", clear.front().left});
+    c.out.landmarks.push_back({base + "_right", clear.front().right});
+    return estimate;
+  }
+  std::vector<double> values;
+  for (const auto& v : clear)
+    values.push_back(v.circCm);
   const std::string base = name.substr(0, name.find("_circ"));
-  c.out.landmarks.push_back({base + "_left", left});
-  c.out.landmarks.push_back({base + "_right", right});
+  c.out.landmarks.push_back({base + "_left", clear.back().left});
+  c.out.landmarks.push_back({base + "_right", clear.back().right});
   return median(values);
 }
 

@@ -9,7 +9,7 @@
 namespace garmcap::pipeline {
 
 struct CoarseToFineOptions {
-  double workMegapixels = 0.5;  // resolution of the coarse GrabCut
+  double workMegapixels = 0.12;  // resolution of the coarse GrabCut
   int iterations = 3;           // GrabCut iterations at the coarse level
   int minBandPx = 6;            // half-width of the refinement band at full resolution (at least
                                 // twice the upsampling factor, see .cpp)
