@@ -12,6 +12,9 @@
 namespace garmcap::pipeline {
 namespace {
 
+// Height of the form view the reference silhouettes are drawn on (the classifier works at 320).
+constexpr double kReferenceHeightPx = 640.0;
+
 // One garment per type and attributes at three lengths, so that the database covers the lengths
 // garments come in.
 struct Variant {
@@ -162,7 +165,29 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
   upright.rollRad = 0;  // frames are de-rolled about the world origin's image position
   ctx->view = std::make_shared<const FormView>(*ctx->form, upright, ctx->calibration.imageSize);
   ctx->body = bodyForForm(*ctx->form);
-  auto refs = renderReferenceSilhouettes(*ctx->view, ctx->body, &ctx->notes);
+  // The classifier compares silhouettes a few hundred rows high, so the references are drawn on
+  // the form seen at about that size, not at the camera's: at 12 MP drawing every reference
+  // garment at full size took most of a minute per calibration on 2 cores.
+  const double f = std::min(1.0, kReferenceHeightPx / ctx->calibration.imageSize.height);
+  std::vector<ReferenceSilhouette> refs;
+  if (f < 1.0) {
+    calib::FormPose small = upright;
+    small.pxPerCm *= f;
+    small.offsetPx *= f;
+    if (small.perspective) {
+      small.perspective->fx *= f;
+      small.perspective->fy *= f;
+      small.perspective->cx *= f;
+      small.perspective->cy *= f;
+    }
+    const cv::Size smallSize(
+        std::max(1, static_cast<int>(std::lround(ctx->calibration.imageSize.width * f))),
+        std::max(1, static_cast<int>(std::lround(ctx->calibration.imageSize.height * f))));
+    const FormView smallView(*ctx->form, small, smallSize);
+    refs = renderReferenceSilhouettes(smallView, ctx->body, &ctx->notes);
+  } else {
+    refs = renderReferenceSilhouettes(*ctx->view, ctx->body, &ctx->notes);
+  }
   ctx->classifier = std::make_shared<const GarmentClassifier>(std::move(refs));
   return ctx;
 }
