@@ -164,24 +164,22 @@ TEST(DraftCli, BadMeasurementFilesNameTheFileAndThePlace) {
   expectRefused(draftSkirt(d / "inch.json"), {d / "inch.json", "units"});
   writeText(d / "typo.json", R"({"units": "cm", "measurements": {"wiast_circ": 65}})");
   expectRefused(draftSkirt(d / "typo.json"), {d / "typo.json", "wiast_circ"});
+  // A skirt body with one value changed (or, given a negative hip, without the hip).
+  auto skirtBody = [&](const std::string& name, double waist, double hip, double height) {
+    std::string m = "\"waist_circ\": " + std::to_string(waist) + ", \"waist_to_hip_b\": 19, " +
+                    "\"height\": " + std::to_string(height);
+    if (hip > 0)
+      m += ", \"hip_circ\": " + std::to_string(hip);
+    writeText(d / name, "{\"units\": \"cm\", \"measurements\": {" + m + "}}");
+    return d / name;
+  };
   // A measurement the recipe needs is missing: the recipe and the measurement are named.
-  writeText(d / "nohip.json",
-            R"({"units": "cm", "measurements": {"waist_circ": 65, "waist_to_hip_b": 19,
-                "height": 171, "skirt_length": 55}})");
-  expectRefused(draftSkirt(d / "nohip.json"), {"skirt_h", "hip_circ", "missing"});
+  expectRefused(draftSkirt(skirtBody("nohip.json", 65, -1, 171)),
+                {"skirt_h", "hip_circ", "missing"});
   // Absurd values.
-  writeText(d / "negative.json",
-            R"({"units": "cm", "measurements": {"waist_circ": -65, "hip_circ": 90,
-                "waist_to_hip_b": 19, "height": 171, "skirt_length": 55}})");
-  expectRefused(draftSkirt(d / "negative.json"), {"waist_circ", "negative"});
-  writeText(d / "tiny.json",
-            R"({"units": "cm", "measurements": {"waist_circ": 65, "hip_circ": 90,
-                "waist_to_hip_b": 19, "height": 20, "skirt_length": 55}})");
-  expectRefused(draftSkirt(d / "tiny.json"), {"skirt_h", "height", "plausible"});
-  writeText(d / "waist.json",
-            R"({"units": "cm", "measurements": {"waist_circ": 140, "hip_circ": 90,
-                "waist_to_hip_b": 19, "height": 171, "skirt_length": 55}})");
-  expectRefused(draftSkirt(d / "waist.json"), {"waist_circ", "far above"});
+  expectRefused(draftSkirt(skirtBody("negative.json", -65, 90, 171)), {"waist_circ", "negative"});
+  expectRefused(draftSkirt(skirtBody("tiny.json", 65, 90, 20)), {"skirt_h", "height", "plausible"});
+  expectRefused(draftSkirt(skirtBody("waist.json", 140, 90, 171)), {"waist_circ", "far above"});
   writeText(d / "bad.vit",
             "<?xml version=\"1.0\"?>\n<vit>\n<version>0.3.3</version>\n<unit>cm\n</vit>\n");
   expectRefused(draftSkirt(d / "bad.vit"), {d / "bad.vit", "line"});
