@@ -271,16 +271,16 @@ std::map<std::string, double> simDraftDesign(const std::string& recipe,
 }
 
 std::map<std::string, double> draftedGarment(const GarmentSpec& garment,
-                                             const drafts::Measurements& body,
-                                             const FormView& view, std::string* recipeUsed) {
+                                             const drafts::Measurements& body, const FormView& view,
+                                             std::string* recipeUsed) {
   const auto& names = garmentMeasurementNames(garment.type);
   const auto attr = [&](const char* key) {
     const auto it = garment.attributes.find(key);
     return it == garment.attributes.end() ? std::string() : it->second;
   };
   // The recipe of each type; a top is the blouse, which ends below the waist as tops do.
-  const std::string recipe = garment.type == "skirt" ? (attr("skirt") == "a_line" ? "skirt_a"
-                                                                                   : "skirt_h")
+  const std::string recipe = garment.type == "skirt"
+                                 ? (attr("skirt") == "a_line" ? "skirt_a" : "skirt_h")
                              : garment.type == "top" ? "blouse"
                                                      : garment.type;  // dress, pants
   const auto design = simDraftDesign(recipe, garment.attributes, body);

@@ -7,9 +7,9 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
-#include <map>
 #include <random>
 #include <string>
 
