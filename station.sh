@@ -26,8 +26,9 @@ PACKAGES=(
   libcamera-dev libgpiod-dev gpiod
   # daemon: service, catalog, config, systemd
   libboost-dev libsqlite3-dev sqlite3 libtoml11-dev libsystemd-dev systemd nettle-dev
-  # tests: unit tests, benchmarks, CGAL peer check, SVG and PDF rendering checks
-  libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev librsvg2-bin poppler-utils
+  # tests: unit tests, benchmarks, CGAL peer check, SVG and PDF rendering checks, XML 1.0
+  # well-formedness check of escaped text
+  libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev librsvg2-bin poppler-utils libxml2-utils
   # web UI browser test (headless chromium), Valentina .vit interop test, ZIP check
   chromium valentina unzip
 )

@@ -5,7 +5,7 @@
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
-#include "garmcap/drafts/file_io.h"
+#include "garmcap/capture/rig.h"
 
 namespace garmcap::capture {
 namespace fs = std::filesystem;
@@ -16,25 +16,13 @@ const char* imageName(Shot shot) {
   return shot == Shot::kDressed ? "dressed.png" : "empty.png";
 }
 
-/// Reads an image file; the error names the file and what is wrong with it.
+/// Reads an image file with the rig reader's checks; the error names the case and the file.
 cv::Mat readImage(const fs::path& path, const std::string& caseId) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    throw CameraError(CameraErrorKind::kBadData,
-                      "rig case " + caseId + ": missing image " + path.string());
-  }
-  cv::Mat img;
   try {
-    img = cv::imread(path.string(), cv::IMREAD_COLOR);
-  } catch (const cv::Exception& e) {
-    throw CameraError(CameraErrorKind::kBadData,
-                      "rig case " + caseId + ": corrupt image " + path.string() + ": " + e.what());
+    return loadRigImage(path);
+  } catch (const RigError& e) {
+    throw CameraError(CameraErrorKind::kBadData, "rig case " + caseId + ": " + e.what());
   }
-  if (img.empty()) {
-    throw CameraError(CameraErrorKind::kBadData, "rig case " + caseId + ": corrupt image " +
-                                                     path.string() + " (not a decodable PNG/JPEG)");
-  }
-  return img;
 }
 
 /// Reads only the size of an image (PNG IHDR); falls back to a full decode for other formats.
@@ -88,11 +76,14 @@ class RigSceneSource final : public SceneSource {
     if (!fs::is_directory(rigDir_, ec)) {
       throw CameraError(CameraErrorKind::kNotFound, "no rig folder at " + rigDir_.string());
     }
+    // A missing index is a missing device; anything wrong inside the rig is bad data.
+    if (!fs::is_regular_file(rigDir_ / "rig.json", ec)) {
+      throw CameraError(CameraErrorKind::kNotFound,
+                        (rigDir_ / "rig.json").string() + ": missing (not a rig folder)");
+    }
     try {
-      cases_ = readRigIndex(rigDir_);
-    } catch (const drafts::FileError& e) {
-      throw CameraError(CameraErrorKind::kNotFound, e.what());
-    } catch (const drafts::ParseError& e) {
+      cases_ = readRig(rigDir_).cases;
+    } catch (const RigError& e) {
       throw CameraError(CameraErrorKind::kBadData, e.what());
     }
     if (cases_.empty()) {
@@ -105,7 +96,7 @@ class RigSceneSource final : public SceneSource {
   std::string caseId(std::size_t index) const override { return cases_.at(index).id; }
 
   SceneImage load(std::size_t index, Shot shot) override {
-    const RigCaseRef& ref = cases_.at(index);
+    const RigCaseInfo& ref = cases_.at(index);
     SceneImage out;
     out.caseId = ref.id;
     out.source = ref.dir / imageName(shot);
@@ -117,46 +108,10 @@ class RigSceneSource final : public SceneSource {
 
  private:
   fs::path rigDir_;
-  std::vector<RigCaseRef> cases_;
+  std::vector<RigCaseInfo> cases_;
 };
 
 }  // namespace
-
-std::vector<RigCaseRef> readRigIndex(const fs::path& rigDir) {
-  const fs::path indexPath = rigDir / "rig.json";
-  const nlohmann::json index = drafts::readJsonFile(indexPath);
-  const std::string what = indexPath.string();
-  const nlohmann::json& cases = drafts::requireField(index, "cases", what);
-  if (!cases.is_array()) {
-    throw drafts::ParseError(what + ": field 'cases' must be an array");
-  }
-  std::vector<RigCaseRef> out;
-  for (std::size_t i = 0; i < cases.size(); ++i) {
-    const auto& entry = cases[i];
-    const std::string where = what + ": cases[" + std::to_string(i) + "]";
-    RigCaseRef ref;
-    std::string dir;
-    if (entry.is_string()) {
-      dir = entry.get<std::string>();
-    } else if (entry.is_object()) {
-      dir = drafts::requireString(entry, "dir", where);
-      if (entry.contains("id")) {
-        ref.id = drafts::requireString(entry, "id", where);
-      }
-    } else {
-      throw drafts::ParseError(where + " must be a folder name or an object with \"dir\"");
-    }
-    if (dir.empty()) {
-      throw drafts::ParseError(where + ": empty case folder name");
-    }
-    ref.dir = fs::path(dir).is_absolute() ? fs::path(dir) : rigDir / dir;
-    if (ref.id.empty()) {
-      ref.id = fs::path(dir).filename().string();
-    }
-    out.push_back(std::move(ref));
-  }
-  return out;
-}
 
 std::unique_ptr<SceneSource> makeRigSceneSource(const fs::path& rigDir) {
   return std::make_unique<RigSceneSource>(rigDir);

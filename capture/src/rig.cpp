@@ -2,11 +2,16 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <random>
 
+#include "garmcap/calib/form_generator.h"
+#include "garmcap/calib/mesh.h"
 #include "garmcap/capture/scene.h"
 #include "garmcap/capture/sim.h"
 #include "garmcap/drafts/file_io.h"
+#include "garmcap/drafts/size_charts.h"
 
 namespace garmcap::capture {
 
@@ -50,7 +55,8 @@ Rig readRig(const std::filesystem::path& dir) {
     throw RigError(e.what());
   }
   onlyKeys(rig.index,
-           {"format", "version", "generator", "form", "width", "height", "seed", "cases"}, what);
+           {"format", "version", "generator", "form", "width", "height", "seed", "chart", "cases"},
+           what);
   try {
     if (drafts::requireString(rig.index, "format", what) != "garmcap-rig") {
       throw RigError(what + ": field 'format' must be \"garmcap-rig\"");
@@ -63,7 +69,7 @@ Rig readRig(const std::filesystem::path& dir) {
       throw RigError(what + ": field 'cases' must be an array");
     for (std::size_t i = 0; i < cases.size(); ++i) {
       const std::string cw = what + ": cases[" + std::to_string(i) + "]";
-      onlyKeys(cases[i], {"id", "dir", "type", "attributes", "hard"}, cw);
+      onlyKeys(cases[i], {"id", "dir", "type", "attributes", "hard", "size"}, cw);
       RigCaseInfo c;
       c.id = drafts::requireString(cases[i], "id", cw);
       c.dir = dir / drafts::requireString(cases[i], "dir", cw);
@@ -80,6 +86,8 @@ Rig readRig(const std::filesystem::path& dir) {
       if (!hard.is_boolean())
         throw RigError(cw + ": field 'hard' must be true or false");
       c.hard = hard.get<bool>();
+      if (cases[i].contains("size"))
+        c.size = drafts::requireString(cases[i], "size", cw);
       for (const char* f : {"empty.png", "dressed.png", "truth.json"}) {
         if (!std::filesystem::is_regular_file(c.dir / f)) {
           throw RigError((c.dir / f).string() + ": missing (case '" + c.id + "' of " + what + ")");
@@ -158,7 +166,31 @@ Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
   const std::string formPath = std::filesystem::absolute(formPathArg).lexically_normal().string();
   if (options.count < 1)
     throw std::invalid_argument("rig make: --count must be at least 1");
+  if (!options.chart.empty())
+    drafts::sizeChart(options.chart);  // an unknown chart is refused before anything is written
   std::filesystem::create_directories(outDir);
+  // With a chart every case is a size of it, body and garment: the form is the parametric form
+  // of that size's body (written once per size under forms/) and the garment is the draft for
+  // the same body. The size is drawn from the case's seed.
+  std::map<std::string, std::pair<std::string, calib::FormModel>> sizeForms;
+  auto formOfSize =
+      [&](const std::string& size) -> const std::pair<std::string, calib::FormModel>& {
+    auto it = sizeForms.find(size);
+    if (it == sizeForms.end()) {
+      const auto& chart = drafts::sizeChart(options.chart);
+      const calib::ParametricForm pf(chart.body(size));
+      const auto dir = outDir / "forms" / (chart.name + "_" + size);
+      std::filesystem::create_directories(dir);
+      calib::FormSidecar sidecar = pf.sidecar("form.obj");
+      sidecar.name = chart.name + " size " + size;
+      calib::writeObj(dir / "form.obj", pf.mesh(),
+                      "garmcap parametric dress form, " + sidecar.name);
+      calib::writeFormSidecar(dir / "form.json", sidecar);
+      const std::string path = std::filesystem::absolute(dir / "form.json").lexically_normal();
+      it = sizeForms.emplace(size, std::make_pair(path, calib::FormModel::load(path))).first;
+    }
+    return it->second;
+  };
   nlohmann::json cases = nlohmann::json::array();
   const auto& types = garmentTypeNames();
   for (int i = 0; i < options.count; ++i) {
@@ -170,27 +202,40 @@ Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
     so.type = types[static_cast<std::size_t>(i) % types.size()];
     so.chart = options.chart;
     const std::uint64_t caseSeed = options.seed * 1000003ULL + static_cast<std::uint64_t>(i);
-    Scene scene = randomScene(form, formPath, caseSeed, so);
-    const SceneRenderer renderer(form, std::move(scene));
+    const calib::FormModel* caseForm = &form;
+    std::string caseFormPath = formPath;
+    if (!options.chart.empty()) {
+      const auto& sizes = drafts::sizeChart(options.chart).sizes;
+      so.chartSize = sizes[std::mt19937_64(caseSeed + 0x5173)() % sizes.size()];
+      const auto& f = formOfSize(so.chartSize);
+      caseFormPath = f.first;
+      caseForm = &f.second;
+    }
+    Scene scene = randomScene(*caseForm, caseFormPath, caseSeed, so);
+    const SceneRenderer renderer(*caseForm, std::move(scene));
     writeCase(renderer, outDir / id);
     const auto& g = renderer.scene().garment;
-    cases.push_back({{"id", id},
-                     {"dir", id},
-                     {"type", g.type},
-                     {"attributes", g.attributes},
-                     {"hard", renderer.scene().hard}});
+    nlohmann::json entry = {{"id", id},
+                            {"dir", id},
+                            {"type", g.type},
+                            {"attributes", g.attributes},
+                            {"hard", renderer.scene().hard}};
+    if (!renderer.scene().chartSize.empty())
+      entry["size"] = renderer.scene().chartSize;
+    cases.push_back(std::move(entry));
     if (options.progress)
       options.progress(i, options.count, id);
   }
-  const nlohmann::json index = {
-      {"format", "garmcap-rig"},
-      {"version", 1},
-      {"generator", "garmcap rig make (scene simulator, docs/simulator.md)"},
-      {"form", formPath},
-      {"width", options.size.width},
-      {"height", options.size.height},
-      {"seed", options.seed},
-      {"cases", cases}};
+  nlohmann::json index = {{"format", "garmcap-rig"},
+                          {"version", 1},
+                          {"generator", "garmcap rig make (scene simulator, docs/simulator.md)"},
+                          {"form", formPath},
+                          {"width", options.size.width},
+                          {"height", options.size.height},
+                          {"seed", options.seed},
+                          {"cases", cases}};
+  if (!options.chart.empty())
+    index["chart"] = options.chart;
   drafts::writeJsonFile(outDir / "rig.json", index);
   return readRig(outDir);
 }

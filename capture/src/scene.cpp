@@ -5,6 +5,8 @@
 #include <stdexcept>
 
 #include "garmcap/drafts/file_io.h"
+#include "garmcap/drafts/panel_measure.h"
+#include "garmcap/drafts/recipes.h"
 #include "garmcap/drafts/size_charts.h"
 
 namespace garmcap::capture {
@@ -150,23 +152,26 @@ calib::FormPose poseFrom(const nlohmann::json& j, const std::string& what) {
 }  // namespace
 
 nlohmann::json Scene::toJson() const {
-  return {{"form", formPath},
-          {"width", size.width},
-          {"height", size.height},
-          {"pose", poseJson(pose)},
-          {"lighting", lighting.toJson()},
-          {"garment", garment.toJson()},
-          {"fabric", fabric.toJson()},
-          {"shake", shake.toJson()},
-          {"seed", seed},
-          {"hard", hard}};
+  nlohmann::json j = {{"form", formPath},
+                      {"width", size.width},
+                      {"height", size.height},
+                      {"pose", poseJson(pose)},
+                      {"lighting", lighting.toJson()},
+                      {"garment", garment.toJson()},
+                      {"fabric", fabric.toJson()},
+                      {"shake", shake.toJson()},
+                      {"seed", seed},
+                      {"hard", hard}};
+  if (!chart.empty())
+    j["drafted_from"] = {{"chart", chart}, {"size", chartSize}};
+  return j;
 }
 
 Scene Scene::fromJson(const nlohmann::json& j, const std::string& what) {
-  onlyKeys(
-      j,
-      {"form", "width", "height", "pose", "lighting", "garment", "fabric", "shake", "seed", "hard"},
-      what);
+  onlyKeys(j,
+           {"form", "width", "height", "pose", "lighting", "garment", "fabric", "shake", "seed",
+            "hard", "drafted_from"},
+           what);
   Scene s;
   s.formPath = drafts::requireString(j, "form", what);
   s.size =
@@ -184,7 +189,126 @@ Scene Scene::fromJson(const nlohmann::json& j, const std::string& what) {
   if (!h.is_boolean())
     throw drafts::ParseError(what + ": field 'hard' must be true or false");
   s.hard = h.get<bool>();
+  if (j.contains("drafted_from")) {
+    const auto& d = j["drafted_from"];
+    onlyKeys(d, {"chart", "size"}, what + " drafted_from");
+    s.chart = drafts::requireString(d, "chart", what + " drafted_from");
+    s.chartSize = drafts::requireString(d, "size", what + " drafted_from");
+  }
   return s;
+}
+
+namespace {
+
+// The garment of a scene drafted for a size of `chartName` instead of sampled ease. The size
+// comes from a stream of its own, so the scene's lighting, fabric and pose stay those of the
+// same seed without a chart.
+void draftFromChart(Scene& s, const RandomSceneOptions& options, std::uint64_t seed,
+                    const FormView& view) {
+  const drafts::SizeChart& chart = drafts::sizeChart(options.chart);
+  std::mt19937_64 rng(seed * 0xD1B54A32D192ED03ULL + 77);
+  const std::size_t n = chart.sizes.size();
+  std::size_t first = static_cast<std::size_t>(rng() % n), tries = n;
+  if (!options.chartSize.empty()) {
+    chart.body(options.chartSize);  // throws naming the chart and its sizes
+    first = static_cast<std::size_t>(
+        std::find(chart.sizes.begin(), chart.sizes.end(), options.chartSize) - chart.sizes.begin());
+    tries = 1;
+  }
+  std::string refused;
+  for (std::size_t k = 0; k < tries; ++k) {
+    const std::size_t i = (first + k) % n;
+    GarmentSpec g = s.garment;
+    try {
+      g.measurements = draftedGarment(g, chart.bodies[i], view);
+      calib::checkGarmentFits(g, view);
+    } catch (const std::exception& e) {
+      refused += "; size " + chart.sizes[i] + ": " + e.what();
+      continue;
+    }
+    s.garment = std::move(g);
+    s.chart = chart.name;
+    s.chartSize = chart.sizes[i];
+    return;
+  }
+  throw std::invalid_argument("no size of chart '" + chart.name + "' gives a " + s.garment.type +
+                              " that fits the form" + refused);
+}
+
+}  // namespace
+
+std::map<std::string, double> simDraftDesign(const std::string& recipe,
+                                             const std::map<std::string, std::string>& attributes,
+                                             const drafts::Measurements& body) {
+  std::map<std::string, double> design;
+  const auto sl = attributes.find("sleeve");
+  auto clamped = [](double v, const drafts::DesignParameter& p) {
+    return std::clamp(v, p.minValue, p.maxValue);
+  };
+  for (const auto& p : drafts::garmentType(recipe).design) {
+    // sleeve_length is a fraction of the arm (docs/drafts.md): 0 sleeveless; short is 0.4, as
+    // 0.3 leaves no sleeve below the high cap of the larger dress sizes.
+    if (sl != attributes.end() && p.name == "sleeve_length") {
+      design[p.name] = sl->second == "none"    ? p.minValue
+                       : sl->second == "short" ? clamped(0.4, p)
+                                               : p.defaultValue;
+    }
+    // The simulator wears a garment only with kMinEaseCm of ease at every measured height; a
+    // skirt's or trousers' 1 cm waist ease is raised to that plus a margin for the form's
+    // polygonal sections. Every other ease is the recipe's.
+    if (p.name.rfind("ease_", 0) == 0 && p.defaultValue < kMinEaseCm + 0.5)
+      design[p.name] = clamped(kMinEaseCm + 0.5, p);
+    // Its tops end at least 3 cm above the crotch and its hems 3 cm above the floor: a blouse
+    // ends 7 cm above the body's crotch at the most, trousers 6 cm above the floor.
+    if (p.name == "blouse_length" && body.has("rise_length_side"))
+      design[p.name] = clamped(std::min(p.defaultValue, body.get("rise_length_side") - 7), p);
+    if (p.name == "pants_length" && body.has("leg_waist_side_to_floor")) {
+      design[p.name] =
+          clamped(std::min(p.defaultValue, 1 - 6 / body.get("leg_waist_side_to_floor")), p);
+    }
+  }
+  return design;
+}
+
+std::map<std::string, double> draftedGarment(const GarmentSpec& garment,
+                                             const drafts::Measurements& body, const FormView& view,
+                                             std::string* recipeUsed) {
+  const auto& names = garmentMeasurementNames(garment.type);
+  const auto attr = [&](const char* key) {
+    const auto it = garment.attributes.find(key);
+    return it == garment.attributes.end() ? std::string() : it->second;
+  };
+  // The recipe of each type; a top is the blouse, which ends below the waist as tops do.
+  const std::string recipe = garment.type == "skirt"
+                                 ? (attr("skirt") == "a_line" ? "skirt_a" : "skirt_h")
+                             : garment.type == "top" ? "blouse"
+                                                     : garment.type;  // dress, pants
+  const auto design = simDraftDesign(recipe, garment.attributes, body);
+  const auto measured = drafts::measurePattern(drafts::draftGarment(recipe, body, design));
+  // truth.json names that the pattern measurements (panel_measure.h) spell differently, and
+  // what depends on the form the garment is worn on.
+  static const std::map<std::string, std::string> kPantsNames = {
+      {"outseam", "outseam_length"}, {"inseam", "inseam_length"}, {"leg_opening_circ", "hem_circ"}};
+  const double neckToWaist = view.neckSideCm() - view.waistCm();
+  std::map<std::string, double> m;
+  for (const auto& n : names) {
+    const auto alias = garment.type == "pants" ? kPantsNames.find(n) : kPantsNames.end();
+    const auto it = measured.find(alias != kPantsNames.end() ? alias->second : n);
+    if (it != measured.end()) {
+      m[n] = it->second;
+    } else if (n == "sleeve_length" && attr("sleeve") == "none") {
+      m[n] = 0;
+    } else if (n == "garment_length" && garment.type == "dress") {
+      m[n] = neckToWaist + measured.at("skirt_length");
+    } else if (n == "garment_length" && garment.type == "top") {
+      m[n] = neckToWaist + design.at("blouse_length");
+    } else {
+      throw std::invalid_argument("the " + recipe + " draft does not give '" + n + "'");
+    }
+  }
+  if (recipeUsed)
+    *recipeUsed = recipe;
+  return m;
 }
 
 calib::FormPose fitPose(const calib::FormModel& form, cv::Size size, double marginFrac) {
@@ -325,6 +449,9 @@ Scene randomScene(const calib::FormModel& form, const std::string& formPath, std
     }
     m["leg_opening_circ"] = legCirc + pick(10, 28);
   }
+
+  if (!options.chart.empty())
+    draftFromChart(s, options, seed, view);
 
   // Fabric and shake.
   s.fabric = randomFabric(rng, s.hard, l.formBgr);

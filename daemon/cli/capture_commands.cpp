@@ -92,24 +92,25 @@ void runRender(const RenderArgs& a) {
     }
     g.attributes["skirt"] = a.skirt;
   }
+  // Lengths that depend on the form are taken in a small view of it (they do not depend on the
+  // image size).
+  const calib::FormView probe(form, capture::fitPose(form, {300, 400}), {300, 400});
   std::map<std::string, double> m;
   if (!a.measurements.empty()) {
     m = readGarmentMeasurements(a.measurements, g.type);
+    // A dress file may omit garment_length: it follows from its skirt_length on the form.
+    if (g.type == "dress" && m.count("skirt_length") && !m.count("garment_length"))
+      m["garment_length"] = probe.neckSideCm() - probe.waistCm() + m["skirt_length"];
+    if ((g.type == "top" || g.type == "dress") && g.attributes["sleeve"] == "none")
+      m["sleeve_length"] = 0;
   } else {
-    const auto& body = drafts::sizeChart(a.chart).body(a.size);
     std::string recipe;
-    m = calib::garmentFromDraft(g.type, g.attributes, body, &recipe);
+    m = capture::draftedGarment(g, drafts::sizeChart(a.chart).body(a.size), probe, &recipe);
+    scene.chart = a.chart;
+    scene.chartSize = a.size;
     std::fprintf(stderr, "garmcap render: drafted with recipe '%s' for %s size %s\n",
                  recipe.c_str(), a.chart.c_str(), a.size.c_str());
   }
-  // Lengths that depend on the form: a dress's garment_length follows from its skirt_length.
-  const calib::FormView probe(form, capture::fitPose(form, {300, 400}), {300, 400});
-  if (g.type == "dress" && m.count("skirt_length") &&
-      (!m.count("garment_length") || a.measurements.empty())) {
-    m["garment_length"] = probe.neckSideCm() - probe.waistCm() + m["skirt_length"];
-  }
-  if ((g.type == "top" || g.type == "dress") && g.attributes["sleeve"] == "none")
-    m["sleeve_length"] = 0;
   for (const auto& n : calib::garmentMeasurementNames(g.type)) {
     if (!m.count(n))
       throw std::invalid_argument("no '" + n + "' for the " + g.type +
@@ -176,7 +177,9 @@ void addCaptureCommands(CLI::App& app) {
   make->add_option("--height", wh->second, "Image height in px (default 1280)");
   make->add_option("--hard-fraction", ro->hardFraction, "Share of hard cases (0..1, default 0.3)");
   make->add_option("--chart", ro->chart,
-                   "Size chart to draft garments from (default: sampled ease)");
+                   "Draft every garment for a size of this chart (see `garmcap draft --charts`; "
+                   "sizes drawn from the seed, those that do not fit the form skipped). Default: "
+                   "ease sampled around the form");
   make->callback([ro, form, out, wh] {
     const std::string formPath = form->empty() ? defaultForm() : *form;
     const auto model = calib::FormModel::load(formPath);

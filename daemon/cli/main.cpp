@@ -15,7 +15,13 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version are "errors" with exit code 0: CLI11 prints them. Usage errors
+    // (missing or unknown options, bad values) follow the same contract as every other error:
+    // one "garmcap: error: ..." line on stderr and exit status 1.
+    if (e.get_exit_code() == 0)
+      return app.exit(e);
+    std::fprintf(stderr, "garmcap: error: %s (see --help)\n", e.what());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "garmcap: error: %s\n", e.what());
     return 1;

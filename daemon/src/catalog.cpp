@@ -618,29 +618,10 @@ void Catalog::loadItemDetails(Item& item) {
   }
 }
 
-std::int64_t Catalog::addItem(const NewItem& n) {
-  Transaction t(db_);
-  const std::string ts = now();
-  Statement(*this,
-            "INSERT INTO items(sku, title, status, type, attributes, confidence, warnings, "
-            "base_size, size_guide, result, calibration_id, job_id, created_at, updated_at) "
-            "VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)")
-      .bind(1, n.sku)
-      .bind(2, n.title)
-      .bind(3, n.needsReview ? kStatusNeedsReview : kStatusApproved)
-      .bind(4, n.type)
-      .bind(5, nlohmann::json(n.attributes).dump())
-      .bind(6, n.confidence)
-      .bind(7, nlohmann::json(n.warnings).dump())
-      .bind(8, n.baseSize)
-      .bind(9, n.sizeGuide.is_null() ? std::string("null") : n.sizeGuide.dump())
-      .bind(10, n.result.dump())
-      .bind(11, n.calibrationId)
-      .bind(12, n.jobId)
-      .bind(13, ts)
-      .bind(14, ts)
-      .run();
-  const std::int64_t id = sqlite3_last_insert_rowid(db_);
+// Measurements, images, patterns and the finished job of an item, shared by adding an item and
+// replacing its results (the caller has removed the old measurements and patterns; an image
+// kind already linked is relinked).
+void Catalog::writeItemContents(std::int64_t id, const NewItem& n, const std::string& ts) {
   for (const auto& [name, cm] : n.measurementsCm)
     Statement(*this, "INSERT INTO measurements(item_id, name, value_cm) VALUES(?,?,?)")
         .bind(1, id)
@@ -655,7 +636,7 @@ std::int64_t Catalog::addItem(const NewItem& n) {
         .bind(3, im.bytes)
         .bind(4, ts)
         .run();
-    Statement(*this, "INSERT INTO item_images(item_id, kind, sha256) VALUES(?,?,?)")
+    Statement(*this, "INSERT OR REPLACE INTO item_images(item_id, kind, sha256) VALUES(?,?,?)")
         .bind(1, id)
         .bind(2, im.kind)
         .bind(3, im.sha256)
@@ -683,6 +664,32 @@ std::int64_t Catalog::addItem(const NewItem& n) {
         .bind(3, ts)
         .bind(4, *n.jobId)
         .run();
+}
+
+std::int64_t Catalog::addItem(const NewItem& n) {
+  Transaction t(db_);
+  const std::string ts = now();
+  Statement(*this,
+            "INSERT INTO items(sku, title, status, type, attributes, confidence, warnings, "
+            "base_size, size_guide, result, calibration_id, job_id, created_at, updated_at) "
+            "VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)")
+      .bind(1, n.sku)
+      .bind(2, n.title)
+      .bind(3, n.needsReview ? kStatusNeedsReview : kStatusApproved)
+      .bind(4, n.type)
+      .bind(5, nlohmann::json(n.attributes).dump())
+      .bind(6, n.confidence)
+      .bind(7, nlohmann::json(n.warnings).dump())
+      .bind(8, n.baseSize)
+      .bind(9, n.sizeGuide.is_null() ? std::string("null") : n.sizeGuide.dump())
+      .bind(10, n.result.dump())
+      .bind(11, n.calibrationId)
+      .bind(12, n.jobId)
+      .bind(13, ts)
+      .bind(14, ts)
+      .run();
+  const std::int64_t id = sqlite3_last_insert_rowid(db_);
+  writeItemContents(id, n, ts);
   t.commit();
   return id;
 }
@@ -708,47 +715,7 @@ void Catalog::replaceItemResults(std::int64_t id, const NewItem& n) {
       .run();
   Statement(*this, "DELETE FROM measurements WHERE item_id = ?").bind(1, id).run();
   Statement(*this, "DELETE FROM patterns WHERE item_id = ?").bind(1, id).run();
-  for (const auto& [name, cm] : n.measurementsCm)
-    Statement(*this, "INSERT INTO measurements(item_id, name, value_cm) VALUES(?,?,?)")
-        .bind(1, id)
-        .bind(2, name)
-        .bind(3, cm)
-        .run();
-  for (const auto& im : n.images) {
-    Statement(*this,
-              "INSERT OR IGNORE INTO images(sha256, media_type, bytes, created_at) VALUES(?,?,?,?)")
-        .bind(1, im.sha256)
-        .bind(2, im.mediaType)
-        .bind(3, im.bytes)
-        .bind(4, ts)
-        .run();
-    Statement(*this, "INSERT OR REPLACE INTO item_images(item_id, kind, sha256) VALUES(?,?,?)")
-        .bind(1, id)
-        .bind(2, im.kind)
-        .bind(3, im.sha256)
-        .run();
-  }
-  std::vector<std::string> order;
-  if (n.patterns.count("base"))
-    order.push_back("base");
-  for (const auto& [size, json] : n.patterns)
-    if (size != "base")
-      order.push_back(size);
-  for (const auto& size : order)
-    Statement(*this, "INSERT INTO patterns(item_id, size, json) VALUES(?,?,?)")
-        .bind(1, id)
-        .bind(2, size)
-        .bind(3, n.patterns.at(size).dump())
-        .run();
-  if (n.jobId)
-    Statement(*this,
-              "UPDATE jobs SET state = 'done', stage = 'done', progress = 1, item_id = ?, "
-              "calibration_id = ?, error = '', updated_at = ? WHERE id = ?")
-        .bind(1, id)
-        .bind(2, n.calibrationId)
-        .bind(3, ts)
-        .bind(4, *n.jobId)
-        .run();
+  writeItemContents(id, n, ts);
   t.commit();
 }
 

@@ -10,6 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include "garmcap/drafts/xml_escape.h"
+
 namespace garmcap::daemon {
 namespace {
 
@@ -17,6 +19,7 @@ using drafts::Panel;
 using drafts::Pattern;
 using drafts::Point2;
 using drafts::Polyline;
+using drafts::xmlEscape;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTurnAngleDeg = 20.0;  // a sharper bend than this is a corner, not a curve
@@ -29,29 +32,6 @@ std::string fmt(double v, int decimals = 4) {
   if (s == "-0.0000" || s == "-0.000" || s == "-0.00" || s == "-0.0")
     s.erase(0, 1);
   return s;
-}
-
-std::string xmlEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 // DXF R12 text and block names: printable ASCII only (CAD systems read them in a code page).

@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "garmcap/drafts/xml_escape.h"
+
 namespace garmcap::daemon {
 namespace {
 
@@ -27,33 +29,6 @@ std::string formatPrice(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.2f", std::round(v * 100.0) / 100.0);
   return buf;
-}
-
-std::string htmlEscape(const std::string& s) {
-  std::string out;
-  out.reserve(s.size());
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 std::string join(const std::vector<std::string>& parts, const std::string& sep) {
@@ -374,10 +349,10 @@ std::string sizeGuideHtml(const ExportItem& item) {
   std::ostringstream os;
   os << "<table class=\"size-guide\"><thead><tr><th>Size</th>";
   for (const auto& c : cols)
-    os << "<th>" << htmlEscape(measurementLabel(c)) << " (cm)</th>";
+    os << "<th>" << drafts::xmlEscape(measurementLabel(c)) << " (cm)</th>";
   os << "</tr></thead><tbody>";
   for (const auto& s : sizeRows(item)) {
-    os << "<tr><td>" << htmlEscape(s.label) << "</td>";
+    os << "<tr><td>" << drafts::xmlEscape(s.label) << "</td>";
     for (const auto& c : cols) {
       auto it = s.measurementsCm.find(c);
       os << "<td>" << (it == s.measurementsCm.end() ? std::string("&ndash;") : formatCm(it->second))
@@ -393,7 +368,7 @@ std::string descriptionHtml(const ExportItem& item) {
   std::string out;
   if (!item.description.empty()) {
     out += "<p>";
-    for (char c : htmlEscape(item.description)) {
+    for (char c : drafts::xmlEscape(item.description)) {
       if (c == '\n')
         out += "<br>";
       else if (c != '\r')

@@ -63,7 +63,10 @@ void writeFileAtomic(const std::filesystem::path& path, std::string_view data) {
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) throw FileError("cannot create directory " + dir.string() + ": " + ec.message());
+  if (ec) {
+    throw FileError("cannot write " + path.string() + ": cannot create directory " + dir.string() +
+                    ": " + ec.message());
+  }
 
   std::random_device rd;
   const std::filesystem::path tmp =

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "garmcap/drafts/file_io.h"
+#include "garmcap/drafts/xml_escape.h"
 #include "measurements_vocabulary.h"
 #include "xml_reader.h"
 
@@ -328,11 +329,11 @@ std::string measurementsToVit(const Measurements& m) {
   for (const auto& [name, v] : m.values()) {
     if (isProjectMeasurement(name)) {
       const auto* info = vocabularyIndex().at(name);
-      out << "        <m name=\"@" << detail::xmlEscape(name) << "\" value=\"" << formatNumber(v)
-          << "\" full_name=\"" << detail::xmlEscape(name) << "\" description=\""
-          << detail::xmlEscape(info->description) << "\"/>\n";
+      out << "        <m name=\"@" << xmlEscape(name) << "\" value=\"" << formatNumber(v)
+          << "\" full_name=\"" << xmlEscape(name) << "\" description=\""
+          << xmlEscape(info->description) << "\"/>\n";
     } else {
-      out << "        <m name=\"" << detail::xmlEscape(name) << "\" value=\"" << formatNumber(v)
+      out << "        <m name=\"" << xmlEscape(name) << "\" value=\"" << formatNumber(v)
           << "\"/>\n";
     }
   }

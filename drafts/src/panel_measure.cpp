@@ -260,6 +260,13 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
         m.along("skirt_front", "skirt_hem_side_front", "skirt_hem_cf") *
             m.pieceCount("skirt_front");
   }
+  // A blouse ends below the waist: its hem, measured like a skirt's (the simulator dresses the
+  // form in a blouse when it draws a top from a size chart).
+  if (t == "blouse") {
+    out["hem_circ"] =
+        m.along("bodice_back", "hem_cb", "hem_side_back") * m.pieceCount("bodice_back") +
+        m.along("bodice_front", "hem_side_front", "hem_cf") * m.pieceCount("bodice_front");
+  }
   if (t == "pants") {
     const Panel& f = m.needPanel("pants_front");
     out["pants_length"] =

@@ -26,6 +26,8 @@ constexpr double kRefUpperArm = 30.0;
 constexpr double kRefRise = 24.6;
 constexpr double kRefWaistToFloor = 105.0;
 constexpr double kRefWaistToKnee = 59.5;
+constexpr double kRefWaistToHip = 20.4;
+constexpr double kRefBackWaist = 40.9;
 
 // Neck point to bust point (J02) by the bust, from Gilewska's French women's chart 34-48
 // ("hauteur poitrine" 25.5 -> 29 for bust 80 -> 106; research/anchors_drafting.md §4.1),
@@ -76,6 +78,7 @@ void complete(Measurements& m) {
   setIfMissing(m, "rise_length_side", kRefRise * h);
   setIfMissing(m, "leg_waist_side_to_floor", kRefWaistToFloor * h);
   setIfMissing(m, "leg_waist_side_to_knee", kRefWaistToKnee * h);
+  setIfMissing(m, "waist_to_hip_b", kRefWaistToHip * h);
   if (m.has("front_armhole_circ") && m.has("back_armhole_circ")) {
     setIfMissing(m, "armscye_circ", m.get("front_armhole_circ") + m.get("back_armhole_circ"));
   }
@@ -179,6 +182,52 @@ SizeChart italianWomen() {
   return c;
 }
 
+// Gilewska's chart gives no stature. The one vertical length it gives for every size is the
+// back waist length, so the stature the other lengths are completed from scales with it, the
+// way the completion rules scale lengths with the stature (Donnanno 44: back 40.9, stature 168).
+double heightFromBackWaist(double backWaist) {
+  return kRefHeight * backWaist / kRefBackWaist;
+}
+
+SizeChart frenchWomen() {
+  SizeChart c;
+  c.name = "french_women";
+  c.sizes = {"34", "36", "38", "40", "42", "44", "46", "48"};
+  c.source =
+      "French women's sizes 34-48 from T. Gilewska, Le modelisme de mode vol. 1 (women's size "
+      "chart), as recorded from the OpenPattern project's measurements database in "
+      "research/anchors_drafting.md section 4.1: bust (tour de poitrine) 80, 84, ..., 104, 106; "
+      "waist 58-86 and hip (tour de bassin) 84-112 in steps of 4; back waist length 41.25-43 "
+      "in steps of 0.25; BP span 18.5-22 in steps of 0.5; bust height (hauteur poitrine, neck "
+      "point to bust point) 25.5-29 in steps of 0.5; shoulder length 13.4-14.8 in steps of 0.2; "
+      "wrist 15.25-17 in steps of 0.25. The sleeve length row is recorded only as the range "
+      "59-60: taken as 59 at size 34 to 60 at size 48, linearly (an interpolation, not the "
+      "book's per-size values). Completed (not in the recorded rows): height = 168 x back "
+      "waist length / 40.9 (the chart has no stature), then hip length, rise, waist to "
+      "floor/knee with the height and neck, across chest/back and upper arm with the bust, by "
+      "proportion to Donnanno's Italian size 44; bi-shoulder = 2 shoulder lengths + 2 Aldrich "
+      "back neck widths N/5 - 0.2. See docs/size_charts.md.";
+  const std::vector<Row> rows = {
+      {"bust_circ", {80, 84, 88, 92, 96, 100, 104, 106}},
+      {"waist_circ", {58, 62, 66, 70, 74, 78, 82, 86}},
+      {"hip_circ", {84, 88, 92, 96, 100, 104, 108, 112}},
+      {"neck_back_to_waist_b", {41.25, 41.5, 41.75, 42, 42.25, 42.5, 42.75, 43}},
+      {"bustpoint_to_bustpoint", {18.5, 19, 19.5, 20, 20.5, 21, 21.5, 22}},
+      {"bustpoint_to_neck_side", {25.5, 26, 26.5, 27, 27.5, 28, 28.5, 29}},
+      {"shoulder_length", {13.4, 13.6, 13.8, 14, 14.2, 14.4, 14.6, 14.8}},
+      {"arm_wrist_circ", {15.25, 15.5, 15.75, 16, 16.25, 16.5, 16.75, 17}},
+  };
+  c.bodies = bodiesFromRows(rows, c.sizes.size());
+  for (size_t i = 0; i < c.bodies.size(); ++i) {
+    auto& b = c.bodies[i];
+    const double t = static_cast<double>(i) / static_cast<double>(c.bodies.size() - 1);
+    setIfMissing(b, "arm_shoulder_tip_to_wrist", 59.0 + t * (60.0 - 59.0));
+    setIfMissing(b, "height", heightFromBackWaist(b.get("neck_back_to_waist_b")));
+    complete(b);
+  }
+  return c;
+}
+
 }  // namespace
 
 const Measurements& SizeChart::body(const std::string& size) const {
@@ -194,7 +243,7 @@ const Measurements& SizeChart::body(const std::string& size) const {
 }
 
 const std::vector<SizeChart>& sizeCharts() {
-  static const std::vector<SizeChart> kCharts = {koreanWomen(), italianWomen()};
+  static const std::vector<SizeChart> kCharts = {koreanWomen(), italianWomen(), frenchWomen()};
   return kCharts;
 }
 

@@ -8,6 +8,7 @@
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/geometry.h"
 #include "garmcap/drafts/svg.h"
+#include "garmcap/drafts/xml_escape.h"
 
 namespace garmcap::drafts {
 namespace {
@@ -18,29 +19,6 @@ std::string num(double v) {
   s.precision(3);
   s << (std::abs(v) < 5e-4 ? 0.0 : v);
   return s.str();
-}
-
-std::string escape(const std::string& t) {
-  std::string out;
-  for (char c : t) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 std::string pointsAttr(const Polyline& pl) {
@@ -133,7 +111,7 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
     << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << num(w)
     << "cm\" height=\"" << num(h) << "cm\" viewBox=\"" << num(x0) << " " << num(y0) << " " << num(w)
     << " " << num(h) << "\">\n";
-  s << "<title>" << escape(pattern.type) << " draft (1 user unit = 1 cm)</title>\n";
+  s << "<title>" << xmlEscape(pattern.type) << " draft (1 user unit = 1 cm)</title>\n";
   s << "<defs><marker id=\"arrow\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"6\" "
        "markerHeight=\"6\" orient=\"auto-start-reverse\"><path d=\"M0,0 L10,5 L0,10 z\" "
        "fill=\"#1f5fa8\"/></marker></defs>\n";
@@ -145,15 +123,15 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
     body += k + " " + num(v).substr(0, num(v).size() - 2) + "  ";
   s << "<g font-family=\"sans-serif\" fill=\"black\">\n"
     << "<text x=\"" << num(x0 + 1) << "\" y=\"" << num(y0 + 1.6) << "\" font-size=\"1.2\">"
-    << escape(pattern.type) << " — draft (grey: construction, black: contour), panels (blue)"
+    << xmlEscape(pattern.type) << " — draft (grey: construction, black: contour), panels (blue)"
     << "</text>\n"
     << "<text x=\"" << num(x0 + 1) << "\" y=\"" << num(y0 + 3.0) << "\" font-size=\"0.7\">"
-    << escape(body) << "</text>\n</g>\n";
+    << xmlEscape(body) << "</text>\n</g>\n";
 
   if (options.drawPanels) {
     s << "<g id=\"panels\">\n";
     for (const auto& p : pattern.panels) {
-      s << "<g id=\"panel-" << escape(p.name) << "\">\n";
+      s << "<g id=\"panel-" << xmlEscape(p.name) << "\">\n";
       s << "<polygon points=\"" << pointsAttr(p.outline)
         << "\" fill=\"#4a90d9\" fill-opacity=\"0.13\" stroke=\"#1f5fa8\" stroke-width=\"0.05\"/>\n";
       for (const auto& d : p.darts) {
@@ -191,11 +169,11 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
       s << "<text x=\"" << num(c.x()) << "\" y=\"" << num(c.y() - 0.4)
         << "\" font-family=\"sans-serif\" font-size=\"1.1\" text-anchor=\"middle\" "
            "fill=\"#1f5fa8\">"
-        << escape(p.name) << "</text>\n";
+        << xmlEscape(p.name) << "</text>\n";
       s << "<text x=\"" << num(c.x()) << "\" y=\"" << num(c.y() + 0.9)
         << "\" font-family=\"sans-serif\" font-size=\"0.7\" text-anchor=\"middle\" "
            "fill=\"#1f5fa8\">"
-        << escape(cut) << "</text>\n";
+        << xmlEscape(cut) << "</text>\n";
       s << "</g>\n";
     }
     s << "</g>\n";
@@ -218,7 +196,7 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
       for (const auto& [name, p] : pattern.points) {
         s << "<circle cx=\"" << num(p.x()) << "\" cy=\"" << num(p.y()) << "\" r=\"0.12\"/>"
           << "<text x=\"" << num(p.x() + 0.2) << "\" y=\"" << num(p.y() - 0.2) << "\">"
-          << escape(name) << "</text>\n";
+          << xmlEscape(name) << "</text>\n";
       }
       s << "</g>\n";
     }

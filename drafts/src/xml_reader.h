@@ -32,7 +32,4 @@ struct XmlElement {
 /// "<what>: line L, column C: <reason>".
 XmlElement parseXml(std::string_view text, const std::string& what);
 
-/// Escapes &, <, >, " and ' for use in attribute values and character data.
-std::string xmlEscape(std::string_view text);
-
 }  // namespace garmcap::drafts::detail

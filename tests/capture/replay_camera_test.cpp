@@ -9,7 +9,6 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "garmcap/drafts/file_io.h"
 #include "replay_test_rig.h"
 
 namespace garmcap::capture {
@@ -48,40 +47,6 @@ std::string errorOf(const std::function<void()>& f, CameraErrorKind* kind = null
     return std::string("other exception: ") + e.what();
   }
   return "no error";
-}
-
-TEST(RigIndex, ReadsFolderNamesAndObjects) {
-  TempRig rig("index");
-  fs::create_directories(rig.dir);
-  std::ofstream(rig.dir / "rig.json")
-      << R"({"cases": ["a", {"dir": "sub/b", "id": "bee"}, {"dir": "c"}], "seed": 7})";
-  const auto cases = readRigIndex(rig.dir);
-  ASSERT_EQ(cases.size(), 3u);
-  EXPECT_EQ(cases[0].id, "a");
-  EXPECT_EQ(cases[0].dir, rig.dir / "a");
-  EXPECT_EQ(cases[1].id, "bee");
-  EXPECT_EQ(cases[1].dir, rig.dir / "sub/b");
-  EXPECT_EQ(cases[2].id, "c");
-}
-
-TEST(RigIndex, ErrorsNameTheFileAndTheEntry) {
-  TempRig rig("badindex");
-  fs::create_directories(rig.dir);
-  EXPECT_THROW(readRigIndex(rig.dir), drafts::FileError);  // no rig.json
-  std::ofstream(rig.dir / "rig.json") << R"({"cases": [3]})";
-  try {
-    readRigIndex(rig.dir);
-    FAIL();
-  } catch (const drafts::ParseError& e) {
-    EXPECT_NE(std::string(e.what()).find("rig.json: cases[0]"), std::string::npos) << e.what();
-  }
-  std::ofstream(rig.dir / "rig.json") << R"({"casez": []})";
-  try {
-    readRigIndex(rig.dir);
-    FAIL();
-  } catch (const drafts::ParseError& e) {
-    EXPECT_NE(std::string(e.what()).find("'cases'"), std::string::npos) << e.what();
-  }
 }
 
 TEST(ReplayCamera, ServesEmptyThenDressedThenNextCase) {
@@ -135,8 +100,9 @@ TEST(ReplayCamera, WithoutLoopingTheRigRunsOut) {
 TEST(ReplayCamera, MissingImageNamesTheFile) {
   TempRig rig("missing");
   rig.make(2, {64, 48});
-  fs::remove(rig.dir / "case_001" / "dressed.png");
   auto cam = openCamera(rig.dir);
+  // Gone after the camera was opened (at open, readRig already refuses the rig: see below).
+  fs::remove(rig.dir / "case_001" / "dressed.png");
   cam->selectCase("case_001");
   CameraErrorKind kind{};
   // Even the empty frame is refused: its pair cannot be checked.
@@ -144,6 +110,13 @@ TEST(ReplayCamera, MissingImageNamesTheFile) {
   EXPECT_EQ(kind, CameraErrorKind::kBadData);
   EXPECT_NE(msg.find((rig.dir / "case_001" / "dressed.png").string()), std::string::npos) << msg;
   EXPECT_NE(msg.find("missing"), std::string::npos) << msg;
+  // Missing before opening: the rig is refused at open, naming the file.
+  ReplayCamera again(makeRigSceneSource(rig.dir));
+  const std::string atOpen = errorOf([&] { again.open(); }, &kind);
+  EXPECT_EQ(kind, CameraErrorKind::kBadData);
+  EXPECT_NE(atOpen.find((rig.dir / "case_001" / "dressed.png").string()), std::string::npos)
+      << atOpen;
+  EXPECT_NE(atOpen.find("missing"), std::string::npos) << atOpen;
 }
 
 TEST(ReplayCamera, CorruptImageNamesTheFile) {

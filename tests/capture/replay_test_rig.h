@@ -35,9 +35,9 @@ struct TempRig {
     return s.str();
   }
 
-  /// Writes `count` cases of `size` and the index.
+  /// Writes `count` cases of `size` and the index (rig.json as capture::readRig reads it).
   void make(int count, cv::Size size) {
-    std::string index = "{\"cases\": [";
+    std::string index = "{\"format\": \"garmcap-rig\", \"version\": 1, \"cases\": [";
     for (int i = 0; i < count; ++i) {
       const std::filesystem::path c = dir / caseName(i);
       std::filesystem::create_directories(c);
@@ -52,7 +52,8 @@ struct TempRig {
       cv::imwrite((c / "empty.png").string(), empty);
       cv::imwrite((c / "dressed.png").string(), dressed);
       std::ofstream(c / "truth.json") << "{\"type\": \"skirt\"}\n";
-      index += (i ? ", \"" : "\"") + caseName(i) + "\"";
+      index += std::string(i ? ", " : "") + "{\"id\": \"" + caseName(i) + "\", \"dir\": \"" +
+               caseName(i) + "\", \"type\": \"skirt\", \"attributes\": {}, \"hard\": false}";
     }
     index += "]}\n";
     std::ofstream(dir / "rig.json") << index;

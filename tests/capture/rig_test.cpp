@@ -3,6 +3,7 @@
 #include "garmcap/capture/rig.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -71,7 +72,8 @@ TEST(Rig, FramesOfDifferentSizesAreRefused) {
 }
 
 TEST(Rig, UnknownFieldInIndexIsRefused) {
-  const auto dir = std::filesystem::temp_directory_path() / "garmcap_rig_test_index";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("garmcap_rig_test_index_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "rig.json")

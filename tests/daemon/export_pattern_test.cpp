@@ -3,6 +3,7 @@
 #include "garmcap/daemon/export_pattern.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -193,7 +194,8 @@ TEST(PatternSvg, OneToOneInMillimetres) {
   char want[64];
   std::snprintf(want, sizeof want, "width=\"%.2fmm\"", lay.widthCm * 10);
   EXPECT_NE(svg.find(want), std::string::npos) << svg.substr(0, 300);
-  const auto dir = std::filesystem::temp_directory_path() / "garmcap_svg_test";
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("garmcap_svg_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "p.svg") << svg;
   // librsvg parses it (96 px per inch: the width in px is mm * 96 / 25.4).
@@ -232,7 +234,8 @@ Gray readPgm(const std::filesystem::path& p) {
 TEST(PatternPdf, TiledA4AtTrueScale) {
   const auto pat = exports_test::skirtPattern(96, 72, 61);
   const std::string pdf = patternPdfA4(pat, {"SK-1001", "M"});
-  const auto dir = std::filesystem::temp_directory_path() / "garmcap_pdf_test";
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("garmcap_pdf_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "p.pdf", std::ios::binary) << pdf;
   // pdfinfo: A4 pages, as many as the layout needs.

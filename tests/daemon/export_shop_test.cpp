@@ -2,6 +2,7 @@
 #include "garmcap/daemon/export_shop.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -194,7 +195,8 @@ TEST(StoreZip, UnzipReadsItBack) {
   const std::string bin(std::string("\x00\x01\xff\x89PNG", 7));
   const std::string zip =
       storeZip({{"shopify.csv", "a,b\r\n"}, {"images/Été.png", bin}, {"patterns/x.dxf", ""}});
-  const auto dir = std::filesystem::temp_directory_path() / "garmcap_zip_test";
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("garmcap_zip_test_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   { std::ofstream(dir / "c.zip", std::ios::binary) << zip; }

@@ -3,6 +3,7 @@
 // file. Same values as the example's own keiko.vit must give the same piece geometry; other
 // values must change it (so Valentina really read ours).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -50,7 +51,8 @@ std::string keikoPaths(const fs::path& dir, const std::string& vit, const std::s
 TEST(VitExport, ValentinaDraftsFromOurFile) {
   if (!fs::exists("/usr/bin/valentina") || !fs::exists(kExamples / "Keiko_skirt.val"))
     GTEST_SKIP() << "Debian's valentina is not installed (station.sh deps installs it)";
-  const fs::path dir = fs::temp_directory_path() / "garmcap_vit_test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("garmcap_vit_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   fs::copy_file(kExamples / "Keiko_skirt.val", dir / "Keiko_skirt.val");

@@ -87,16 +87,20 @@ TEST(SizeCharts, EverySizeIsCompleteValidAndDocumented) {
   }
 }
 
-TEST(SizeCharts, KoreanCircumferencesGrowStrictlyFrom44To88) {
-  const auto& c = sizeChart("korean_women");
+// Every circumference of the chart, published or completed, grows strictly from size to size.
+void expectCircumferencesGrowStrictly(const SizeChart& c) {
   for (size_t i = 1; i < c.bodies.size(); ++i) {
     for (const auto& [name, v] : c.bodies[i].values()) {
       if (isCircumference(name)) {
         EXPECT_GT(v, c.bodies[i - 1].get(name))
-            << name << " " << c.sizes[i - 1] << "->" << c.sizes[i];
+            << c.name << " " << name << " " << c.sizes[i - 1] << "->" << c.sizes[i];
       }
     }
   }
+}
+
+TEST(SizeCharts, KoreanCircumferencesGrowStrictlyFrom44To88) {
+  expectCircumferencesGrowStrictly(sizeChart("korean_women"));
 }
 
 TEST(SizeCharts, KoreanChartReproducesTheSeedTables) {
@@ -149,6 +153,40 @@ TEST(SizeCharts, ItalianChartIsDonnannoAsPublished) {
   EXPECT_EQ(c.body("44").get("neck_side_to_bust_f"), 23.2);
   EXPECT_NEAR(c.body("44").get("bustpoint_to_neck_side"), 27.5, 1e-9);
   EXPECT_THAT(c.source, HasSubstr("Donnanno"));
+}
+
+TEST(SizeCharts, FrenchChartIsGilewskaAsRecorded) {
+  const auto& c = sizeChart("french_women");
+  EXPECT_EQ(c.sizes, (std::vector<std::string>{"34", "36", "38", "40", "42", "44", "46", "48"}));
+  // The rows of research/anchors_drafting.md section 4.1, first and last size.
+  const auto& s34 = c.body("34");
+  const auto& s48 = c.body("48");
+  EXPECT_EQ(s34.get("bust_circ"), 80.0);
+  EXPECT_EQ(s48.get("bust_circ"), 106.0);
+  EXPECT_EQ(s34.get("waist_circ"), 58.0);
+  EXPECT_EQ(s48.get("waist_circ"), 86.0);
+  EXPECT_EQ(s34.get("hip_circ"), 84.0);
+  EXPECT_EQ(s48.get("hip_circ"), 112.0);
+  EXPECT_EQ(s34.get("neck_back_to_waist_b"), 41.25);
+  EXPECT_EQ(s48.get("neck_back_to_waist_b"), 43.0);
+  EXPECT_EQ(s34.get("bustpoint_to_bustpoint"), 18.5);
+  EXPECT_EQ(s48.get("bustpoint_to_bustpoint"), 22.0);
+  EXPECT_EQ(s34.get("bustpoint_to_neck_side"), 25.5);
+  EXPECT_EQ(s48.get("bustpoint_to_neck_side"), 29.0);
+  EXPECT_EQ(s34.get("shoulder_length"), 13.4);
+  EXPECT_EQ(s48.get("shoulder_length"), 14.8);
+  EXPECT_EQ(s34.get("arm_wrist_circ"), 15.25);
+  EXPECT_EQ(s48.get("arm_wrist_circ"), 17.0);
+  // The sleeve row is only known as the range 59-60: every size stays inside it.
+  for (const auto& b : c.bodies) {
+    EXPECT_GE(b.get("arm_shoulder_tip_to_wrist"), 59.0);
+    EXPECT_LE(b.get("arm_shoulder_tip_to_wrist"), 60.0);
+  }
+  // No stature in the chart: it follows the back waist length (Donnanno 44: 40.9 -> 168).
+  EXPECT_NEAR(s34.get("height"), 168.0 * 41.25 / 40.9, 0.05 + 1e-9);
+  EXPECT_NEAR(s48.get("waist_to_hip_b"), 20.4 * s48.get("height") / 168.0, 0.05 + 1e-9);
+  EXPECT_THAT(c.source, AllOf(HasSubstr("Gilewska"), HasSubstr("59-60")));
+  expectCircumferencesGrowStrictly(c);
 }
 
 // tests/data/bodies/table4_2_<size>.json are the korean_women bodies 44-77 (the seed's table 4.2

@@ -89,6 +89,13 @@ Reply httpCall(int port, http::verb verb, const std::string& target, const std::
           std::string(res[http::field::content_type])};
 }
 
+// rig.json of a rig whose one case is the folder c1 (the format capture::readRig reads).
+void writeOneCaseRigJson(const std::filesystem::path& rig, const std::string& type) {
+  std::ofstream(rig / "rig.json")
+      << R"({"format": "garmcap-rig", "version": 1, "cases": [{"id": "c1", "dir": "c1", "type": ")"
+      << type << R"(", "attributes": {}, "hard": false}]})";
+}
+
 // A one-case replay rig (green screen, grey form, a red garment) in the test's temp tree, so the
 // e2e tests do not depend on the scene simulator being wired to the synthetic camera.
 std::filesystem::path makeRig(const std::filesystem::path& root) {
@@ -101,7 +108,7 @@ std::filesystem::path makeRig(const std::filesystem::path& root) {
   cv::imwrite((rig / "c1" / "empty.png").string(), empty);
   cv::imwrite((rig / "c1" / "dressed.png").string(), dressed);
   std::ofstream(rig / "c1" / "truth.json") << R"({"type": "skirt", "measurements": {}})";
-  std::ofstream(rig / "rig.json") << R"({"cases": ["c1"]})";
+  writeOneCaseRigJson(rig, "skirt");
   return rig;
 }
 
@@ -113,7 +120,7 @@ std::filesystem::path makeSimulatedRig(const std::filesystem::path& root) {
   std::filesystem::create_directories(rig / "c1");
   for (const char* f : {"empty.png", "dressed.png", "truth.json"})
     std::filesystem::copy_file(src / f, rig / "c1" / f);
-  std::ofstream(rig / "rig.json") << R"({"cases": ["c1"]})";
+  writeOneCaseRigJson(rig, "skirt");
   return rig;
 }
 

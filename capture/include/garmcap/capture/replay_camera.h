@@ -49,19 +49,8 @@ class SceneSource {
   virtual SceneImage load(std::size_t index, Shot shot) = 0;
 };
 
-/// A case of a rig folder, as listed by rig.json.
-struct RigCaseRef {
-  std::string id;
-  std::filesystem::path dir;
-};
-
-/// Reads `rigDir`/rig.json: {"cases": [...]} where each entry is a case folder name (relative
-/// to the rig) or an object with "dir" (and optional "id"). Other top-level fields (written by
-/// `garmcap rig make`) are left to their owner. Throws drafts::FileError/ParseError naming the
-/// file and the entry.
-std::vector<RigCaseRef> readRigIndex(const std::filesystem::path& rigDir);
-
-/// SceneSource over a rig folder.
+/// SceneSource over a rig folder, read with readRig (rig.h): a rig whose rig.json is missing
+/// is not found (CameraError kNotFound); one readRig refuses is kBadData with its message.
 std::unique_ptr<SceneSource> makeRigSceneSource(const std::filesystem::path& rigDir);
 
 /// SceneSource rendering scenes with the simulator (sim.h): case i is randomScene(seed + i) on

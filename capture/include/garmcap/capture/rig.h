@@ -9,6 +9,8 @@
 //    "width": 960, "height": 1280, "seed": 7,
 //    "cases": [{"id": "case_000", "dir": "case_000", "type": "dress",
 //               "attributes": {"sleeve": "short", "skirt": "a_line"}, "hard": false}, ...]}
+// A rig made with a size chart (`rig make --chart C`) also has "chart": C, and each case the
+// "size" of C its garment was drafted for.
 //
 // Errors: RigError naming the file and the reason (missing or corrupt image, unknown field,
 // frames of different sizes).
@@ -38,6 +40,7 @@ struct RigCaseInfo {
   std::string type;
   std::map<std::string, std::string> attributes;
   bool hard = false;
+  std::string size;  // the size of rig.json's "chart" the garment was drafted for, else empty
 };
 
 struct Rig {
@@ -74,14 +77,18 @@ struct RigMakeOptions {
   std::uint64_t seed = 1;
   cv::Size size{960, 1280};
   double hardFraction = 0.3;
-  std::string chart;  // size chart for drafted garments; empty = sampled ease
+  std::string
+      chart;  // size chart the garments are drafted from (randomScene); empty = sampled ease
   /// Called after each case with (index, count, case id).
   std::function<void(int, int, const std::string&)> progress;
 };
 
 /// Renders a rig: `count` scenes with a balanced mix of types (cycling top, dress, skirt,
 /// pants), the rest drawn from the seed; writes the case folders and rig.json. Returns the rig
-/// as readRig would.
+/// as readRig would. With `options.chart`, each case is a size of the chart drawn from its
+/// seed: it is rendered on the parametric form of that size's body (calib::ParametricForm,
+/// written once per size to `outDir`/forms/<chart>_<size>/form.{obj,json}; `form` is not used)
+/// wearing the garment drafted for the same body (randomScene with chartSize).
 Rig makeRig(const calib::FormModel& form, const std::string& formPath,
             const std::filesystem::path& outDir, const RigMakeOptions& options);
 

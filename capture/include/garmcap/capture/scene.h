@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <random>
@@ -16,6 +17,7 @@
 #include "garmcap/calib/garment_model.h"
 #include "garmcap/calib/projection.h"
 #include "garmcap/capture/fabric.h"
+#include "garmcap/drafts/measurements.h"
 
 namespace garmcap::capture {
 
@@ -59,6 +61,9 @@ struct Scene {
   Shake shake;
   std::uint64_t seed = 1;  // sensor noise (each frame its own stream)
   bool hard = false;       // drawn as a hard case (for rig statistics)
+  // The size chart and size the garment was drafted for (randomScene with options.chart);
+  // both empty when its ease was sampled. scene.json: "drafted_from": {"chart", "size"}.
+  std::string chart, chartSize;
 
   nlohmann::json toJson() const;
   static Scene fromJson(const nlohmann::json& j, const std::string& what);
@@ -74,17 +79,43 @@ calib::FormPose fitPose(const calib::FormModel& form, cv::Size size, double marg
 /// Options for drawing random scenes.
 struct RandomSceneOptions {
   cv::Size size{960, 1280};
-  double hardFraction = 0.3;  // share of hard cases (form-coloured or dark green fabric,
-                              // camera shake, stronger spill and shadow)
-  std::string type;           // empty = any of top, dress, skirt, pants
-  std::string chart = "";     // size chart for drafted garments (empty = sampled ease)
+  double hardFraction = 0.3;   // share of hard cases (form-coloured or dark green fabric,
+                               // camera shake, stronger spill and shadow)
+  std::string type;            // empty = any of top, dress, skirt, pants
+  std::string chart = "";      // size chart for drafted garments (empty = sampled ease)
+  std::string chartSize = "";  // with chart: this size only (empty = drawn from the seed)
 };
 
-/// Draws a scene: garment type and attributes, ease and lengths (or a chart size drafted by the
-/// project's recipes when `options.chart` is set and the drafted garment fits the form), fabric,
-/// lighting, pose jitter (camera distance +-8%) and, for hard cases, shake. Deterministic in
-/// `seed`. Throws std::invalid_argument if no garment of the asked type fits the form.
+/// Draws a scene: garment type and attributes, ease and lengths, fabric, lighting, pose jitter
+/// (camera distance +-8%) and, for hard cases, shake. Deterministic in `seed`.
+/// With `options.chart`, the garment's measurements are those of the project's draft for a size
+/// of that chart (draftedGarment), the size drawn from the seed; sizes whose garment does not fit
+/// the form (checkGarmentFits) are passed over in turn, and everything else in the scene is the
+/// same as without the chart. Throws std::invalid_argument for an unknown chart (listing the
+/// known ones) and when no size gives a garment that fits the form (with each size's reason).
 Scene randomScene(const calib::FormModel& form, const std::string& formPath, std::uint64_t seed,
                   const RandomSceneOptions& options);
+
+/// Design parameters the simulator drafts `recipe` with (draftedGarment): the sleeve length
+/// fraction from the sleeve attribute (none 0, short 0.4, long the default), every ease at least
+/// kMinEaseCm + 0.5 cm (a skirt's 1 cm waist ease would not be worn), a blouse ending 7 cm above
+/// the body's crotch at the most and trousers 6 cm above the floor, so that the garment passes
+/// checkGarmentFits on the form of the same body. Other parameters keep the recipe's defaults.
+std::map<std::string, double> simDraftDesign(const std::string& recipe,
+                                             const std::map<std::string, std::string>& attributes,
+                                             const drafts::Measurements& body);
+
+/// Garment measurements (truth.json names) of the project's draft for `body`, measured on its
+/// panels (drafts::measurePattern): the recipe of the type (skirt: skirt_h or skirt_a by the
+/// skirt attribute; dress; top: blouse; pants) drafted with simDraftDesign, the trousers'
+/// outseam_length, inseam_length and hem_circ as outseam, inseam, leg_opening_circ, and what
+/// depends on the form it is worn on: garment_length = side neck to waist on the form +
+/// skirt_length (dress) or + the blouse's length below the waist (top); sleeve_length 0 for a
+/// sleeveless garment. Throws drafts::DraftError (the recipe refuses the body) or
+/// std::invalid_argument for an unknown type.
+std::map<std::string, double> draftedGarment(const calib::GarmentSpec& garment,
+                                             const drafts::Measurements& body,
+                                             const calib::FormView& view,
+                                             std::string* recipeUsed = nullptr);
 
 }  // namespace garmcap::capture

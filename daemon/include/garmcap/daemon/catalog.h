@@ -195,6 +195,7 @@ class Catalog {
   void exec(const char* sql);
   void migrate();
   void loadItemDetails(Item& item);
+  void writeItemContents(std::int64_t id, const NewItem& n, const std::string& ts);
   std::string now() const;
 
   sqlite3* db_ = nullptr;

@@ -1,0 +1,154 @@
+// End-to-end: `garmcap render` and `garmcap rig make` as a user runs them (the built binary),
+// in particular garments drafted for the sizes of a size chart (--size/--chart, --chart).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "common/garmcap_cli.h"
+
+namespace {
+
+using garmcap::testing::CliResult;
+using garmcap::testing::readText;
+using garmcap::testing::runGarmcap;
+using garmcap::testing::TempDir;
+
+const std::string kForm =
+    std::string(GARMCAP_SHARED_DIR) + "/data/forms/garmentcode_mean_female/form.json";
+
+nlohmann::json readJson(const std::string& path) {
+  return nlohmann::json::parse(readText(path));
+}
+
+void expectRefused(const CliResult& r, std::initializer_list<std::string> needles) {
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_EQ(r.err.rfind("garmcap: error: ", 0), 0u) << r.err;
+  for (const auto& n : needles)
+    EXPECT_NE(r.err.find(n), std::string::npos) << "no '" << n << "' in: " << r.err;
+}
+
+// The garment measurements of a draft as `garmcap draft` + `garmcap measure` give them.
+// The simulator raises a skirt's or trousers' 1 cm waist ease to its minimum of 2.5 cm
+// (simDraftDesign in capture/scene.h); `set` adds other design values.
+nlohmann::json measuredDraft(const TempDir& d, const std::string& recipe, const std::string& size,
+                             const std::string& chart, const std::string& set = "") {
+  const std::string p = d / (recipe + "_" + size + ".json");
+  const CliResult r = runGarmcap("draft --type " + recipe + " --size " + size + " --chart " +
+                                 chart + " --set ease_waist=2.5 " + set + " --out " + p);
+  EXPECT_EQ(r.status, 0) << r.err;
+  const CliResult m = runGarmcap("measure --pattern " + p);
+  EXPECT_EQ(m.status, 0) << m.err;
+  return nlohmann::json::parse(m.out).at("measurements");
+}
+
+// Every garment type renders for a chart size on the form of that size (`make-form`), its
+// truth the draft's measurements (truth.json keeps 0.01 cm, `measure` 0.001 cm).
+TEST(RenderCli, EveryTypeDraftedForAChartSize) {
+  const TempDir d("render_cli_chart");
+  const CliResult made =
+      runGarmcap("make-form --chart korean_women --size 66 --out " + (d / "form66.obj"));
+  ASSERT_EQ(made.status, 0) << made.err;
+  const std::string form = d / "form66.json";
+  struct Want {
+    std::string type, extra;
+  };
+  for (const Want& w : {Want{"skirt", "--skirt h_line"}, Want{"dress", "--skirt a_line"},
+                        Want{"top", "--sleeve long"}, Want{"pants", ""}}) {
+    SCOPED_TRACE(w.type);
+    const std::string out = d / ("case_" + w.type);
+    const CliResult r = runGarmcap("render --type " + w.type + " " + w.extra +
+                                   " --size 66 --chart korean_women --form " + form +
+                                   " --seed 3 --width 150 --height 200 --out " + out);
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const char* f : {"empty.png", "dressed.png", "truth.json", "scene.json"})
+      EXPECT_TRUE(std::filesystem::is_regular_file(out + "/" + f)) << f;
+    const auto scene = readJson(out + "/scene.json");
+    EXPECT_EQ(scene.at("drafted_from"),
+              nlohmann::json({{"chart", "korean_women"}, {"size", "66"}}));
+    const auto truth = readJson(out + "/truth.json");
+    EXPECT_EQ(truth.at("type"), w.type);
+    EXPECT_NE(r.err.find("drafted with recipe"), std::string::npos) << r.err;
+  }
+  // The skirt's truth is the H-line skirt draft of size 66, as `garmcap measure` reads it.
+  const auto truth = readJson(d / "case_skirt/truth.json").at("measurements");
+  const auto draft = measuredDraft(d, "skirt_h", "66", "korean_women");
+  for (const char* k : {"waist_circ", "hip_circ", "hem_circ", "skirt_length"})
+    EXPECT_NEAR(truth.at(k).get<double>(), draft.at(k).get<double>(), 0.01) << k;
+  // The trousers' truth names: outseam, inseam and leg opening are the draft's, with the
+  // trousers ending 6 cm above the floor (pants_length = 1 - 6 / waist-to-floor).
+  const auto pants = readJson(d / "case_pants/truth.json").at("measurements");
+  measuredDraft(d, "pants", "66", "korean_women");
+  const double floor =
+      readJson(d / "pants_66.json").at("measurements").at("leg_waist_side_to_floor").get<double>();
+  const auto trousers = measuredDraft(d, "pants", "66", "korean_women",
+                                      "--set pants_length=" + std::to_string(1 - 6 / floor));
+  EXPECT_NEAR(pants.at("outseam").get<double>(), trousers.at("outseam_length").get<double>(), 0.01);
+  EXPECT_NEAR(pants.at("inseam").get<double>(), trousers.at("inseam_length").get<double>(), 0.01);
+  EXPECT_NEAR(pants.at("leg_opening_circ").get<double>(), trousers.at("hem_circ").get<double>(),
+              0.01);
+}
+
+TEST(RenderCli, BadChartOptionsAreRefused) {
+  const TempDir d("render_cli_bad");
+  const std::string common =
+      "render --type skirt --form " + kForm + " --width 60 --height 80 --out " + (d / "c");
+  expectRefused(runGarmcap(common + " --size 66"), {"--chart"});
+  expectRefused(runGarmcap(common + " --size 66 --chart martian"), {"martian", "korean_women"});
+  expectRefused(runGarmcap(common + " --size 99 --chart korean_women"), {"'99'", "korean_women"});
+  expectRefused(runGarmcap(common), {"--measurements", "--size"});
+  EXPECT_FALSE(std::filesystem::exists(d / "c"));
+}
+
+// `rig make --chart`: every case a size of the chart, the form made for that size and the
+// garment drafted for it, recorded in rig.json and scene.json; the same rig without the chart
+// samples ease on the given form instead.
+TEST(RigMakeCli, ChartDraftsEveryGarmentForAChartSize) {
+  const TempDir d("rig_cli_chart");
+  const std::string rig = d / "rig";
+  const CliResult r = runGarmcap("rig make --count 4 --seed 5 --width 120 --height 160 --form " +
+                                 kForm + " --chart french_women --out " + rig);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto index = readJson(rig + "/rig.json");
+  EXPECT_EQ(index.at("chart"), "french_women");
+  const std::vector<std::string> sizes = {"34", "36", "38", "40", "42", "44", "46", "48"};
+  ASSERT_EQ(index.at("cases").size(), 4u);
+  for (const auto& c : index.at("cases")) {
+    const std::string size = c.at("size");
+    EXPECT_NE(std::find(sizes.begin(), sizes.end(), size), sizes.end()) << size;
+    const auto scene = readJson(rig + "/" + c.at("dir").get<std::string>() + "/scene.json");
+    EXPECT_EQ(scene.at("drafted_from").at("size"), size);
+    const std::string form = scene.at("form");
+    EXPECT_NE(form.find("forms/french_women_" + size + "/form.json"), std::string::npos) << form;
+    EXPECT_TRUE(std::filesystem::is_regular_file(form)) << form;
+    if (c.at("type") == "skirt") {
+      const std::string recipe = c.at("attributes").at("skirt") == "a_line" ? "skirt_a" : "skirt_h";
+      const auto truth = readJson(rig + "/" + c.at("dir").get<std::string>() + "/truth.json");
+      const auto draft = measuredDraft(d, recipe, size, "french_women");
+      EXPECT_NEAR(truth.at("measurements").at("hip_circ").get<double>(),
+                  draft.at("hip_circ").get<double>(), 0.01);
+    }
+  }
+  const std::string plain = d / "plain";
+  ASSERT_EQ(runGarmcap("rig make --count 1 --seed 5 --width 120 --height 160 --form " + kForm +
+                       " --out " + plain)
+                .status,
+            0);
+  const auto plainIndex = readJson(plain + "/rig.json");
+  EXPECT_FALSE(plainIndex.contains("chart"));
+  EXPECT_FALSE(plainIndex.at("cases")[0].contains("size"));
+  EXPECT_FALSE(std::filesystem::exists(plain + "/forms"));
+}
+
+TEST(RigMakeCli, UnknownChartIsRefused) {
+  const TempDir d("rig_cli_bad");
+  expectRefused(runGarmcap("rig make --count 1 --seed 1 --width 60 --height 80 --form " + kForm +
+                           " --chart martian --out " + (d / "rig")),
+                {"martian", "korean_women"});
+}
+
+}  // namespace
