@@ -23,6 +23,8 @@
 #include <thread>
 #include <vector>
 
+#include "../daemon/test_util.h"
+
 namespace garmcap::e2e {
 
 namespace asio = boost::asio;
@@ -33,24 +35,7 @@ using Json = nlohmann::json;
 
 inline const std::string kBin = std::string(GARMCAP_BIN_DIR) + "/garmcapd";
 
-class TempDir {
- public:
-  TempDir() {
-    path_ = std::filesystem::temp_directory_path() /
-            ("garmcap-e2e-" + std::to_string(::getpid()) + "-" + std::to_string(counter_++));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  static inline int counter_ = 0;
-  std::filesystem::path path_;
-};
+using garmcap::daemon::test::TempDir;
 
 struct Reply {
   int status = 0;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "../daemon/csv_reader.h"
 #include "daemon_harness.h"
 
 namespace {
@@ -20,37 +21,9 @@ namespace {
 using namespace garmcap::e2e;
 using Row = std::map<std::string, std::string>;
 
-// RFC 4180: fields separated by `sep`, quoted fields may hold separators, quotes ("") and line
-// breaks; records end with CRLF or LF. The first record is the header.
+// The rows of a CSV/TSV export as header name -> value.
 std::vector<Row> readCsv(const std::string& text, char sep) {
-  std::vector<std::vector<std::string>> records(1, std::vector<std::string>(1));
-  bool quoted = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    auto& field = records.back().back();
-    if (quoted) {
-      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
-        field += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        field += c;
-      }
-    } else if (c == '"' && field.empty()) {
-      quoted = true;
-    } else if (c == sep) {
-      records.back().emplace_back();
-    } else if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') {
-      continue;
-    } else if (c == '\n') {
-      records.emplace_back(1);
-    } else {
-      field += c;
-    }
-  }
-  if (records.back().size() == 1 && records.back().front().empty())
-    records.pop_back();
+  const auto records = garmcap::test::readCsvRecords(text, sep);
   std::vector<Row> rows;
   if (records.empty())
     return rows;
