@@ -42,15 +42,6 @@ int queryInt(const RouteMatch& m, const std::string& name, int fallback, int lo,
   return x;
 }
 
-std::string sizeParam(const RouteMatch& m) {
-  auto size = m.queryValue("size").value_or("base");
-  if (size.empty() || size.size() > 16 || !std::all_of(size.begin(), size.end(), [](char c) {
-        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-      }))
-    throw BadRequest("query 'size' must be a size name like 55 or M, got '" + size + "'");
-  return size;
-}
-
 std::string requireStringField(const nlohmann::json& body, const std::string& key,
                                std::size_t maxLen) {
   const auto& v = body.at(key);
@@ -156,6 +147,24 @@ std::string csvField(const std::string& s) {
 }
 
 }  // namespace
+
+std::string patternSizeParam(const RouteMatch& m) {
+  auto size = m.queryValue("size").value_or("base");
+  if (size.empty() || size.size() > 16 || !std::all_of(size.begin(), size.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+      }))
+    throw BadRequest("query 'size' must be a size name like 55 or M, got '" + size + "'");
+  return size;
+}
+
+Response noPatternForSize(const Item& item, const std::string& size) {
+  std::string have;
+  for (const auto& s : item.sizes)
+    have += (have.empty() ? "" : ", ") + s;
+  return jsonError(http::status::not_found,
+                   "item " + std::to_string(item.id) + " has no pattern for size '" + size + "'" +
+                       (have.empty() ? " (it has no pattern at all)" : " (sizes: " + have + ")"));
+}
 
 std::string sizeGuideCsv(const nlohmann::json& guide) {
   // {"units": "cm", "sizes": [...], "measurements": {name: {size: cm}}}
@@ -363,15 +372,13 @@ void addApiRoutes(Router& router, Station& station) {
       V::get, "/api/items/{id}/pattern.json",
       [st](const Request&, const RouteMatch& m, Reply reply) {
         const auto id = m.id("id");
-        const std::string size = sizeParam(m);
+        const std::string size = patternSizeParam(m);
         st->withCatalog([reply, id, size](Catalog& c) {
-          if (!c.item(id))
+          auto it = c.item(id);
+          if (!it)
             return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
           auto p = c.pattern(id, size);
-          reply(p ? jsonResponse(http::status::ok, *p)
-                  : jsonError(
-                        http::status::not_found,
-                        "item " + std::to_string(id) + " has no pattern for size '" + size + "'"));
+          reply(p ? jsonResponse(http::status::ok, *p) : noPatternForSize(*it, size));
         });
       });
 
@@ -379,15 +386,14 @@ void addApiRoutes(Router& router, Station& station) {
       V::get, "/api/items/{id}/pattern.svg",
       [st](const Request&, const RouteMatch& m, Reply reply) {
         const auto id = m.id("id");
-        const std::string size = sizeParam(m);
+        const std::string size = patternSizeParam(m);
         st->withCatalog([st, reply, id, size](Catalog& c) {
-          if (!c.item(id))
+          auto it = c.item(id);
+          if (!it)
             return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
           auto p = c.pattern(id, size);
           if (!p)
-            return reply(jsonError(
-                http::status::not_found,
-                "item " + std::to_string(id) + " has no pattern for size '" + size + "'"));
+            return reply(noPatternForSize(*it, size));
           st->offload([reply, json = *p, id, size] {
             try {
               const auto pattern = drafts::patternFromJsonValue(

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <memory>
 
+#include "garmcap/daemon/api_routes.h"
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/daemon/export_pattern.h"
@@ -167,15 +168,6 @@ Response fileResponse(const std::string& type, std::string body, const std::stri
 
 std::string sizeLabel(const Item& it, const std::string& size) {
   return size == "base" && !it.baseSize.empty() ? it.baseSize : size;
-}
-
-std::string sizeParam(const RouteMatch& m) {
-  auto size = m.queryValue("size").value_or("base");
-  if (size.empty() || size.size() > 16 || !std::all_of(size.begin(), size.end(), [](char c) {
-        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-      }))
-    throw BadRequest("query 'size' must be a size name like 55 or M, got '" + size + "'");
-  return size;
 }
 
 // The graded run of an item: every stored size but "base", in size-guide order when there is
@@ -376,7 +368,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
   auto patternRoute = [c](PatternBuild build) {
     return [c, build](const Request&, const RouteMatch& m, Reply reply) {
       const auto id = m.id("id");
-      const std::string size = sizeParam(m);
+      const std::string size = patternSizeParam(m);
       c->withCatalog([c, reply, id, size, build](Catalog& cat) {
         auto it = cat.item(id);
         if (!it)
@@ -406,10 +398,6 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
     return drafts::patternFromJsonValue(p->second,
                                         "item " + std::to_string(it.id) + " pattern " + size);
   };
-  auto noPattern = [](const Item& it, const std::string& size) {
-    return jsonError(http::status::not_found,
-                     "item " + std::to_string(it.id) + " has no pattern for size '" + size + "'");
-  };
   auto style = [](const Item& it) {
     return it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
   };
@@ -423,7 +411,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                        const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
         auto p = onePattern(it, pats, size);
         if (!p)
-          return noPattern(it, size);
+          return noPatternForSize(it, size);
         return fileResponse("application/dxf", patternDxf(*p, {style(it), sizeLabel(it, size)}),
                             fileBase(it, size) + ".dxf");
       }));
@@ -433,7 +421,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                        const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
         auto p = onePattern(it, pats, size);
         if (!p)
-          return noPattern(it, size);
+          return noPatternForSize(it, size);
         return fileResponse("application/pdf", patternPdfA4(*p, {style(it), sizeLabel(it, size)}),
                             fileBase(it, size) + "_A4.pdf");
       }));
@@ -443,7 +431,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                        const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
         auto p = onePattern(it, pats, size);
         if (!p)
-          return noPattern(it, size);
+          return noPatternForSize(it, size);
         return fileResponse("application/json",
                             garmentCodeJson(*p, {style(it), sizeLabel(it, size)}),
                             fileBase(it, size) + "_specification.json");

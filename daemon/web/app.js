@@ -107,6 +107,19 @@ function imageUrl(item, kinds) {
   return null;
 }
 function itemTitle(it) { return it.title || it.sku || 'Item ' + it.id; }
+// Why an item is not exported yet, or null when it is approved. Shop exports take approved items
+// only (the daemon enforces it); staff must see that before they look for the item in a CSV.
+function reviewNote(it) {
+  if (it.status === 'needs_review') {
+    const why = [];
+    if (it.warnings && it.warnings.length) why.push(it.warnings.length + (it.warnings.length === 1 ? ' warning' : ' warnings'));
+    else if (it.confidence && it.confidence < 0.8) why.push('low type confidence ' + Math.round(it.confidence * 100) + '%');
+    return { title: 'Waiting for review' + (why.length ? ' (' + why.join(', ') + ').' : '.'),
+      detail: 'Check the photos, measurements and warnings, then press Approve: only approved items are exported to shops.' };
+  }
+  if (it.status === 'rejected') return { title: 'Rejected.', detail: 'This item is not exported. Approve it to export it.', rejected: true };
+  return null;
+}
 
 // --- station status, errors, events ---------------------------------------------------------
 function showBanner(title, detail, kind = 'bad', action = null) {
@@ -244,6 +257,9 @@ async function showLastResult(id) {
     $('#last-sku').textContent = (it.sku ? 'SKU ' + it.sku + ' · ' : '') + (STATUS_NAMES[it.status] || it.status);
     measTable($('#last-meas'), it.measurements);
     $('#last-warn').replaceChildren(...(it.warnings || []).map((w) => el('li', { text: w })));
+    const note = reviewNote(it);
+    $('#last-review').hidden = !note;
+    $('#last-review').textContent = note ? note.title + ' Approve it to export it.' : '';
     $('#last-approve').hidden = it.status === 'approved';
     $('#last-approve').onclick = async () => {
       try { await api('PATCH', '/api/items/' + id, { status: 'approved' }); toast('Approved'); showLastResult(id); } catch (e) { toast(e.message, true); }
@@ -302,6 +318,11 @@ async function loadItem(id) {
   $('#f-tags').value = (it.tags || []).join(', ');
   $('#f-notes').value = it.notes || '';
   $('#f-approve').hidden = it.status === 'approved';
+  const note = reviewNote(it);
+  $('#item-review').hidden = !note;
+  $('#item-review').classList.toggle('rejected', !!(note && note.rejected));
+  $('#item-review-title').textContent = note ? note.title : '';
+  $('#item-review-detail').textContent = note ? note.detail : '';
   $('#f-msg').textContent = '';
   $('#item-meta').textContent = [TYPE_NAMES[it.type] || it.type,
     ...Object.entries(it.attributes || {}).map(([k, v]) => k + ': ' + v),

@@ -9,49 +9,14 @@
 #include <fstream>
 
 #include "../exports/export_samples.h"
+#include "csv_reader.h"
 #include "garmcap/daemon/export_zip.h"
 
 namespace garmcap::daemon {
 namespace {
 
-// A strict RFC 4180 reader (quoted fields, doubled quotes, CRLF) to read our output back.
 std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
-  std::vector<std::vector<std::string>> rows(1);
-  std::string field;
-  bool quoted = false, wasQuoted = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    char c = text[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
-        field += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        field += c;
-      }
-    } else if (c == '"') {
-      EXPECT_TRUE(field.empty()) << "quote inside an unquoted field at byte " << i;
-      quoted = wasQuoted = true;
-    } else if (c == ',') {
-      rows.back().push_back(field);
-      field.clear();
-      wasQuoted = false;
-    } else if (c == '\r') {
-      EXPECT_EQ(text[i + 1], '\n');
-    } else if (c == '\n') {
-      rows.back().push_back(field);
-      field.clear();
-      wasQuoted = false;
-      rows.emplace_back();
-    } else {
-      field += c;
-    }
-  }
-  EXPECT_FALSE(quoted) << "unterminated quote";
-  if (rows.back().empty())
-    rows.pop_back();
-  return rows;
+  return garmcap::test::readCsvRecords(text, ',');
 }
 
 ShopOptions options() {

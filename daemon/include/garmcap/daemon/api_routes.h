@@ -16,4 +16,14 @@ void addApiRoutes(Router& router, Station& station);
 /// decimal). Throws nlohmann::json exceptions on a malformed guide.
 std::string sizeGuideCsv(const nlohmann::json& guide);
 
+struct Item;
+
+/// The `size` query of the pattern routes: "base" (the pattern as measured) when absent. Throws
+/// BadRequest (400) unless it is a size name: 1..16 of A-Z a-z 0-9 _ -.
+std::string patternSizeParam(const RouteMatch& m);
+
+/// 404 for a size `item` has no pattern of, naming the size and the sizes the item has, so that
+/// a client sees at once what it may ask for.
+Response noPatternForSize(const Item& item, const std::string& size);
+
 }  // namespace garmcap::daemon

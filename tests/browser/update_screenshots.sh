@@ -1,0 +1,32 @@
+#!/bin/sh
+# Retakes docs/screenshots/*.png from the real garmcapd on the simulated rig: the browser test's
+# run against the daemon (rig case_002, a skirt), 1280x800 like a 10-inch tablet in landscape.
+# Writes into the source tree, so CI never runs it; run it by hand after a UI change:
+#   tests/browser/update_screenshots.sh [BUILD_DIR]        (default: ./build, already built)
+# The PNGs are shrunk with pngquant (Debian package pngquant) when it is installed.
+set -eu
+src=$(cd "$(dirname "$0")/../.." && pwd)
+build=$(cd "${1:-$src/build}" && pwd)
+node_dir=$build/tests/browser/node
+for f in "$build/bin/garmcapd" "$node_dir/browser_test.mjs"; do
+  [ -e "$f" ] || { echo "update_screenshots: $f is missing: configure and build $build first" >&2; exit 1; }
+done
+if [ ! -d "$node_dir/node_modules/playwright-core" ]; then
+  (cd "$node_dir" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+(cd "$node_dir" && node browser_test.mjs "$build/bin/garmcapd" "$build/share/garmcap/web" "$tmp" \
+  --rig "$src/tests/data/rig/case_002")
+out=$src/docs/screenshots
+mkdir -p "$out"
+rm -f "$out"/*.png
+for f in "$tmp"/*.png; do
+  name=$(basename "$f")
+  if command -v pngquant >/dev/null 2>&1; then
+    pngquant --quality 70-95 --speed 1 --strip --output "$out/$name" -- "$f"
+  else
+    cp "$f" "$out/$name"
+  fi
+done
+echo "update_screenshots: wrote" && ls -l "$out"

@@ -1,0 +1,213 @@
+#pragma once
+// The harness of the end-to-end tests: the real garmcapd as a child process on a free 127.0.0.1
+// port with --simulated, a blocking HTTP client, and the replay rigs it captures from. Shared by
+// the e2e test sources (tests/e2e/*_test.cpp); every wait is bounded.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "../daemon/test_util.h"
+
+namespace garmcap::e2e {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+using namespace std::chrono_literals;
+using Json = nlohmann::json;
+
+inline const std::string kBin = std::string(GARMCAP_BIN_DIR) + "/garmcapd";
+
+using garmcap::daemon::test::TempDir;
+
+struct Reply {
+  int status = 0;
+  std::string body;
+  std::string contentType;
+  Json json() const { return Json::parse(body, nullptr, false); }
+};
+
+inline Reply httpCall(int port, http::verb verb, const std::string& target,
+                      const std::string& body = "", const std::string& token = "") {
+  asio::io_context io;
+  beast::tcp_stream stream(io);
+  stream.expires_after(30s);
+  stream.connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"),
+                                         static_cast<unsigned short>(port)));
+  http::request<http::string_body> req{verb, target, 11};
+  req.set(http::field::host, "127.0.0.1");
+  if (!token.empty())
+    req.set(http::field::authorization, "Bearer " + token);
+  if (!body.empty())
+    req.set(http::field::content_type, "application/json");
+  req.body() = body;
+  req.prepare_payload();
+  beast::error_code ec;
+  http::write(stream, req, ec);
+  beast::flat_buffer buf;
+  http::response_parser<http::string_body> parser;
+  parser.body_limit(256u << 20);
+  http::read(stream, buf, parser, ec);
+  if (ec)
+    return {0, ec.message(), ""};
+  auto res = parser.release();
+  return {static_cast<int>(res.result_int()), res.body(),
+          std::string(res[http::field::content_type])};
+}
+
+// rig.json of a rig whose one case is the folder c1 (the format capture::readRig reads).
+inline void writeOneCaseRigJson(const std::filesystem::path& rig, const std::string& type) {
+  std::ofstream(rig / "rig.json")
+      << R"({"format": "garmcap-rig", "version": 1, "cases": [{"id": "c1", "dir": "c1", "type": ")"
+      << type << R"(", "attributes": {}, "hard": false}]})";
+}
+
+// A one-case replay rig (green screen, grey form, a red garment) in the test's temp tree, so the
+// e2e tests do not depend on the scene simulator being wired to the synthetic camera.
+inline std::filesystem::path makeRig(const std::filesystem::path& root) {
+  const auto rig = root / "rig";
+  std::filesystem::create_directories(rig / "c1");
+  cv::Mat empty(480, 640, CV_8UC3, cv::Scalar(40, 180, 40));
+  cv::ellipse(empty, {320, 240}, {70, 200}, 0, 0, 360, cv::Scalar(170, 170, 170), cv::FILLED);
+  cv::Mat dressed = empty.clone();
+  cv::rectangle(dressed, {250, 200}, {390, 380}, cv::Scalar(30, 30, 200), cv::FILLED);
+  cv::imwrite((rig / "c1" / "empty.png").string(), empty);
+  cv::imwrite((rig / "c1" / "dressed.png").string(), dressed);
+  std::ofstream(rig / "c1" / "truth.json") << R"({"type": "skirt", "measurements": {}})";
+  writeOneCaseRigJson(rig, "skirt");
+  return rig;
+}
+
+// A one-case replay rig holding a case of the bundled simulator rig (a real form on a green
+// screen, with its dressed frame): the station calibrates on it and GarmCap measures it.
+inline std::filesystem::path makeSimulatedRig(const std::filesystem::path& root) {
+  const auto rig = root / "simrig";
+  const auto src = std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig" / "case_002";
+  std::filesystem::create_directories(rig / "c1");
+  for (const char* f : {"empty.png", "dressed.png", "truth.json"})
+    std::filesystem::copy_file(src / f, rig / "c1" / f);
+  writeOneCaseRigJson(rig, "skirt");
+  return rig;
+}
+
+// The daemon as a child process; its port is read from its first stdout line.
+class Daemon {
+ public:
+  explicit Daemon(const std::filesystem::path& data, std::vector<std::string> extra = {},
+                  std::filesystem::path rigDir = {}) {
+    const auto rig = rigDir.empty() ? makeRig(data) : rigDir;
+    int out[2];
+    if (pipe(out) != 0)
+      throw std::runtime_error("pipe");
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(out[1], 1);
+      close(out[0]);
+      close(out[1]);
+      const int devnull = open("/dev/null", O_WRONLY);
+      if (!getenv("GARMCAP_E2E_VERBOSE"))
+        dup2(devnull, 2);
+      std::vector<std::string> args = {kBin,       "--simulated", "--data",   data.string(),
+                                       "--listen", "127.0.0.1:0", "--camera", "replay",
+                                       "--device", rig.string()};
+      args.insert(args.end(), extra.begin(), extra.end());
+      std::vector<char*> argv;
+      for (auto& a : args)
+        argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(kBin.c_str(), argv.data());
+      _exit(127);
+    }
+    close(out[1]);
+    // Read "garmcapd listening on 127.0.0.1:PORT" (bounded wait).
+    const std::string kPrefix = "garmcapd listening on ";
+    std::string line;
+    const auto deadline = std::chrono::steady_clock::now() + 60s;
+    fcntl(out[0], F_SETFL, O_NONBLOCK);
+    auto complete = [&] {
+      const auto at = line.find(kPrefix);
+      return at != std::string::npos && line.find('\n', at) != std::string::npos;
+    };
+    while (std::chrono::steady_clock::now() < deadline && !complete()) {
+      char c[256];
+      const ssize_t n = read(out[0], c, sizeof c);
+      if (n > 0)
+        line.append(c, static_cast<std::size_t>(n));
+      else if (n == 0)
+        break;
+      else
+        std::this_thread::sleep_for(10ms);
+    }
+    close(out[0]);
+    if (!complete())
+      throw std::runtime_error("garmcapd did not start: '" + line + "'");
+    line = line.substr(line.find(kPrefix));
+    line = line.substr(0, line.find('\n'));
+    const auto colon = line.rfind(':');
+    port_ = std::stoi(line.substr(colon + 1));
+  }
+  ~Daemon() {
+    if (pid_ > 0)
+      kill9();
+  }
+  int port() const { return port_; }
+  pid_t pid() const { return pid_; }
+  void kill9() {
+    ::kill(pid_, SIGKILL);
+    int st = 0;
+    waitpid(pid_, &st, 0);
+    pid_ = -1;
+  }
+  /// SIGTERM and wait (bounded); returns the exit status or -1 on timeout.
+  int terminate(std::chrono::seconds limit = 90s) {
+    ::kill(pid_, SIGTERM);
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < deadline) {
+      int st = 0;
+      if (waitpid(pid_, &st, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+      }
+      std::this_thread::sleep_for(20ms);
+    }
+    return -1;
+  }
+  Reply get(const std::string& t) const { return httpCall(port_, http::verb::get, t); }
+  Reply post(const std::string& t, const std::string& body = "") const {
+    return httpCall(port_, http::verb::post, t, body);
+  }
+  Json waitJob(std::int64_t id, std::chrono::seconds limit = 180s) const {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    Json j;
+    while (std::chrono::steady_clock::now() < deadline) {
+      j = get("/api/jobs/" + std::to_string(id)).json();
+      if (j.value("state", "") == "done" || j.value("state", "") == "failed")
+        return j;
+      std::this_thread::sleep_for(50ms);
+    }
+    return j;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int port_ = 0;
+};
+
+}  // namespace garmcap::e2e
