@@ -61,30 +61,41 @@ void BM_MvcOurs(benchmark::State& state) {
   record(state, "ours", cpuSeconds() - t0, n);
 }
 
+// CGAL's copies of a Setup's cage and queries.
+struct CgalInput {
+  std::vector<CgalPoint> poly, queries;
+  explicit CgalInput(const Setup& s) {
+    for (Eigen::Index i = 0; i < s.cage.rows(); ++i)
+      poly.emplace_back(s.cage(i, 0), s.cage(i, 1));
+    for (Eigen::Index k = 0; k < s.queries.rows(); ++k)
+      queries.emplace_back(s.queries(k, 0), s.queries(k, 1));
+  }
+};
+
+// One CGAL pass over all queries into the same output as ours: a dense M×N weight matrix.
+template <class Mvc>
+void cgalPass(Mvc& mvc, const std::vector<CgalPoint>& q, int n, Eigen::MatrixXd& w,
+              std::vector<double>& c) {
+  for (int k = 0; k < kQueries; ++k) {
+    c.clear();
+    mvc(q[static_cast<std::size_t>(k)], std::back_inserter(c));
+    for (int i = 0; i < n; ++i)
+      w(k, i) = c[static_cast<std::size_t>(i)];
+  }
+  benchmark::DoNotOptimize(w.data());
+}
+
 void cgalRun(benchmark::State& state, BC::Computation_policy_2 policy, const std::string& name) {
   const int n = static_cast<int>(state.range(0));
   const Setup s(n);
-  std::vector<CgalPoint> poly;
-  for (Eigen::Index i = 0; i < s.cage.rows(); ++i)
-    poly.emplace_back(s.cage(i, 0), s.cage(i, 1));
-  std::vector<CgalPoint> q;
-  for (Eigen::Index k = 0; k < s.queries.rows(); ++k)
-    q.emplace_back(s.queries(k, 0), s.queries(k, 1));
-  BC::Mean_value_coordinates_2<std::vector<CgalPoint>, Kernel> mvc(poly, policy);
-  // The same output as ours: a dense M×N weight matrix.
+  const CgalInput in(s);
+  BC::Mean_value_coordinates_2<std::vector<CgalPoint>, Kernel> mvc(in.poly, policy);
   Eigen::MatrixXd w(kQueries, n);
   std::vector<double> c;
   c.reserve(static_cast<std::size_t>(n));
   const double t0 = cpuSeconds();
-  for (auto _ : state) {
-    for (int k = 0; k < kQueries; ++k) {
-      c.clear();
-      mvc(q[static_cast<std::size_t>(k)], std::back_inserter(c));
-      for (int i = 0; i < n; ++i)
-        w(k, i) = c[static_cast<std::size_t>(i)];
-    }
-    benchmark::DoNotOptimize(w.data());
-  }
+  for (auto _ : state)
+    cgalPass(mvc, in.queries, n, w, c);
   record(state, name, cpuSeconds() - t0, n);
 }
 
@@ -120,27 +131,14 @@ double median(std::vector<double> v) {
 void BM_MvcRatio(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const Setup s(n);
-  std::vector<CgalPoint> poly, q;
-  for (Eigen::Index i = 0; i < s.cage.rows(); ++i)
-    poly.emplace_back(s.cage(i, 0), s.cage(i, 1));
-  for (Eigen::Index k = 0; k < s.queries.rows(); ++k)
-    q.emplace_back(s.queries(k, 0), s.queries(k, 1));
+  const CgalInput in(s);
   BC::Mean_value_coordinates_2<std::vector<CgalPoint>, Kernel> fast(
-      poly, BC::Computation_policy_2::FAST_WITH_EDGE_CASES);
+      in.poly, BC::Computation_policy_2::FAST_WITH_EDGE_CASES);
   BC::Mean_value_coordinates_2<std::vector<CgalPoint>, Kernel> precise(
-      poly, BC::Computation_policy_2::PRECISE_WITH_EDGE_CASES);
+      in.poly, BC::Computation_policy_2::PRECISE_WITH_EDGE_CASES);
   Eigen::MatrixXd w(kQueries, n);
   std::vector<double> c;
   c.reserve(static_cast<std::size_t>(n));
-  auto cgal = [&](auto& mvc) {
-    for (int k = 0; k < kQueries; ++k) {
-      c.clear();
-      mvc(q[static_cast<std::size_t>(k)], std::back_inserter(c));
-      for (int i = 0; i < n; ++i)
-        w(k, i) = c[static_cast<std::size_t>(i)];
-    }
-    benchmark::DoNotOptimize(w.data());
-  };
   auto ours = [&] {
     auto problem = meanValueCoordinatesUnchecked(s.cage, s.queries, w);
     benchmark::DoNotOptimize(problem);
@@ -150,8 +148,8 @@ void BM_MvcRatio(benchmark::State& state) {
   for (auto _ : state) {
     for (int round = 0; round < 9; ++round) {
       o.push_back(nsPerPointVertex(ours, n));
-      f.push_back(nsPerPointVertex([&] { cgal(fast); }, n));
-      p.push_back(nsPerPointVertex([&] { cgal(precise); }, n));
+      f.push_back(nsPerPointVertex([&] { cgalPass(fast, in.queries, n, w, c); }, n));
+      p.push_back(nsPerPointVertex([&] { cgalPass(precise, in.queries, n, w, c); }, n));
       rf.push_back(f.back() / o.back());
       rp.push_back(p.back() / o.back());
     }
