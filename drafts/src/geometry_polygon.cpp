@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "garmcap/drafts/geometry_polyline.h"
 
@@ -78,6 +79,12 @@ std::optional<std::pair<int, int>> findSelfIntersection(const Polyline& polygon)
     if ((p(i + 1) - p(i)).norm() < kGeometryEpsCm)
       return std::make_pair(i, (i + 1) % n);
   }
+  // Edge boxes once, not once per pair (this check runs on every panel of every draft).
+  std::vector<Point2> boxMin(static_cast<size_t>(n)), boxMax(static_cast<size_t>(n));
+  for (int j = 0; j < n; ++j) {
+    boxMin[size_t(j)] = p(j).cwiseMin(p(j + 1));
+    boxMax[size_t(j)] = p(j).cwiseMax(p(j + 1));
+  }
   for (int i = 0; i < n; ++i) {
     // Adjacent edges share a vertex; they intersect improperly only when the second folds
     // back along the first (a zero-angle spike).
@@ -88,13 +95,13 @@ std::optional<std::pair<int, int>> findSelfIntersection(const Polyline& polygon)
         return std::make_pair(std::min(i, (i + 1) % n), std::max(i, (i + 1) % n));
       }
     }
-    const Point2 amin = p(i).cwiseMin(p(i + 1)).array() - kGeometryEpsCm;
-    const Point2 amax = p(i).cwiseMax(p(i + 1)).array() + kGeometryEpsCm;
+    const Point2 amin = boxMin[size_t(i)].array() - kGeometryEpsCm;
+    const Point2 amax = boxMax[size_t(i)].array() + kGeometryEpsCm;
     for (int j = i + 2; j < n; ++j) {
       if (i == 0 && j == n - 1)
         continue;  // adjacent through the closing edge
-      const Point2 bmin = p(j).cwiseMin(p(j + 1));
-      const Point2 bmax = p(j).cwiseMax(p(j + 1));
+      const Point2& bmin = boxMin[size_t(j)];
+      const Point2& bmax = boxMax[size_t(j)];
       if ((bmin.array() > amax.array()).any() || (bmax.array() < amin.array()).any())
         continue;
       if (segmentsTouch(p(i), p(i + 1), p(j), p(j + 1)))

@@ -1,5 +1,6 @@
 // Garment recipes assembled from the blocks: bodice, dress, blouse, sleeve; and the common
 // finishing step.
+#include <algorithm>
 #include <cmath>
 
 #include "recipe_blocks.h"
@@ -21,7 +22,11 @@ void finishPattern(DraftBuilder& b) {
       b.refuse("panel '" + panel.name + "' is empty");
   }
   for (const auto& r : p.regions) {
-    if (!isSimplePolygon(r.polygon))
+    // A panel's own region (addPanelWithRegion) was just checked as its outline, more strictly.
+    const bool checkedAsPanel = std::any_of(p.panels.begin(), p.panels.end(), [&](const Panel& q) {
+      return q.name == r.name && q.outline == r.polygon;
+    });
+    if (!checkedAsPanel && !isSimplePolygon(r.polygon))
       b.refuse("draft region '" + r.name + "' crosses itself");
   }
 }

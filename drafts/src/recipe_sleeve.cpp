@@ -45,16 +45,46 @@ Polyline backCap(const Point2& top, double slant, double h, double q, double out
                kCapCount);
 }
 
-// Slant length whose half cap has length `target` (bisection; the cap grows with the slant).
+// Slant length whose half cap has length `target`: the midpoint of a bisection on [lo, hi]
+// down to 1e-5 cm (the cap grows with the slant). Each evaluation draws a whole cap curve and
+// the bisection needs about 23, so the root is first bracketed tightly by regula falsi
+// (Illinois variant, a handful of evaluations); the bisection is then replayed, taking its
+// decisions from that bracket — a midpoint left of it has f < 0, right of it f > 0 — and
+// evaluating only a midpoint that falls inside it. The result is bit for bit the plain
+// bisection's, in about a third of the curve evaluations.
 template <class F>
 std::optional<double> solveSlant(F capOf, double lo, double hi, double target) {
-  double fLo = polylineLength(capOf(lo)) - target, fHi = polylineLength(capOf(hi)) - target;
+  auto f = [&](double slant) { return polylineLength(capOf(slant)) - target; };
+  const double fLo = f(lo), fHi = f(hi);
   if (fLo > 0 || fHi < 0)
     return std::nullopt;
+  double a = lo, b = hi, fa = fLo, fb = fHi;
+  int side = 0;
+  for (int i = 0; i < 40 && b - a > 1e-7; ++i) {
+    double c = (a * fb - b * fa) / (fb - fa);
+    if (!(c > a && c < b))
+      c = (a + b) / 2;
+    const double fc = f(c);
+    if (fc < 0) {
+      a = c;
+      fa = fc;
+      if (side == -1)
+        fb /= 2;  // Illinois: the end that stays twice in a row gets half its weight
+      side = -1;
+    } else {
+      b = c;
+      fb = fc;
+      if (side == 1)
+        fa /= 2;
+      side = 1;
+    }
+  }
+  // Margin against rounding noise in f (its slope is of order 1, the noise ~1e-13 cm).
+  const double aSafe = a - 1e-9, bSafe = b + 1e-9;
   for (int i = 0; i < 50 && hi - lo > 1e-5; ++i) {
     const double m = (lo + hi) / 2;
-    const double fm = polylineLength(capOf(m)) - target;
-    (fm < 0 ? lo : hi) = m;
+    const bool below = m < aSafe ? true : (m > bSafe ? false : f(m) < 0);
+    (below ? lo : hi) = m;
   }
   return (lo + hi) / 2;
 }

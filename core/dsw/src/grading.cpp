@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 
 #include "garmcap/drafts/panel_measure.h"
@@ -162,7 +163,15 @@ Expected<EncodedPattern> encodePattern(const Pattern& source,
     for (std::size_t i : members)
       enc.panelOffset[i] = shift;
   }
-  // Step 3, encoding.
+  // Step 3, encoding. Each region is converted and checked once, however many panels use it.
+  std::map<const drafts::DraftRegion*, Points> cages;
+  for (const auto& list : panelRegions) {
+    for (const auto* r : list) {
+      if (cages.count(r) == 0)
+        cages.emplace(r, toPoints(r->polygon));
+    }
+  }
+  std::map<const drafts::DraftRegion*, std::optional<std::string>> cageProblems;
   for (std::size_t pi = 0; pi < source.panels.size(); ++pi) {
     const Panel& panel = source.panels[pi];
     std::vector<Vec2> pts = flattenPanel(panel);
@@ -173,9 +182,11 @@ Expected<EncodedPattern> encodePattern(const Pattern& source,
       if (!p.allFinite())
         return Error{"encode: panel '" + panel.name + "' point " + std::to_string(k) +
                      " is not finite"};
-      const drafts::DraftRegion* chosen = nullptr;
+      // One region (the usual case: a panel and its own block) needs no choice.
+      const drafts::DraftRegion* chosen =
+          panelRegions[pi].size() == 1 ? panelRegions[pi].front() : nullptr;
       double best = std::numeric_limits<double>::infinity();
-      for (const auto* r : panelRegions[pi]) {
+      for (const auto* r : chosen ? std::vector<const drafts::DraftRegion*>{} : panelRegions[pi]) {
         if (inside(r->polygon, p)) {
           chosen = r;
           break;
@@ -193,7 +204,16 @@ Expected<EncodedPattern> encodePattern(const Pattern& source,
       for (std::size_t s = 0; s < slots.size(); ++s)
         q.row(static_cast<Eigen::Index>(s)) =
             (pts[static_cast<std::size_t>(slots[s])] + enc.panelOffset[pi]).transpose();
-      auto e = encodePoints(method, toPoints(region->polygon), q);
+      const Points& cage = cages.at(region);
+      if (method == CoordMethod::kMeanValue) {  // the other methods check their cage themselves
+        auto checked = cageProblems.find(region);
+        if (checked == cageProblems.end())
+          checked = cageProblems.emplace(region, cageProblem(cage)).first;
+        if (checked->second)
+          return Error{"encode: panel '" + panel.name + "' in region '" + region->name +
+                       "': mean value coordinates: " + *checked->second};
+      }
+      auto e = encodePointsInCheckedCage(method, cage, q);
       if (!e)
         return Error{"encode: panel '" + panel.name + "' in region '" + region->name +
                      "': " + e.error().message};

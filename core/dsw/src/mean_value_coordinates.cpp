@@ -1,5 +1,6 @@
 #include "garmcap/dsw/mean_value_coordinates.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -59,88 +60,104 @@ std::optional<std::string> exactRow(const Points& polygon, double x, double y, E
          "): mean value weights cannot be normalised (point too far from the polygon)";
 }
 
-// One edge (i -> i+1) for all points: reads s_i, r_i (a*) and t_{i-1} (tPrev), computes s_{i+1},
-// r_{i+1} into b* (unless `next` is given: the wrap-around to vertex 0), t_i, and column i =
-// (t_{i-1} + t_i) / r_i. Plain loops over restrict pointers so that GCC vectorises them; built
-// for AVX2 as well where the CPU has it (ifunc dispatch), SSE2 otherwise.
-__attribute__((target_clones("avx2", "default"))) void edgeColumns(
-    Eigen::Index m, const double* __restrict px, const double* __restrict py, double vx, double vy,
-    const double* __restrict sxa, const double* __restrict sya, const double* __restrict ra,
-    double* __restrict sxb, double* __restrict syb, double* __restrict rb, double* __restrict tPrev,
-    double* __restrict col, double* __restrict sum) {
+// tan(α_i/2) is kept as a fraction num_i/den_i (the form chosen by the sign of D_i, see
+// halfAngleTan), so that w_i = (t_{i-1} + t_i)/r_i = (num_{i-1} den_i + num_i den_{i-1}) /
+// (den_{i-1} den_i r_i) costs one division instead of two; with the square root for r_{i+1}
+// that is what bounds the kernel (the divider does both). den is r r' + D ≥ 0 or det, of the
+// order of r², so the product only overflows beyond ~1e60 cm and only vanishes on a vertex or
+// an edge: those rows get a non-finite or zero sum and go to exactRow.
+struct HalfAngle {
+  double num, den;
+};
+inline HalfAngle halfAngleFraction(double ax, double ay, double ra, double bx, double by,
+                                   double rb) {
+  const double det = ax * by - ay * bx;
+  const double dot = ax * bx + ay * by;
+  const double rr = ra * rb;
+  // Both candidate forms are computed, then selected: branch-free, so it vectorises.
+  const bool pos = dot >= 0;
+  return {pos ? det : rr - dot, pos ? rr + dot : det};
+}
+
+// Per-block scratch, one array per quantity (structure of arrays): s and r of vertex i (a)
+// and i+1 (b), s and r of vertex 0, tan(α/2) of edge i-1 and of edge 0 as fractions, and the
+// row sums.
+constexpr Eigen::Index kBlock = 256;  // 15 arrays × 2 KiB: the scratch stays in L1
+struct Scratch {
+  alignas(64) double sxa[kBlock], sya[kBlock], ra[kBlock];
+  alignas(64) double sxb[kBlock], syb[kBlock], rb[kBlock];
+  alignas(64) double r0[kBlock];
+  alignas(64) double numPrev[kBlock], denPrev[kBlock], numFirst[kBlock], denFirst[kBlock];
+  alignas(64) double sum[kBlock];
+};
+
+// Plain loops over restrict pointers so that GCC vectorises them; built for AVX-512 and AVX2
+// as well where the CPU has them (ifunc dispatch), SSE2 otherwise.
+#define GARMCAP_MVC_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+
+// First edge (0 -> 1): s_0, r_0 into a and r0, s_1, r_1 into b, t_0 into prev and first.
+GARMCAP_MVC_CLONES void firstEdge(Eigen::Index m, const double* __restrict px,
+                                  const double* __restrict py, double v0x, double v0y, double v1x,
+                                  double v1y, Scratch& __restrict s) {
   for (Eigen::Index k = 0; k < m; ++k) {
-    const double bx = vx - px[k];
-    const double by = vy - py[k];
+    const double ax = v0x - px[k], ay = v0y - py[k];
+    const double bx = v1x - px[k], by = v1y - py[k];
+    const double r0 = std::sqrt(ax * ax + ay * ay);
+    const double r1 = std::sqrt(bx * bx + by * by);
+    s.sxa[k] = ax;
+    s.sya[k] = ay;
+    s.ra[k] = r0;
+    s.r0[k] = r0;
+    s.sxb[k] = bx;
+    s.syb[k] = by;
+    s.rb[k] = r1;
+    const HalfAngle t = halfAngleFraction(ax, ay, r0, bx, by, r1);
+    s.numPrev[k] = t.num;
+    s.denPrev[k] = t.den;
+    s.numFirst[k] = t.num;
+    s.denFirst[k] = t.den;
+    s.sum[k] = 0;
+  }
+}
+
+// Edge i -> i+1 (vertex i+1 at v): reads s_i, r_i from a and t_{i-1} from prev, writes
+// s_{i+1}, r_{i+1} into b, t_i into prev, and column i (stride: the block's rows of it).
+GARMCAP_MVC_CLONES void edgeColumn(Eigen::Index m, const double* __restrict px,
+                                   const double* __restrict py, double vx, double vy,
+                                   const double* __restrict sxa, const double* __restrict sya,
+                                   const double* __restrict ra, double* __restrict sxb,
+                                   double* __restrict syb, double* __restrict rb,
+                                   double* __restrict numPrev, double* __restrict denPrev,
+                                   double* __restrict col, double* __restrict sum) {
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const double bx = vx - px[k], by = vy - py[k];
     const double rn = std::sqrt(bx * bx + by * by);
     sxb[k] = bx;
     syb[k] = by;
     rb[k] = rn;
-    const double det = sxa[k] * by - sya[k] * bx;
-    const double dot = sxa[k] * bx + sya[k] * by;
-    const double rr = ra[k] * rn;
-    // Both candidate forms are computed, then selected: branch-free, so it vectorises.
-    const double plus = rr + dot;
-    const double minus = rr - dot;
-    const bool pos = dot >= 0;
-    const double num = pos ? det : minus;
-    const double den = pos ? plus : det;
-    const double t = num / den;
-    const double w = (tPrev[k] + t) / ra[k];
+    const HalfAngle t = halfAngleFraction(sxa[k], sya[k], ra[k], bx, by, rn);
+    const double w = (numPrev[k] * t.den + t.num * denPrev[k]) / (denPrev[k] * t.den * ra[k]);
     col[k] = w;
     sum[k] += w;
-    tPrev[k] = t;
+    numPrev[k] = t.num;
+    denPrev[k] = t.den;
   }
 }
 
-// First edge (0 -> 1) and the starting arrays: s_0, r_0 into a*, s_1, r_1 into b*, t_0 into
-// tPrev and tFirst.
-__attribute__((target_clones("avx2", "default"))) void firstEdge(
-    Eigen::Index m, const double* __restrict px, const double* __restrict py, double v0x,
-    double v0y, double v1x, double v1y, double* __restrict sxa, double* __restrict sya,
-    double* __restrict ra, double* __restrict sxb, double* __restrict syb, double* __restrict rb,
-    double* __restrict tPrev, double* __restrict tFirst, double* __restrict sum) {
+// Closes the ring, column 0 = (t_{n-1} + t_0) / r_0, then normalises the block's rows of
+// every column; sum becomes 1/Σw.
+GARMCAP_MVC_CLONES void closeAndNormalise(Eigen::Index m, Eigen::Index n, Eigen::Index stride,
+                                          Scratch& __restrict s, double* __restrict weights) {
   for (Eigen::Index k = 0; k < m; ++k) {
-    const double ax = v0x - px[k];
-    const double ay = v0y - py[k];
-    const double r0 = std::sqrt(ax * ax + ay * ay);
-    const double bx = v1x - px[k];
-    const double by = v1y - py[k];
-    const double r1 = std::sqrt(bx * bx + by * by);
-    sxa[k] = ax;
-    sya[k] = ay;
-    ra[k] = r0;
-    sxb[k] = bx;
-    syb[k] = by;
-    rb[k] = r1;
-    const double det = ax * by - ay * bx;
-    const double dot = ax * bx + ay * by;
-    const double rr = r0 * r1;
-    // Both candidate forms are computed, then selected: branch-free, so it vectorises.
-    const double plus = rr + dot;
-    const double minus = rr - dot;
-    const bool pos = dot >= 0;
-    const double num = pos ? det : minus;
-    const double den = pos ? plus : det;
-    const double t = num / den;
-    tPrev[k] = t;
-    tFirst[k] = t;
-    sum[k] = 0;
-  }
-}
-
-// Closes the ring: column 0 = (t_{n-1} + t_0) / r_0, then normalises every column.
-__attribute__((target_clones("avx2", "default"))) void closeAndNormalise(
-    Eigen::Index m, Eigen::Index n, const double* __restrict r0, const double* __restrict tPrev,
-    const double* __restrict tFirst, double* __restrict weights, double* __restrict sum) {
-  for (Eigen::Index k = 0; k < m; ++k) {
-    const double w = (tPrev[k] + tFirst[k]) / r0[k];
+    const double w = (s.numPrev[k] * s.denFirst[k] + s.numFirst[k] * s.denPrev[k]) /
+                     (s.denPrev[k] * s.denFirst[k] * s.r0[k]);
     weights[k] = w;
-    sum[k] = 1.0 / (sum[k] + w);
+    s.sum[k] = 1.0 / (s.sum[k] + w);
   }
   for (Eigen::Index i = 0; i < n; ++i) {
-    double* __restrict col = weights + i * m;
+    double* __restrict col = weights + i * stride;
     for (Eigen::Index k = 0; k < m; ++k)
-      col[k] *= sum[k];
+      col[k] *= s.sum[k];
   }
 }
 
@@ -156,41 +173,36 @@ std::optional<std::string> meanValueCoordinatesUnchecked(const Points& polygon,
     return n < 2 ? std::optional<std::string>("polygon has fewer than 2 vertices") : std::nullopt;
   const double* px = points.col(0).data();
   const double* py = points.col(1).data();
-  // Scratch: s and r of vertex 0, of the current vertex i and of i+1 (ping-pong), t_{i-1},
-  // t_0 and the row sums.
-  Eigen::ArrayXXd scratch(m, 12);
-  auto colPtr = [&](int c) { return &scratch(0, c); };
-  double* sxa = colPtr(0);
-  double* sya = colPtr(1);
-  double* ra = colPtr(2);
-  double* sxb = colPtr(3);
-  double* syb = colPtr(4);
-  double* rb = colPtr(5);
-  double* sx0 = colPtr(6);
-  double* sy0 = colPtr(7);
-  double* r0 = colPtr(8);
-  double* tPrev = colPtr(9);
-  double* tFirst = colPtr(10);
-  double* sum = colPtr(11);
-  firstEdge(m, px, py, polygon(0, 0), polygon(0, 1), polygon(1, 0), polygon(1, 1), sx0, sy0, r0,
-            sxa, sya, ra, tPrev, tFirst, sum);
-  // Edges 1 .. n-1; edge n-1 wraps to vertex 0, whose s and r are recomputed into b (cheaper
-  // than a special loop, and bit-identical).
-  for (Eigen::Index i = 1; i < n; ++i) {
-    const Eigen::Index j = (i + 1) % n;
-    edgeColumns(m, px, py, polygon(j, 0), polygon(j, 1), sxa, sya, ra, sxb, syb, rb, tPrev,
-                weights.col(i).data(), sum);
-    std::swap(sxa, sxb);
-    std::swap(sya, syb);
-    std::swap(ra, rb);
-  }
-  closeAndNormalise(m, n, r0, tPrev, tFirst, weights.data(), sum);
-  // Rows whose sum was not a finite non-zero number are the special points: on a vertex or an
-  // edge, or with overflowing weights. sum now holds 1/Σw.
-  for (Eigen::Index k = 0; k < m; ++k) {
-    if (!std::isfinite(sum[k]) || sum[k] == 0) {
-      if (auto problem = exactRow(polygon, px[k], py[k], k, weights))
-        return problem;
+  Scratch s;
+  // Blocks of points: every pass over the edges then works on L1-resident scratch and on a
+  // block of the weight columns, instead of streaming all points' arrays once per edge.
+  for (Eigen::Index b0 = 0; b0 < m; b0 += kBlock) {
+    const Eigen::Index mb = std::min(kBlock, m - b0);
+    double* sxa = s.sxa;
+    double* sya = s.sya;
+    double* ra = s.ra;
+    double* sxb = s.sxb;
+    double* syb = s.syb;
+    double* rb = s.rb;
+    firstEdge(mb, px + b0, py + b0, polygon(0, 0), polygon(0, 1), polygon(1, 0), polygon(1, 1), s);
+    // Edges 1 .. n-1; edge n-1 wraps to vertex 0, whose s and r are recomputed into b
+    // (cheaper than a special loop, and bit-identical).
+    for (Eigen::Index i = 1; i < n; ++i) {
+      const Eigen::Index j = (i + 1) % n;
+      edgeColumn(mb, px + b0, py + b0, polygon(j, 0), polygon(j, 1), sxb, syb, rb, sxa, sya, ra,
+                 s.numPrev, s.denPrev, weights.col(i).data() + b0, s.sum);
+      std::swap(sxa, sxb);
+      std::swap(sya, syb);
+      std::swap(ra, rb);
+    }
+    closeAndNormalise(mb, n, m, s, weights.data() + b0);
+    // Rows whose sum was not a finite non-zero number are the special points: on a vertex or
+    // an edge, or with overflowing weights. sum now holds 1/Σw.
+    for (Eigen::Index k = 0; k < mb; ++k) {
+      if (!std::isfinite(s.sum[k]) || s.sum[k] == 0) {
+        if (auto problem = exactRow(polygon, px[b0 + k], py[b0 + k], b0 + k, weights))
+          return problem;
+      }
     }
   }
   return std::nullopt;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace garmcap::dsw {
 namespace {
@@ -97,12 +98,23 @@ std::optional<std::string> cageProblem(const Points& polygon) {
     return "polygon has zero area (collinear vertices)";
   // Simplicity: no two non-adjacent edges (between distinct vertices) touch.
   const std::size_t m = distinct.size();
+  // Edge bounding boxes: segments that touch have overlapping boxes, and most pairs of a draft
+  // region's edges are far apart, so the box test skips the orientation tests for them.
+  std::vector<Eigen::Vector2d> lo(m), hi(m);
+  for (std::size_t a = 0; a < m; ++a) {
+    const Eigen::Vector2d p1 = polygon.row(distinct[a]).transpose();
+    const Eigen::Vector2d p2 = polygon.row(distinct[(a + 1) % m]).transpose();
+    lo[a] = p1.cwiseMin(p2);
+    hi[a] = p1.cwiseMax(p2);
+  }
   for (std::size_t a = 0; a < m; ++a) {
     const Eigen::Vector2d p1 = polygon.row(distinct[a]).transpose();
     const Eigen::Vector2d p2 = polygon.row(distinct[(a + 1) % m]).transpose();
     for (std::size_t b = a + 2; b < m; ++b) {
       if (a == 0 && b == m - 1)
         continue;  // adjacent through the wrap-around
+      if ((lo[b].array() > hi[a].array()).any() || (hi[b].array() < lo[a].array()).any())
+        continue;
       const Eigen::Vector2d q1 = polygon.row(distinct[b]).transpose();
       const Eigen::Vector2d q2 = polygon.row(distinct[(b + 1) % m]).transpose();
       if (segmentsIntersect(p1, p2, q1, q2))

@@ -36,6 +36,12 @@ struct Encoding {
 /// Encodes `points` (M×2) against `polygon` (N×2). Errors as the method's function.
 Expected<Encoding> encodePoints(CoordMethod method, const Points& polygon, const Points& points);
 
+/// As encodePoints, for a cage the caller has already checked with cageProblem() (grading
+/// checks each draft region once and encodes several point sets against it): mean value
+/// coordinates then skip that O(N²) check; the other methods run their own checks as usual.
+Expected<Encoding> encodePointsInCheckedCage(CoordMethod method, const Points& polygon,
+                                             const Points& points);
+
 /// Decodes against `target` (N×2, same vertex order as the source cage). M×2. Errors: vertex
 /// count differs, non-finite target, or (Green) a zero-length target edge.
 Expected<Points> decodePoints(const Encoding& encoding, const Points& target);
