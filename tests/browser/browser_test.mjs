@@ -64,7 +64,11 @@ async function main() {
     // A one-case replay rig in the temp folder: the bare form and the dressed frame of CASE_DIR.
     mkdirSync(join(work, 'rig', 'c1'), { recursive: true });
     for (const f of ['empty.png', 'dressed.png', 'truth.json']) copyFileSync(join(rigCase, f), join(work, 'rig', 'c1', f));
-    writeFileSync(join(work, 'rig', 'rig.json'), JSON.stringify({ cases: ['c1'] }));
+    // The rig index as capture::readRig reads it (docs/formats.md).
+    writeFileSync(join(work, 'rig', 'rig.json'), JSON.stringify({
+      format: 'garmcap-rig', version: 1,
+      cases: [{ id: 'c1', dir: 'c1', type: 'skirt', attributes: {}, hard: false }],
+    }));
     daemonArgs.push('--camera', 'replay', '--device', join(work, 'rig'));
   }
   daemon = stub
