@@ -77,13 +77,4 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view);
 /// Garment circumference (cm) at form height h under the model (knots with plateaus).
 double garmentCircAt(const GarmentSpec& spec, const FormView& view, double heightCm);
 
-/// Garment measurements from body measurements through the project's drafts: the recipe for
-/// the type and attributes, drafted for `body`, measured on its panels. Throws
-/// drafts::DraftError (from the recipe) or std::invalid_argument when the pattern lacks a
-/// measurement the type needs.
-std::map<std::string, double> garmentFromDraft(const std::string& type,
-                                               const std::map<std::string, std::string>& attributes,
-                                               const drafts::Measurements& body,
-                                               std::string* recipeUsed = nullptr);
-
 }  // namespace garmcap::calib
