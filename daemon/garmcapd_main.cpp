@@ -169,7 +169,9 @@ int main(int argc, char** argv) {
           daemon::Config fresh = buildConfig(o);
           station->reload(fresh);
           files->rescan();
+          spdlog::info("garmcapd: SIGHUP: configuration reloaded");
         } catch (const std::exception& e) {
+          // The message names the file, the key and the reason (config.h).
           spdlog::error("garmcapd: reload refused, keeping the running config: {}", e.what());
         }
         sd_notify(0, "READY=1");

@@ -88,6 +88,20 @@ const char* text(sqlite3_stmt* s, int col) {
   return t ? reinterpret_cast<const char*>(t) : "";
 }
 
+// Milliseconds, fixed width: timestamps compare as strings (the queued-job expiry relies on it).
+std::string isoUtc(std::chrono::system_clock::time_point t) {
+  const std::time_t tt = std::chrono::system_clock::to_time_t(t);
+  const auto ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count() % 1000;
+  std::tm tm{};
+  gmtime_r(&tt, &tm);
+  char buf[40];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &tm);
+  char out[48];
+  std::snprintf(out, sizeof out, "%s.%03dZ", buf, static_cast<int>(ms));
+  return out;
+}
+
 nlohmann::json jsonColumn(sqlite3_stmt* s, int col, nlohmann::json fallback) {
   if (sqlite3_column_type(s, col) == SQLITE_NULL)
     return fallback;
@@ -306,17 +320,7 @@ std::string Catalog::integrityCheck() {
 }
 
 std::string Catalog::now() const {
-  const auto t = std::chrono::system_clock::now();
-  const std::time_t tt = std::chrono::system_clock::to_time_t(t);
-  const auto ms =
-      std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count() % 1000;
-  std::tm tm{};
-  gmtime_r(&tt, &tm);
-  char buf[40];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &tm);
-  char out[48];
-  std::snprintf(out, sizeof out, "%s.%03dZ", buf, static_cast<int>(ms));
-  return out;
+  return isoUtc(std::chrono::system_clock::now());
 }
 
 // --- images ----------------------------------------------------------------------------------
@@ -405,15 +409,17 @@ nlohmann::json Job::toJson() const {
   return j;
 }
 
-std::int64_t Catalog::addJob(const std::string& kind, const std::string& sku) {
+std::int64_t Catalog::addJob(const std::string& kind, const std::string& sku,
+                             std::optional<std::int64_t> itemId) {
   const std::string t = now();
   Statement(*this,
-            "INSERT INTO jobs(kind, state, stage, progress, sku, created_at, updated_at) "
-            "VALUES(?, 'queued', 'queued', 0, ?, ?, ?)")
+            "INSERT INTO jobs(kind, state, stage, progress, sku, item_id, created_at, updated_at) "
+            "VALUES(?, 'queued', 'queued', 0, ?, ?, ?, ?)")
       .bind(1, kind)
       .bind(2, sku)
-      .bind(3, t)
+      .bind(3, itemId)
       .bind(4, t)
+      .bind(5, t)
       .run();
   return sqlite3_last_insert_rowid(db_);
 }
@@ -509,17 +515,46 @@ void Catalog::finishJob(std::int64_t id, std::optional<std::int64_t> itemId,
 std::vector<std::int64_t> Catalog::failInterruptedJobs(const std::string& reason) {
   std::vector<std::int64_t> ids;
   {
-    Statement s(*this, "SELECT id, stage FROM jobs WHERE state IN ('queued','running')");
+    Statement s(*this, "SELECT id FROM jobs WHERE state = 'running' ORDER BY id");
     while (s.step())
       ids.push_back(sqlite3_column_int64(s.get(), 0));
   }
   Statement(*this,
             "UPDATE jobs SET state = 'failed', error = ? || ' (during ' || stage || ')', "
-            "updated_at = ? WHERE state IN ('queued','running')")
+            "updated_at = ? WHERE state = 'running'")
       .bind(1, reason)
       .bind(2, now())
       .run();
   return ids;
+}
+
+std::vector<std::int64_t> Catalog::expireQueuedJobs(std::chrono::seconds maxAge,
+                                                    const std::string& reason) {
+  const std::string cutoff = isoUtc(std::chrono::system_clock::now() - maxAge);
+  std::vector<std::int64_t> ids;
+  {
+    Statement s(*this, "SELECT id FROM jobs WHERE state = 'queued' AND created_at < ? ORDER BY id");
+    s.bind(1, cutoff);
+    while (s.step())
+      ids.push_back(sqlite3_column_int64(s.get(), 0));
+  }
+  Statement(*this,
+            "UPDATE jobs SET state = 'failed', error = ?, updated_at = ? "
+            "WHERE state = 'queued' AND created_at < ?")
+      .bind(1, reason)
+      .bind(2, now())
+      .bind(3, cutoff)
+      .run();
+  return ids;
+}
+
+std::vector<Job> Catalog::queuedJobs() {
+  const std::string sql = std::string(kJobColumns) + "WHERE state = 'queued' ORDER BY id";
+  Statement s(*this, sql.c_str());
+  std::vector<Job> out;
+  while (s.step())
+    out.push_back(readJob(s.get()));
+  return out;
 }
 
 // --- items -----------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <map>
+#include <sstream>
 #include <toml.hpp>
 
 namespace garmcap::daemon {
@@ -54,8 +55,11 @@ Setter doubleKey(double Config::*member, double lo, double hi) {
       x = static_cast<double>(v.as_integer());
     else
       bad(key, "must be a number");
-    if (!(x >= lo && x <= hi))
-      bad(key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    if (!(x >= lo && x <= hi)) {
+      std::ostringstream msg;  // "[0, 1], got 2.5", not std::to_string's "0.000000"
+      msg << "must be in [" << lo << ", " << hi << "], got " << x;
+      bad(key, msg.str());
+    }
     c.*member = x;
   };
 }
@@ -112,7 +116,8 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
         {"size_chart", stringKey(&Config::sizeChart)},
         {"review_below_confidence", doubleKey(&Config::reviewBelowConfidence, 0.0, 1.0)},
         {"worker_threads", intKey(&Config::workerThreads, 1, 64)},
-        {"queue_limit", intKey(&Config::queueLimit, 1, 10000)}}},
+        {"queue_limit", intKey(&Config::queueLimit, 1, 10000)},
+        {"resume_queued_s", intKey(&Config::resumeQueuedS, 0, 7 * 86400)}}},
       {"naming", {{"template", stringKey(&Config::namingTemplate)}}},
   };
   return kSchema;

@@ -134,6 +134,29 @@ class UnpluggableCamera : public capture::Camera {
   std::shared_ptr<std::atomic<bool>> off_;
 };
 
+// Settings the running objects were built from (camera, GPIO, HTTP server, data folder): a
+// reload cannot apply them, so it names them instead of silently ignoring them.
+std::vector<std::string> restartOnlyChanges(const Config& a, const Config& b) {
+  std::vector<std::string> out;
+  auto check = [&](bool differ, const char* key) {
+    if (differ)
+      out.push_back(key);
+  };
+  check(a.cameraBackend != b.cameraBackend, "[camera] backend");
+  check(a.cameraDevice != b.cameraDevice, "[camera] device");
+  check(a.formPath != b.formPath, "[camera] form");
+  check(a.stillWidth != b.stillWidth || a.stillHeight != b.stillHeight,
+        "[camera] still_width/still_height");
+  check(a.gpioBackend != b.gpioBackend || a.buttonChip != b.buttonChip ||
+            a.buttonLine != b.buttonLine || a.ledChip != b.ledChip || a.ledLine != b.ledLine,
+        "[gpio]");
+  check(a.dataDir != b.dataDir, "[paths] data");
+  check(a.listenAddress != b.listenAddress || a.listenPort != b.listenPort, "[http] listen");
+  check(a.token != b.token, "[http] token");
+  check(a.workerThreads != b.workerThreads, "[pipeline] worker_threads");
+  return out;
+}
+
 }  // namespace
 
 Station::Station(asio::io_context& io, Config config, std::unique_ptr<capture::Camera> camera,
@@ -182,10 +205,28 @@ void Station::start() {
   std::filesystem::create_directories(config_.dataDir);
   catalog_ = std::make_unique<Catalog>(std::filesystem::path(config_.dataDir) / "catalog.sqlite");
   store_ = std::make_unique<ContentStore>(std::filesystem::path(config_.dataDir) / "blobs");
+  // A job that was running when the process died is not retried: it may be what killed it,
+  // and a restart loop would follow. Its stored frames stay, so the item can be re-captured.
   const auto interrupted =
       catalog_->failInterruptedJobs("interrupted: garmcapd stopped before the job finished");
   for (auto id : interrupted)
     spdlog::warn("station: job {} was interrupted; marked failed", id);
+  // Queued jobs never started: an accepted press is run after a restart, unless it is so old
+  // that the garment has likely left the form.
+  const auto maxAge = std::chrono::seconds(config_.resumeQueuedS);
+  for (auto id : catalog_->expireQueuedJobs(maxAge, "expired: garmcapd was down for more than " +
+                                                        std::to_string(config_.resumeQueuedS) +
+                                                        " s before the job could start"))
+    spdlog::warn("station: queued job {} expired while garmcapd was down", id);
+  for (const Job& j : catalog_->queuedJobs()) {
+    Pending p{JobKind::kDressed, j.id, j.sku, j.itemId.value_or(0), false, 1};
+    if (j.kind == toString(JobKind::kEmpty))
+      p.kind = JobKind::kEmpty;
+    else if (j.kind == toString(JobKind::kRerun))
+      p.kind = JobKind::kRerun;
+    queue_.push_back(std::move(p));
+    spdlog::info("station: job {} ({}) resumed from the queue", j.id, j.kind);
+  }
   const std::size_t swept = store_->sweepOrphans(catalog_->referencedImages());
   if (swept)
     spdlog::warn("station: removed {} orphaned blobs left by a crash", swept);
@@ -200,6 +241,7 @@ void Station::start() {
     startGpio();
     ledTick();
     keepAliveTick();
+    startNext();  // resumed jobs; the camera thread opens the camera before their stills
   });
 }
 
@@ -391,7 +433,8 @@ void Station::submitOnStrand(JobKind kind, std::string sku, std::int64_t itemId,
   }
   std::int64_t jobId = 0;
   try {
-    jobId = catalog_->addJob(toString(kind), sku);
+    jobId = catalog_->addJob(toString(kind), sku,
+                             kind == JobKind::kRerun ? std::optional(itemId) : std::nullopt);
   } catch (const std::exception& e) {
     spdlog::error("station: cannot record a job: {}", e.what());
     return answer({std::nullopt, 500, e.what(), false});
@@ -440,9 +483,15 @@ void Station::setStage(const std::string& stage, double progress, bool persist) 
 }
 
 void Station::startNext() {
-  if (running_ || queue_.empty())
+  if (running_)
     return;
-  if (stopping_)
+  // A reload during a job could not swap the processor under the worker using it.
+  if (pendingProcessor_ && processorFactory_) {
+    processor_ = processorFactory_(*pendingProcessor_);
+    pendingProcessor_.reset();
+    spdlog::info("station: pipeline options of the reloaded configuration now in use");
+  }
+  if (queue_.empty() || stopping_)
     return;
   Pending req = queue_.front();
   queue_.pop_front();
@@ -584,6 +633,8 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
         asio::post(strand_, [this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
       };
       ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress);
+      // Encoding and fsyncing the product images takes a noticeable moment at full resolution.
+      asio::post(strand_, [this] { setStage("images", 0.92, false); });
       auto item = std::make_shared<NewItem>();
       item->sku = sku;
       item->type = r.type;
@@ -695,6 +746,17 @@ nlohmann::json Station::statusJson() {
                  {"open", cameraOpen_},
                  {"error", cameraError_}};
   s["gpio"] = gpio_ ? gpio_->backend() : "none";
+  // The reloadable settings in force, so that an operator (and the tests) can see what a SIGHUP
+  // did or refused to do.
+  s["config"] = {{"review_below_confidence", config_.reviewBelowConfidence},
+                 {"queue_limit", config_.queueLimit},
+                 {"resume_queued_s", config_.resumeQueuedS},
+                 {"naming_template", config_.namingTemplate},
+                 {"size_chart", config_.sizeChart},
+                 {"product_images", config_.makeProductImages},
+                 {"texture", config_.makeTexture},
+                 {"product_size_px", config_.productSizePx},
+                 {"reloads", reloads_}};
   s["preview_clients"] = previewSinks_.size();
   s["event_clients"] = eventSinks_.size();
   return s;
@@ -811,7 +873,13 @@ void Station::shutdown(std::chrono::seconds grace, std::function<void()> done) {
       return;
     stopping_ = true;
     shutdownDone_ = done;
+    // Queued jobs stay queued in the catalog (checkpointed): the next start runs them, within
+    // resume_queued_s. With resuming off they are cancelled now, so none is left dangling.
     for (const auto& p : queue_) {
+      if (config_.resumeQueuedS > 0) {
+        spdlog::info("station: job {} stays queued for the next start", p.jobId);
+        continue;
+      }
       try {
         catalog_->failJob(p.jobId, "cancelled: garmcapd stopped before the job started");
       } catch (const std::exception& e) {
@@ -877,9 +945,16 @@ void Station::reload(const Config& c) {
     config_.makeTexture = c.makeTexture;
     config_.productSizePx = c.productSizePx;
     config_.sizeChart = c.sizeChart;
-    if (processorFactory_ && !running_)
-      processor_ = processorFactory_(c);
-    spdlog::info("station: configuration reloaded (camera, GPIO and HTTP changes need a restart)");
+    config_.resumeQueuedS = c.resumeQueuedS;
+    for (const auto& key : restartOnlyChanges(config_, c))
+      spdlog::warn("station: {} changed in the configuration; it takes effect after a restart",
+                   key);
+    ++reloads_;
+    if (processorFactory_) {
+      pendingProcessor_ = c;
+      startNext();  // swaps the processor now when idle, else when the job in hand ends
+    }
+    spdlog::info("station: configuration reloaded");
   });
 }
 

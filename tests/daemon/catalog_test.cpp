@@ -5,6 +5,7 @@
 
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "garmcap/daemon/content_store.h"
 #include "test_util.h"
@@ -144,19 +145,32 @@ TEST(Catalog, SearchFilterAndPaging) {
   EXPECT_EQ(c.items(inj).second, 0);
 }
 
-TEST(Catalog, InterruptedJobsAreFailedAtOpen) {
+TEST(Catalog, RunningJobsFailAtOpenQueuedOnesWaitOrExpire) {
   test::TempDir dir;
   Catalog c(dir.path() / "c.sqlite");
-  const auto a = c.addJob("dressed", "");
+  const auto a = c.addJob("dressed", "SKU-1");
   const auto b = c.addJob("empty", "");
   c.updateJob(b, "running", "capturing", 0.1);
   const auto done = c.addJob("empty", "");
   c.finishJob(done, std::nullopt, std::nullopt);
+  c.addJob("rerun", "", 42);
   const auto ids = c.failInterruptedJobs("interrupted");
-  EXPECT_EQ(ids.size(), 2u);
-  EXPECT_EQ(c.job(a)->state, "failed");
+  ASSERT_EQ(ids, std::vector<std::int64_t>{b});
+  EXPECT_EQ(c.job(b)->state, "failed");
   EXPECT_NE(c.job(b)->error.find("capturing"), std::string::npos);
   EXPECT_EQ(c.job(done)->state, "done");
+  // Queued jobs are kept for the station to resume, oldest first, with what they need.
+  auto queued = c.queuedJobs();
+  ASSERT_EQ(queued.size(), 2u);
+  EXPECT_EQ(queued[0].id, a);
+  EXPECT_EQ(queued[0].sku, "SKU-1");
+  EXPECT_EQ(queued[1].itemId, 42);
+  EXPECT_TRUE(c.expireQueuedJobs(std::chrono::hours(1), "expired").empty());
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_EQ(c.expireQueuedJobs(std::chrono::seconds(0), "expired").size(), 2u);
+  EXPECT_EQ(c.job(a)->state, "failed");
+  EXPECT_EQ(c.job(a)->error, "expired");
+  EXPECT_TRUE(c.queuedJobs().empty());
 }
 
 TEST(Catalog, MigratesVersion1Fixture) {

@@ -4,158 +4,17 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <boost/asio/io_context.hpp>
 #include <fstream>
-#include <opencv2/imgproc.hpp>
 #include <set>
-#include <thread>
 
-#include "garmcap/capture/camera.h"
-#include "garmcap/capture/gpio.h"
 #include "garmcap/daemon/api_routes.h"
-#include "test_util.h"
+#include "station_rig.h"
 
 namespace garmcap::daemon {
 namespace {
 
 using namespace std::chrono_literals;
-
-class FakeCamera : public capture::Camera {
- public:
-  explicit FakeCamera(std::shared_ptr<std::atomic<int>> stills) : stills_(std::move(stills)) {}
-  std::string backend() const override { return "fake"; }
-  std::string device() const override { return "fake0"; }
-  void open() override {
-    if (absent)
-      throw capture::CameraError(capture::CameraErrorKind::kNotFound, "no fake0");
-    open_ = true;
-  }
-  void close() noexcept override { open_ = false; }
-  bool isOpen() const override { return open_; }
-  void configure(const capture::CameraConfig& c) override { config_ = c; }
-  capture::CameraConfig config() const override { return config_; }
-  cv::Size stillSize() const override { return {64, 48}; }
-  cv::Size previewSize() const override { return {32, 24}; }
-  void lockSettings(const capture::CaptureSettings&) override {}
-  capture::CaptureSettings settings() const override { return {}; }
-  std::vector<std::string> unsupportedSettings() const override { return {}; }
-  capture::Frame captureStill(const capture::StillRequest& r) override {
-    if (absent)
-      throw capture::CameraError(capture::CameraErrorKind::kDisconnected, "fake0 went away");
-    std::this_thread::sleep_for(delay);
-    capture::Frame f;
-    const int n = ++*stills_;
-    f.bgr = cv::Mat(48, 64, CV_8UC3,
-                    r.shot == capture::Shot::kEmpty ? cv::Scalar(0, 200, 0) : cv::Scalar(n, 0, 0));
-    return f;
-  }
-  void startPreview() override {}
-  std::optional<capture::Frame> nextPreviewFrame(std::chrono::milliseconds) override {
-    return std::nullopt;
-  }
-  void stopPreview() noexcept override {}
-  bool previewRunning() const override { return false; }
-  bool reconnect() override { return !absent; }
-
-  std::atomic<bool> absent{false};
-  std::chrono::milliseconds delay{0};
-
- private:
-  std::shared_ptr<std::atomic<int>> stills_;
-  bool open_ = false;
-  capture::CameraConfig config_;
-};
-
-class FakeProcessor : public CaptureProcessor {
- public:
-  nlohmann::json calibrate(const cv::Mat& empty, const ProgressFn& progress) override {
-    progress("registration", 0.5);
-    return {{"fake", true}, {"width", empty.cols}};
-  }
-  ProcessedCapture process(const cv::Mat&, const cv::Mat& dressed, const nlohmann::json& cal,
-                           const ProgressFn& progress) override {
-    progress("masks", 0.3);
-    if (fail)
-      throw std::runtime_error("no garment found on the form");
-    EXPECT_TRUE(cal.value("fake", false));
-    ProcessedCapture r;
-    r.type = "skirt";
-    r.confidence = confidence;
-    r.measurementsCm = {{"waist_circ", 60.0 + dressed.at<cv::Vec3b>(0, 0)[0]}};
-    r.patterns["base"] = {{"type", "skirt"}};
-    r.images["cutout"] = cv::Mat(8, 8, CV_8UC4, cv::Scalar(1, 2, 3, 255));
-    r.result = {{"type", "skirt"}};
-    return r;
-  }
-  std::atomic<bool> fail{false};
-  double confidence = 0.95;
-};
-
-struct Rig {
-  test::TempDir dir;
-  boost::asio::io_context io;
-  std::shared_ptr<std::atomic<int>> stills = std::make_shared<std::atomic<int>>(0);
-  FakeCamera* camera = nullptr;
-  FakeProcessor* processor = nullptr;
-  std::unique_ptr<Station> station;
-  Router router;
-
-  Rig() {
-    Config c;
-    c.dataDir = (dir.path() / "data").string();
-    c.cameraBackend = "fake";
-    c.queueLimit = 4;
-    auto cam = std::make_unique<FakeCamera>(stills);
-    camera = cam.get();
-    auto proc = std::make_unique<FakeProcessor>();
-    processor = proc.get();
-    station = std::make_unique<Station>(io, c, std::move(cam), nullptr, std::move(proc));
-    station->start();
-    addApiRoutes(router, *station);
-  }
-  ~Rig() {
-    bool done = false;
-    station->shutdown(5s, [&] { done = true; });
-    for (int i = 0; i < 500 && !done; ++i)
-      io.run_for(10ms);
-    station.reset();
-  }
-
-  /// Runs the loop until `pred` holds (bounded).
-  template <typename Pred>
-  bool runUntil(Pred pred, std::chrono::milliseconds limit = 5000ms) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < end) {
-      io.run_for(5ms);
-      if (pred())
-        return true;
-    }
-    return false;
-  }
-
-  Response call(http::verb verb, const std::string& target, const std::string& body = "") {
-    Request req{verb, target, 11};
-    req.body() = body;
-    req.prepare_payload();
-    std::optional<Response> out;
-    router.dispatch(req, [&](Response r) { out = std::move(r); });
-    runUntil([&] { return out.has_value(); });
-    if (!out)
-      ADD_FAILURE() << "no reply for " << target;
-    return out ? *out : Response{};
-  }
-  nlohmann::json json(const Response& r) { return nlohmann::json::parse(r.body()); }
-
-  nlohmann::json waitJob(std::int64_t id) {
-    nlohmann::json j;
-    runUntil([&] {
-      j = json(call(http::verb::get, "/api/jobs/" + std::to_string(id)));
-      return j["state"] == "done" || j["state"] == "failed";
-    });
-    return j;
-  }
-};
+using test::Rig;
 
 TEST(Station, LedPatternsDifferPerState) {
   std::set<int> patterns;
@@ -266,6 +125,67 @@ TEST(Station, QueueIsBounded) {
   }
   EXPECT_GE(refused, 1);
   EXPECT_LE(accepted, 5);  // queue limit 4 + the running job
+}
+
+TEST(Station, QueuedJobsOutliveAStopAndRunAtTheNextStart) {
+  Rig rig;
+  rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"]);
+  rig.camera->delay = 200ms;
+  auto first = rig.json(rig.call(http::verb::post, "/api/capture", R"({"sku": "A-1"})"))["job"];
+  auto queued = rig.json(rig.call(http::verb::post, "/api/capture", R"({"sku": "B-2"})"))["job"];
+  rig.stop();  // SIGTERM: the job in hand finishes, the queued one is checkpointed
+  {
+    Catalog c(rig.dir.path() / "data" / "catalog.sqlite");
+    EXPECT_EQ(c.job(first)->state, "done");
+    EXPECT_EQ(c.job(queued)->state, "queued");
+  }
+  rig.start();
+  auto j = rig.waitJob(queued);
+  ASSERT_EQ(j["state"], "done") << j.dump();
+  auto item = rig.json(rig.call(http::verb::get, "/api/items/" + j["item_id"].dump()));
+  EXPECT_EQ(item["sku"], "B-2");
+}
+
+TEST(Station, StaleQueuedJobsExpireAndResumingCanBeTurnedOff) {
+  Rig rig;
+  rig.config.resumeQueuedS = 0;
+  rig.stop();
+  rig.start();
+  rig.camera->delay = 200ms;
+  auto first = rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"];
+  auto queued = rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"];
+  rig.stop();
+  rig.start();
+  EXPECT_EQ(rig.waitJob(first)["state"], "done");
+  auto j = rig.waitJob(queued);
+  EXPECT_EQ(j["state"], "failed");
+  EXPECT_NE(j["error"].get<std::string>().find("cancelled"), std::string::npos) << j.dump();
+}
+
+TEST(Station, ReloadAppliesAtOnceAndSwapsTheProcessorOnlyBetweenJobs) {
+  Rig rig;
+  rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"]);
+  rig.camera->delay = 300ms;
+  auto job = rig.json(rig.call(http::verb::post, "/api/capture"))["job"];
+  Config fresh = rig.config;
+  fresh.reviewBelowConfidence = 0.99;
+  fresh.queueLimit = 1;
+  fresh.cameraDevice = "/dev/video9";  // needs a restart: logged, not applied
+  rig.station->reload(fresh);
+  rig.runUntil(
+      [&] { return rig.json(rig.call(http::verb::get, "/api/status"))["config"]["reloads"] == 1; });
+  auto status = rig.json(rig.call(http::verb::get, "/api/status"));
+  EXPECT_EQ(status["config"]["queue_limit"], 1);
+  EXPECT_EQ(status["config"]["review_below_confidence"], 0.99);
+  EXPECT_EQ(status["camera"]["device"], "fake0");
+  EXPECT_EQ(rig.processorsMade, 0) << "the processor was swapped under a running job";
+  auto j = rig.waitJob(job);
+  EXPECT_EQ(j["state"], "done");
+  EXPECT_TRUE(rig.runUntil([&] { return rig.processorsMade == 1; }));
+  // The new threshold files the next capture (confidence 0.95) for review.
+  j = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  auto item = rig.json(rig.call(http::verb::get, "/api/items/" + j["item_id"].dump()));
+  EXPECT_EQ(item["status"], "needs_review");
 }
 
 TEST(Api, BadInputGetsClearErrors) {

@@ -7,6 +7,7 @@
 // Errors: CatalogError (runtime_error) with the SQL step and SQLite's message; open() refuses a
 // file of another application or a schema newer than this code.
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -157,7 +158,10 @@ class Catalog {
   std::optional<Calibration> calibration(std::int64_t id);
 
   // --- jobs ----------------------------------------------------------------------------------
-  std::int64_t addJob(const std::string& kind, const std::string& sku);
+  /// A queued job. `itemId` names the item a re-run works on (kept so that a queued re-run can
+  /// be resumed after a restart); other kinds get theirs when they finish.
+  std::int64_t addJob(const std::string& kind, const std::string& sku,
+                      std::optional<std::int64_t> itemId = std::nullopt);
   std::optional<Job> job(std::int64_t id);
   void updateJob(std::int64_t id, const std::string& state, const std::string& stage,
                  double progress);
@@ -166,8 +170,15 @@ class Catalog {
   void failJob(std::int64_t id, const std::string& error);
   void finishJob(std::int64_t id, std::optional<std::int64_t> itemId,
                  std::optional<std::int64_t> calibrationId);
-  /// Marks queued/running jobs failed ("interrupted: ..."); returns their ids. Start-up only.
+  /// Marks running jobs failed ("<reason> (during <stage>)"); returns their ids. Start-up only:
+  /// a job that was running when the process died is not retried (it may be what killed it).
   std::vector<std::int64_t> failInterruptedJobs(const std::string& reason);
+  /// Marks queued jobs created more than `maxAge` ago failed with `reason`; returns their ids.
+  /// Start-up only: the garment of an old press is likely gone from the form.
+  std::vector<std::int64_t> expireQueuedJobs(std::chrono::seconds maxAge,
+                                             const std::string& reason);
+  /// Jobs still queued, oldest first (the station resumes them at start-up).
+  std::vector<Job> queuedJobs();
   std::vector<Job> recentJobs(int limit);
 
   // --- items ---------------------------------------------------------------------------------

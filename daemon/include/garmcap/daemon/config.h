@@ -52,6 +52,10 @@ struct Config {
   double reviewBelowConfidence = 0.8;  // items under this confidence wait for approval
   int workerThreads = 1;
   int queueLimit = 32;  // pending captures; more are refused with 503
+  // Captures still queued when garmcapd stopped (SIGTERM, crash, power loss) are run when it
+  // starts again within this many seconds of the request; older ones are failed as expired
+  // (the garment is likely no longer on the form). 0: never resume.
+  int resumeQueuedS = 600;
   // [naming]
   std::string namingTemplate = "{sku}_{kind}";
 

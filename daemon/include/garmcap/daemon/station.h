@@ -5,7 +5,8 @@
 //   ready --press/capture--> capturing --> processing --> ready          (item filed)
 //   any job failure -> back to ready/uncalibrated with last_error; a camera failure -> error
 //   (the next capture tries to reconnect). SIGTERM -> stopping: the job in hand finishes, queued
-//   ones are marked failed, then the loop stops.
+//   ones stay queued in the catalog, then the loop stops. At start-up a job left running (crash,
+//   power loss) is marked failed; queued ones younger than Config::resumeQueuedS are run.
 //
 // Threads: every member function runs on the state strand (the public ones post themselves
 // there, so they may be called from anywhere); the camera is used only on the camera thread,
@@ -88,10 +89,13 @@ class Station : public RouteContext {
   void addEventSink(std::shared_ptr<StreamSink> sink);
   void addPreviewSink(std::shared_ptr<StreamSink> sink);
 
-  /// SIGTERM: finish the job in hand (at most `grace`), fail the queued ones, then `done`.
+  /// SIGTERM: finish the job in hand (at most `grace`, then it is marked interrupted), leave the
+  /// queued ones queued for the next start (cancelled when resuming is off), then `done`.
   void shutdown(std::chrono::seconds grace, std::function<void()> done);
-  /// SIGHUP: applies the reloadable parts of a new config (pipeline options, naming, review
-  /// threshold). Camera, GPIO and HTTP settings need a restart (logged).
+  /// SIGHUP: applies the reloadable parts of a new, already validated config (pipeline options,
+  /// naming, review threshold, queue limit, resume window); the processor is rebuilt at once when
+  /// idle, else when the job in hand ends. Camera, GPIO, HTTP and data settings need a restart
+  /// (each changed one is logged).
   void reload(const Config& config);
 
   /// Lets reload() rebuild the processor with new pipeline options (garmcapd sets it).
@@ -166,6 +170,8 @@ class Station : public RouteContext {
   std::unique_ptr<capture::Gpio> gpio_;
   std::unique_ptr<CaptureProcessor> processor_;
   std::function<std::unique_ptr<CaptureProcessor>(const Config&)> processorFactory_;
+  std::optional<Config> pendingProcessor_;  // a reload's pipeline options, applied when idle
+  int reloads_ = 0;
   std::unique_ptr<Catalog> catalog_;
   std::unique_ptr<ContentStore> store_;
   boost::asio::thread_pool cameraThread_{1};
