@@ -16,6 +16,8 @@
 
 namespace garmcap::daemon {
 
+struct ServerShared;  // http_session.h
+
 /// True when the request carries the token ("Authorization: Bearer <token>", or `?token=` on a
 /// GET, for EventSource and <img> which cannot set headers). Constant-time compare. An empty
 /// token means "no token configured": every request is allowed (loopback binding only).
@@ -37,11 +39,9 @@ class HttpServer {
   /// The bound port (useful with port 0).
   std::uint16_t port() const;
 
-  struct Shared;
-
  private:
   boost::asio::io_context& io_;
-  std::shared_ptr<Shared> shared_;
+  std::shared_ptr<ServerShared> shared_;
   std::shared_ptr<void> listener_;
 };
 

@@ -1,0 +1,306 @@
+#pragma once
+// Internal to the HTTP server: one connection (Beast 1.74 advanced-server session), a template
+// over the stream type so that unit tests drive the very same code over beast::test::stream, with
+// no socket (tests/daemon/http_session_test.cpp). garmcapd instantiates it for beast::tcp_stream
+// only (http_server.cpp); nothing else should include this header.
+//
+// Per request: body limit and header limit (413/431 JSON), read timeout (tcp only), the bearer
+// token for API and stream paths, then the router (JSON API), a stream handler (SSE, MJPEG: the
+// session turns into a one-way byte stream) or the static-file whitelist.
+
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <atomic>
+#include <boost/asio/dispatch.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/socket_base.hpp>
+#include <boost/asio/write.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <chrono>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "garmcap/daemon/config.h"
+#include "garmcap/daemon/http_router.h"
+
+namespace garmcap::daemon {
+
+/// True when the request carries the token (http_server.h).
+bool authorized(const Request& request, const std::string& token);
+bool needsToken(std::string_view path);
+
+/// What every session of one server shares. The router and files outlive the server.
+struct ServerShared {
+  Config config;
+  const Router& router;
+  const StaticFiles& files;
+  std::atomic<int> sessions{0};
+};
+
+namespace detail {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+
+// A long-lived response over a session: raw header, then raw chunks, through a bounded queue.
+class SessionSinkBase : public StreamSink {
+ public:
+  bool open() const override { return open_; }
+  void markClosed() { open_ = false; }
+
+ protected:
+  std::atomic<bool> open_{true};
+};
+
+template <class Stream>
+class Session : public std::enable_shared_from_this<Session<Stream>> {
+ public:
+  Session(Stream&& stream, std::shared_ptr<ServerShared> shared)
+      : stream_(std::move(stream)), shared_(std::move(shared)) {
+    ++shared_->sessions;
+  }
+  ~Session() { --shared_->sessions; }
+
+  void run() {
+    asio::dispatch(stream_.get_executor(),
+                   beast::bind_front_handler(&Session::doRead, this->shared_from_this()));
+  }
+
+  // Stream mode ----------------------------------------------------------------------------
+  void queueRaw(std::string data, std::size_t maxQueued) {
+    asio::post(stream_.get_executor(),
+               [self = this->shared_from_this(), data = std::move(data), maxQueued]() mutable {
+                 if (self->streamClosed_)
+                   return;
+                 self->rawQueue_.push_back(std::move(data));
+                 // Drop the oldest unsent chunk (never the one being written) when a client is
+                 // slow: a preview or event stream must not back up into the station.
+                 while (self->rawQueue_.size() > maxQueued + (self->rawWriting_ ? 1 : 0))
+                   self->rawQueue_.erase(self->rawQueue_.begin() + (self->rawWriting_ ? 1 : 0));
+                 if (!self->rawWriting_)
+                   self->writeRaw();
+               });
+  }
+  void closeStream() {
+    asio::post(stream_.get_executor(), [self = this->shared_from_this()] {
+      self->streamClosed_ = true;
+      if (!self->rawWriting_)
+        self->shutdown();
+    });
+  }
+
+ private:
+  class Sink : public SessionSinkBase {
+   public:
+    Sink(std::shared_ptr<Session> session, std::size_t maxQueued)
+        : session_(session), maxQueued_(maxQueued) {}
+    void writeHeader(Response header) override {
+      auto s = session_.lock();
+      if (!s || !open_)
+        return;
+      std::string head = "HTTP/1.1 " + std::to_string(header.result_int()) + " " +
+                         std::string(header.reason().data(), header.reason().size()) + "\r\n";
+      for (const auto& f : header)
+        head += std::string(f.name_string().data(), f.name_string().size()) + ": " +
+                std::string(f.value().data(), f.value().size()) + "\r\n";
+      head += "Connection: close\r\nX-Content-Type-Options: nosniff\r\n\r\n";
+      s->queueRaw(std::move(head), maxQueued_);
+    }
+    void write(std::string chunk) override {
+      auto s = session_.lock();
+      if (!s || !open_)
+        return;
+      s->queueRaw(std::move(chunk), maxQueued_);
+    }
+    void close() override {
+      open_ = false;
+      if (auto s = session_.lock())
+        s->closeStream();
+    }
+
+   private:
+    std::weak_ptr<Session> session_;
+    std::size_t maxQueued_;
+  };
+
+  // Only the TCP stream has timeouts; the test stream has none (and needs none).
+  void expiresAfter(std::chrono::seconds s) {
+    if constexpr (requires(Stream & st) { st.expires_after(std::chrono::seconds(1)); })
+      stream_.expires_after(s);
+  }
+  void expiresNever() {
+    if constexpr (requires(Stream & st) { st.expires_never(); })
+      stream_.expires_never();
+  }
+
+  void doRead() {
+    parser_.emplace();
+    parser_->body_limit(shared_->config.bodyLimitBytes);
+    parser_->header_limit(16 * 1024);
+    expiresAfter(std::chrono::seconds(shared_->config.requestTimeoutS));
+    http::async_read(stream_, buffer_, *parser_,
+                     beast::bind_front_handler(&Session::onRead, this->shared_from_this()));
+  }
+
+  void onRead(beast::error_code ec, std::size_t) {
+    if (ec == http::error::end_of_stream || ec == asio::error::eof)
+      return shutdown();
+    if (ec == beast::error::timeout)
+      return;  // stream closed by the timeout
+    // After a framing error the rest of the connection cannot be trusted: answer and close.
+    if (ec == http::error::body_limit) {
+      return sendError(
+          http::status::payload_too_large,
+          "request body larger than " + std::to_string(shared_->config.bodyLimitBytes) + " bytes",
+          false);
+    }
+    if (ec == http::error::header_limit)
+      return sendError(http::status::request_header_fields_too_large, "request header too large",
+                       false);
+    if (ec) {
+      if (ec == asio::error::operation_aborted || ec == asio::error::connection_reset)
+        return;
+      return sendError(http::status::bad_request, "malformed request: " + ec.message(), false);
+    }
+    Request req = parser_->release();
+    handle(std::move(req));
+  }
+
+  void handle(Request req) {
+    const auto target = req.target();
+    const std::string_view t(target.data(), target.size());
+    const std::string_view path = t.substr(0, t.find('?'));
+    const bool keepAlive = req.keep_alive();
+    if (needsToken(path) && !authorized(req, shared_->config.token)) {
+      Response res = jsonError(http::status::unauthorized, "missing or wrong bearer token");
+      res.set(http::field::www_authenticate, "Bearer realm=\"garmcapd\"");
+      return send(std::move(res), keepAlive);
+    }
+    if (needsToken(path)) {
+      auto m = shared_->router.find(req.method(), t);
+      if (m.stream) {
+        // The session becomes a one-way stream until the client goes away.
+        expiresNever();
+        sink_ = std::make_shared<Sink>(this->shared_from_this(), 16);
+        try {
+          (*m.stream)(req, m.match, sink_);
+        } catch (const std::exception& e) {
+          spdlog::error("http: stream handler failed: {}", e.what());
+          sink_->close();
+        }
+        watchPeer();
+        return;
+      }
+      auto self = this->shared_from_this();
+      const unsigned version = req.version();
+      shared_->router.dispatch(req, [self, keepAlive, version](Response res) {
+        res.version(version);
+        asio::post(self->stream_.get_executor(), [self, res = std::move(res), keepAlive]() mutable {
+          self->send(std::move(res), keepAlive);
+        });
+      });
+      return;
+    }
+    if (req.method() != http::verb::get && req.method() != http::verb::head)
+      return sendError(http::status::method_not_allowed, "only GET is allowed here", keepAlive);
+    if (auto res = shared_->files.serve(path, req.version(), keepAlive)) {
+      if (req.method() == http::verb::head) {
+        const auto n = res->body().size();
+        res->body().clear();
+        res->content_length(n);
+      }
+      return send(std::move(*res), keepAlive);
+    }
+    sendError(http::status::not_found, "no such resource", keepAlive);
+  }
+
+  void sendError(http::status status, const std::string& message, bool keepAlive) {
+    send(jsonError(status, message), keepAlive);
+  }
+
+  void send(Response res, bool keepAlive) {
+    res.keep_alive(keepAlive);
+    res.set(http::field::server, "garmcapd");
+    res.set("X-Content-Type-Options", "nosniff");
+    if (!res.has_content_length())
+      res.prepare_payload();
+    auto sp = std::make_shared<Response>(std::move(res));
+    expiresAfter(std::chrono::seconds(shared_->config.requestTimeoutS));
+    http::async_write(stream_, *sp,
+                      [self = this->shared_from_this(), sp](beast::error_code ec, std::size_t) {
+                        if (ec)
+                          return;
+                        if (sp->need_eof())
+                          return self->shutdown();
+                        self->doRead();
+                      });
+  }
+
+  void writeRaw() {
+    if (rawQueue_.empty()) {
+      if (streamClosed_)
+        shutdown();
+      return;
+    }
+    rawWriting_ = true;
+    asio::async_write(stream_, asio::buffer(rawQueue_.front()),
+                      [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
+                        self->rawWriting_ = false;
+                        self->rawQueue_.pop_front();
+                        if (ec) {
+                          self->streamClosed_ = true;
+                          if (self->sink_)
+                            self->sink_->markClosed();
+                          self->rawQueue_.clear();
+                          return;
+                        }
+                        self->writeRaw();
+                      });
+  }
+
+  // A streaming client sends nothing more; a read completing (EOF or error) means it left.
+  void watchPeer() {
+    auto buf = std::make_shared<std::array<char, 256>>();
+    stream_.async_read_some(asio::buffer(*buf), [self = this->shared_from_this(), buf](
+                                                    beast::error_code ec, std::size_t) {
+      if (!ec)
+        return self->watchPeer();
+      self->streamClosed_ = true;
+      if (self->sink_)
+        self->sink_->markClosed();
+    });
+  }
+
+  void shutdown() {
+    if constexpr (requires(Stream & st) { st.socket(); }) {
+      beast::error_code ec;
+      stream_.socket().shutdown(asio::socket_base::shutdown_send, ec);
+    } else {
+      stream_.close();
+    }
+  }
+
+  Stream stream_;
+  beast::flat_buffer buffer_;
+  std::shared_ptr<ServerShared> shared_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  std::deque<std::string> rawQueue_;
+  bool rawWriting_ = false;
+  bool streamClosed_ = false;
+  std::shared_ptr<Sink> sink_;
+};
+
+}  // namespace detail
+
+/// Serves one connection on `stream` until the peer leaves. The session keeps itself alive
+/// through its pending operations; `shared` counts it.
+template <class Stream>
+void serveConnection(Stream stream, std::shared_ptr<ServerShared> shared) {
+  std::make_shared<detail::Session<Stream>>(std::move(stream), std::move(shared))->run();
+}
+
+}  // namespace garmcap::daemon
