@@ -25,7 +25,7 @@ PACKAGES=(
   # capture: cameras and GPIO
   libcamera-dev libgpiod-dev gpiod
   # daemon: service, catalog, config, systemd
-  libboost-dev libsqlite3-dev sqlite3 libtoml11-dev libsystemd-dev systemd nettle-dev
+  libboost-dev libsqlite3-dev sqlite3 libtoml11-dev libsystemd-dev systemd nettle-dev libzbar-dev
   # tests: unit tests, benchmarks, CGAL peer check, SVG and PDF rendering checks, XML 1.0
   # well-formedness check of escaped text
   libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev librsvg2-bin poppler-utils libxml2-utils

@@ -3,6 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <mutex>
@@ -17,6 +18,10 @@
 #include "garmcap/drafts/size_charts.h"
 #include "garmcap/dsw/grading.h"
 #include "garmcap/pipeline/capture_pipeline.h"
+
+#ifdef GARMCAP_HAVE_ZBAR
+#include <zbar.h>
+#endif
 
 namespace garmcap::daemon {
 
@@ -165,23 +170,86 @@ std::unique_ptr<CaptureProcessor> makePipelineProcessor(const Config& config) {
   return std::make_unique<PipelineProcessor>(config);
 }
 
+namespace {
+
+bool isSkuText(const std::string& text) {
+  if (text.empty() || text.size() > 64)
+    return false;
+  return std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-';
+  });
+}
+
+#ifdef GARMCAP_HAVE_ZBAR
+// zbar reads QR codes and the 1-D codes of retail and in-house labels. Symbologies prone to
+// false reads in a busy frame (Interleaved 2 of 5, Codabar, DataBar) stay off.
+std::string decodeWithZbar(const cv::Mat& bgr) {
+  using namespace zbar;  // zbar.h puts its C API in namespace zbar when compiled as C++
+  cv::Mat gray;
+  cv::cvtColor(bgr, gray, bgr.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  std::unique_ptr<zbar_image_scanner_t, void (*)(zbar_image_scanner_t*)> scanner(
+      zbar_image_scanner_create(), zbar_image_scanner_destroy);
+  std::unique_ptr<zbar_image_t, void (*)(zbar_image_t*)> image(zbar_image_create(),
+                                                               zbar_image_destroy);
+  if (!scanner || !image)
+    throw std::runtime_error("zbar: cannot allocate a scanner");
+  zbar_image_scanner_set_config(scanner.get(), ZBAR_NONE, ZBAR_CFG_ENABLE, 0);
+  for (zbar_symbol_type_t t :
+       {ZBAR_QRCODE, ZBAR_EAN13, ZBAR_EAN8, ZBAR_UPCA, ZBAR_UPCE, ZBAR_CODE128, ZBAR_CODE39})
+    zbar_image_scanner_set_config(scanner.get(), t, ZBAR_CFG_ENABLE, 1);
+  zbar_image_set_format(image.get(), zbar_fourcc('Y', '8', '0', '0'));
+  zbar_image_set_size(image.get(), static_cast<unsigned>(gray.cols),
+                      static_cast<unsigned>(gray.rows));
+  zbar_image_set_data(image.get(), gray.data, gray.total(), nullptr);  // borrowed, not freed
+  if (zbar_scan_image(scanner.get(), image.get()) <= 0)
+    return "";
+  // QR first: a tag carrying both prints the SKU in the QR and a retail code in the bars.
+  std::string best;
+  for (const zbar_symbol_t* sym = zbar_image_first_symbol(image.get()); sym;
+       sym = zbar_symbol_next(sym)) {
+    const std::string text = zbar_symbol_get_data(sym);
+    if (!isSkuText(text))
+      continue;
+    if (zbar_symbol_get_type(sym) == ZBAR_QRCODE)
+      return text;
+    if (best.empty())
+      best = text;
+  }
+  return best;
+}
+#endif
+
+}  // namespace
+
+std::string hangTagDecoder() {
+#ifdef GARMCAP_HAVE_ZBAR
+  return "zbar";
+#else
+  return "opencv";
+#endif
+}
+
 std::string decodeHangTagSku(const cv::Mat& bgr) {
   if (bgr.empty())
     return "";
+#ifdef GARMCAP_HAVE_ZBAR
+  try {
+    return decodeWithZbar(bgr);
+  } catch (const std::exception& e) {
+    spdlog::warn("sku: reading the hang tag failed: {}", e.what());
+    return "";
+  }
+#else
   try {
     cv::QRCodeDetector detector;
     std::vector<cv::Point> corners;
     const std::string text = detector.detectAndDecode(bgr, corners);
-    if (text.empty() || text.size() > 64)
-      return "";
-    for (char c : text)
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-'))
-        return "";
-    return text;
+    return isSkuText(text) ? text : "";
   } catch (const cv::Exception& e) {
     spdlog::warn("sku: QR detection failed: {}", e.what());
     return "";
   }
+#endif
 }
 
 std::string expandNamingTemplate(const std::string& pattern,

@@ -49,10 +49,14 @@ class CaptureProcessor {
 /// The production processor on calib/, core/garmcap and core/dsw.
 std::unique_ptr<CaptureProcessor> makePipelineProcessor(const Config& config);
 
-/// SKU printed as a QR code on the hang tag, if one is visible in the frame (OpenCV
-/// QRCodeDetector). Returns "" when none is found; only [A-Za-z0-9._-] payloads of 1..64 chars
-/// are accepted (anything else is not a SKU and is ignored).
+/// SKU printed on the hang tag, if one is visible in the frame. With zbar (hangTagDecoder() ==
+/// "zbar"): a QR code, else an EAN-13/8, UPC-A/E (check digit verified), Code 128 or Code 39
+/// barcode. Without it: OpenCV's QRCodeDetector only, which decodes nothing when OpenCV was
+/// built without quirc, as Debian 12's 4.6 is. Returns "" when none is found; only
+/// [A-Za-z0-9._-] payloads of 1..64 chars are accepted (anything else is not a SKU).
 std::string decodeHangTagSku(const cv::Mat& bgr);
+/// "zbar" or "opencv": what decodeHangTagSku reads with in this build.
+std::string hangTagDecoder();
 
 /// Expands a file-naming template: {sku}, {id}, {kind}, {type}, {size}, {date}. The result is
 /// made safe as one file name ([A-Za-z0-9._-], other characters become '_'; never empty).
