@@ -1,9 +1,12 @@
 #pragma once
 // The harness of the end-to-end tests: the real garmcapd as a child process on a free 127.0.0.1
 // port with --simulated, a blocking HTTP client, and the replay rigs it captures from. Shared by
-// the e2e test sources (tests/e2e/*_test.cpp); every wait is bounded.
+// the e2e test sources (tests/e2e/*_test.cpp); every wait is bounded. Also read-only looks into
+// the daemon's data folder (catalog, image store).
 #include <fcntl.h>
 #include <signal.h>
+#include <sqlite3.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,9 +21,11 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "../daemon/test_util.h"
@@ -107,12 +112,38 @@ inline std::filesystem::path makeSimulatedRig(const std::filesystem::path& root)
   return rig;
 }
 
+/// How to start the daemon beyond the defaults (--simulated on a replay rig, loopback port 0).
+struct DaemonOptions {
+  std::vector<std::string> args;  // extra command-line arguments
+  std::filesystem::path rig;      // replay rig folder; empty: a fake one-case rig in the data dir
+  std::vector<std::pair<std::string, std::string>> env;  // e.g. NOTIFY_SOCKET, WATCHDOG_USEC
+  std::filesystem::path stderrFile;  // the daemon's log; empty: /dev/null (or the test's stderr
+                                     // with GARMCAP_E2E_VERBOSE)
+  // The kernel's memory-deny-write-execute (prctl PR_SET_MDWE, Linux >= 6.3), what the unit's
+  // MemoryDenyWriteExecute=yes asks of systemd; the daemon fails to start if it cannot be set.
+  bool denyWriteExecute = false;
+};
+
+#ifndef PR_SET_MDWE  // Debian 12's kernel headers (6.1) predate it
+#define PR_SET_MDWE 65
+#define PR_GET_MDWE 66
+#define PR_MDWE_REFUSE_EXEC_GAIN 1
+#endif
+
+/// Sets memory-deny-write-execute on the calling process (irreversible): true when in force.
+inline bool denyWriteExecute() {
+  return prctl(PR_SET_MDWE, PR_MDWE_REFUSE_EXEC_GAIN, 0, 0, 0) == 0 &&
+         prctl(PR_GET_MDWE, 0, 0, 0, 0) == PR_MDWE_REFUSE_EXEC_GAIN;
+}
+
 // The daemon as a child process; its port is read from its first stdout line.
 class Daemon {
  public:
   explicit Daemon(const std::filesystem::path& data, std::vector<std::string> extra = {},
-                  std::filesystem::path rigDir = {}) {
-    const auto rig = rigDir.empty() ? makeRig(data) : rigDir;
+                  std::filesystem::path rigDir = {})
+      : Daemon(data, DaemonOptions{std::move(extra), std::move(rigDir), {}, {}}) {}
+  Daemon(const std::filesystem::path& data, const DaemonOptions& o) {
+    const auto rig = o.rig.empty() ? makeRig(data) : o.rig;
     int out[2];
     if (pipe(out) != 0)
       throw std::runtime_error("pipe");
@@ -121,13 +152,23 @@ class Daemon {
       dup2(out[1], 1);
       close(out[0]);
       close(out[1]);
-      const int devnull = open("/dev/null", O_WRONLY);
-      if (!getenv("GARMCAP_E2E_VERBOSE"))
-        dup2(devnull, 2);
+      if (!o.stderrFile.empty()) {
+        const int log = open(o.stderrFile.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+        dup2(log, 2);
+      } else if (!getenv("GARMCAP_E2E_VERBOSE")) {
+        dup2(open("/dev/null", O_WRONLY), 2);
+      }
+      // Only what the test asks for reaches the daemon's systemd integration.
+      for (const char* v : {"NOTIFY_SOCKET", "WATCHDOG_USEC", "WATCHDOG_PID"})
+        unsetenv(v);
+      for (const auto& [k, v] : o.env)
+        setenv(k.c_str(), v.c_str(), 1);
+      if (o.denyWriteExecute && !denyWriteExecute())
+        _exit(126);
       std::vector<std::string> args = {kBin,       "--simulated", "--data",   data.string(),
                                        "--listen", "127.0.0.1:0", "--camera", "replay",
                                        "--device", rig.string()};
-      args.insert(args.end(), extra.begin(), extra.end());
+      args.insert(args.end(), o.args.begin(), o.args.end());
       std::vector<char*> argv;
       for (auto& a : args)
         argv.push_back(a.data());
@@ -175,9 +216,14 @@ class Daemon {
     waitpid(pid_, &st, 0);
     pid_ = -1;
   }
+  void signal(int sig) const { ::kill(pid_, sig); }
   /// SIGTERM and wait (bounded); returns the exit status or -1 on timeout.
   int terminate(std::chrono::seconds limit = 90s) {
     ::kill(pid_, SIGTERM);
+    return wait(limit);
+  }
+  /// Waits for the exit (bounded); the exit status, 128 + signal, or -1 on timeout.
+  int wait(std::chrono::seconds limit) {
     const auto deadline = std::chrono::steady_clock::now() + limit;
     while (std::chrono::steady_clock::now() < deadline) {
       int st = 0;
@@ -209,5 +255,42 @@ class Daemon {
   pid_t pid_ = -1;
   int port_ = 0;
 };
+
+inline std::string integrity(const std::filesystem::path& db) {
+  sqlite3* h = nullptr;
+  sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr);
+  sqlite3_stmt* s = nullptr;
+  sqlite3_prepare_v2(h, "PRAGMA integrity_check", -1, &s, nullptr);
+  std::string out = sqlite3_step(s) == SQLITE_ROW
+                        ? reinterpret_cast<const char*>(sqlite3_column_text(s, 0))
+                        : "no answer";
+  sqlite3_finalize(s);
+  sqlite3_close(h);
+  return out;
+}
+
+inline std::vector<std::string> column(const std::filesystem::path& db, const char* sql) {
+  sqlite3* h = nullptr;
+  sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr);
+  sqlite3_stmt* s = nullptr;
+  std::vector<std::string> out;
+  if (sqlite3_prepare_v2(h, sql, -1, &s, nullptr) == SQLITE_OK)
+    while (sqlite3_step(s) == SQLITE_ROW)
+      out.emplace_back(sqlite3_column_text(s, 0)
+                           ? reinterpret_cast<const char*>(sqlite3_column_text(s, 0))
+                           : "");
+  sqlite3_finalize(s);
+  sqlite3_close(h);
+  return out;
+}
+
+inline std::set<std::string> blobsOnDisk(const std::filesystem::path& data) {
+  std::set<std::string> out;
+  std::error_code ec;
+  for (auto& e : std::filesystem::recursive_directory_iterator(data / "blobs", ec))
+    if (e.is_regular_file() && e.path().parent_path().filename() != "tmp")
+      out.insert(e.path().filename().string());
+  return out;
+}
 
 }  // namespace garmcap::e2e
