@@ -117,14 +117,18 @@ TEST(DaemonResilience, SigkillWhileCapturesFileItemsLosesNothingReported) {
     d.kill9();
   }
 
-  // Rounds: keep two captures in hand (one running, one queued) and kill at a moment spread
-  // over one capture's duration, so the kills fall in capturing, GarmCap, image writing and
-  // filing alike. Seeded from the clock, printed for a re-run.
+  // Rounds: keep two captures in hand (one running, one queued) and kill at a moment when
+  // the daemon is making an item. Seeded from the clock, printed for a re-run.
   const unsigned seed = static_cast<unsigned>(std::random_device{}());
   std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(0, 1);
   const int kRounds = 8;
   std::map<std::string, int> killedIn;  // stage of the running job at the kill
   std::set<std::int64_t> queuedAtKill;
+  auto doneCount = [&] {
+    return std::count_if(jobs.begin(), jobs.end(),
+                         [](const auto& j) { return j.second.state == "done"; });
+  };
   for (int round = 0; round < kRounds && secondsSince(t0) < 45; ++round) {
     Daemon d(data, DaemonOptions{{}, rig, {}, {}});
     const auto started = Clock::now();  // a resumed job starts with the process
@@ -135,28 +139,32 @@ TEST(DaemonResilience, SigkillWhileCapturesFileItemsLosesNothingReported) {
       ASSERT_EQ(r.status, 202) << r.body;
       jobs[r.json()["job"].get<std::int64_t>()] = {};
     }
-    // Even rounds: a moment spread over the capture. Odd rounds: 0..150 ms after the job turns
-    // to writing its images, a short window that random moments seldom hit.
-    std::uniform_real_distribution<double> jitter(0, 1);
-    double delayS = captureS * 1.15 * (round + jitter(rng)) / kRounds;
-    if (round % 2)
-      delayS = 3 * captureS + 1;  // a bound, in case the machine is slow
-    auto killAt = started + std::chrono::duration<double>(delayS);
-    bool armed = round % 2 == 1;
+    // Odd rounds: 0..150 ms after a job starts writing its images, a short window that random
+    // moments seldom hit. Even rounds: the first job is filed (and reported: one more item to
+    // check), then a random moment over the second one's duration. Both bounded, for a slow
+    // machine.
+    const auto doneBefore = doneCount();
+    auto killAt = started + std::chrono::duration<double>(3 * captureS + 1);
+    bool armed = true;
     while (Clock::now() < killAt) {
       poll(d);
-      if (armed && std::any_of(jobs.begin(), jobs.end(), [](const auto& j) {
-            return j.second.state == "running" && j.second.stage == "images";
-          })) {
+      const bool trigger = round % 2 ? std::any_of(jobs.begin(), jobs.end(),
+                                                   [](const auto& j) {
+                                                     return j.second.state == "running" &&
+                                                            j.second.stage == "images";
+                                                   })
+                                     : doneCount() > doneBefore;
+      if (armed && trigger) {
         armed = false;
-        // The load on a shared machine varies: keep the spread of the timed rounds honest.
-        captureS = std::max(captureS, secondsSince(started) + 0.3);
-        killAt = Clock::now() + std::chrono::duration<double>(0.15 * jitter(rng));
-        delayS =
-            secondsSince(started) + std::chrono::duration<double>(killAt - Clock::now()).count();
+        // The load on a shared machine varies: keep the estimate of a capture honest.
+        if (round % 2)
+          captureS = std::max(captureS, secondsSince(started) + 0.3);
+        const double wait = round % 2 ? 0.15 * jitter(rng) : 1.15 * captureS * jitter(rng);
+        killAt = Clock::now() + std::chrono::duration<double>(wait);
       }
       std::this_thread::sleep_for(5ms);
     }
+    const double delayS = secondsSince(started);
     d.kill9();
     std::string stage = "idle";
     for (const auto& [id, seen] : jobs) {
