@@ -159,7 +159,7 @@ TEST(DaemonResilience, SigkillWhileCapturesFileItemsLosesNothingReported) {
         // The load on a shared machine varies: keep the estimate of a capture honest.
         if (round % 2)
           captureS = std::max(captureS, secondsSince(started) + 0.3);
-        const double wait = round % 2 ? 0.15 * jitter(rng) : 1.15 * captureS * jitter(rng);
+        const double wait = round % 2 ? 0.15 * jitter(rng) : 0.9 * captureS * jitter(rng);
         killAt = Clock::now() + std::chrono::duration<double>(wait);
       }
       std::this_thread::sleep_for(5ms);
