@@ -180,6 +180,7 @@ Station::Station(asio::io_context& io, Config config, std::unique_ptr<capture::C
 }
 
 Station::~Station() {
+  alive_.reset();  // handlers still queued for the strand now do nothing
   if (buttonDescriptor_) {
     auto* sd = static_cast<asio::posix::stream_descriptor*>(buttonDescriptor_.get());
     sd->release();  // the Button owns the fd
@@ -236,7 +237,7 @@ void Station::start() {
   }
   state_ = calibrated_ ? StationState::kReady : StationState::kUncalibrated;
   lastLoopTick_ = Clock::now();
-  asio::post(strand_, [this] {
+  postToStrand([this] {
     openCamera();
     startGpio();
     ledTick();
@@ -266,7 +267,7 @@ void Station::openCamera() {
     } catch (const std::exception& e) {
       error = e.what();
     }
-    asio::post(strand_, [this, error] {
+    postToStrand([this, error] {
       cameraOpen_ = error.empty();
       cameraError_ = error;
       if (!error.empty()) {
@@ -364,13 +365,13 @@ void Station::keepAliveTick() {
 
 void Station::submit(JobKind kind, std::string sku, std::int64_t itemId,
                      std::function<void(SubmitResult)> done) {
-  asio::post(strand_, [this, kind, sku = std::move(sku), itemId, done = std::move(done)]() mutable {
+  postToStrand([this, kind, sku = std::move(sku), itemId, done = std::move(done)]() mutable {
     submitOnStrand(kind, std::move(sku), itemId, false, std::move(done));
   });
 }
 
 void Station::press(std::function<void(SubmitResult)> done) {
-  asio::post(strand_, [this, done = std::move(done)]() mutable {
+  postToStrand([this, done = std::move(done)]() mutable {
     // Debounce presses into the press already waiting in the queue: staff pressing again
     // while a job runs mean "yes, capture", not "capture twice".
     for (auto& p : queue_) {
@@ -394,7 +395,7 @@ void Station::press(std::function<void(SubmitResult)> done) {
 }
 
 void Station::longPress() {
-  asio::post(strand_, [this] { submitOnStrand(JobKind::kEmpty, "", 0, true, {}); });
+  postToStrand([this] { submitOnStrand(JobKind::kEmpty, "", 0, true, {}); });
 }
 
 void Station::submitOnStrand(JobKind kind, std::string sku, std::int64_t itemId, bool fromButton,
@@ -513,9 +514,9 @@ void Station::startNext() {
         if (!bytes)
           throw std::runtime_error("the stored dressed frame " + sha + " is missing");
         cv::Mat frame = decodeImage(*bytes, "dressed frame");
-        asio::post(strand_, [this, req, frame, sha] { runDressed(req, frame, sha); });
+        postToStrand([this, req, frame, sha] { runDressed(req, frame, sha); });
       } catch (const std::exception& e) {
-        asio::post(strand_, [this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+        postToStrand([this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
       }
     });
     return;
@@ -543,25 +544,24 @@ void Station::startNext() {
       capture::Frame frame = camera_->captureStill(sr);
       const std::string png = encodePng(frame.bgr);
       const std::string sha = store_->put(png);
-      asio::post(strand_,
-                 [this, req, bgr = frame.bgr, sha, n = static_cast<std::int64_t>(png.size())] {
-                   cameraOpen_ = true;
-                   cameraError_.clear();
-                   onFrameStored(req, bgr, sha, n);
-                 });
+      postToStrand([this, req, bgr = frame.bgr, sha, n = static_cast<std::int64_t>(png.size())] {
+        cameraOpen_ = true;
+        cameraError_.clear();
+        onFrameStored(req, bgr, sha, n);
+      });
     } catch (const capture::CameraError& e) {
       const bool gone = e.kind() == capture::CameraErrorKind::kDisconnected ||
                         e.kind() == capture::CameraErrorKind::kNotFound;
       if (gone)
         camera_->close();
-      asio::post(strand_, [this, req, gone, msg = std::string("camera: ") + e.what()] {
+      postToStrand([this, req, gone, msg = std::string("camera: ") + e.what()] {
         if (gone)
           cameraOpen_ = false;
         cameraError_ = msg;
         failJob(req, msg, true);
       });
     } catch (const std::exception& e) {
-      asio::post(strand_, [this, req, msg = std::string("capture failed: ") + e.what()] {
+      postToStrand([this, req, msg = std::string("capture failed: ") + e.what()] {
         failJob(req, msg, false);
       });
     }
@@ -587,12 +587,12 @@ void Station::runEmpty(Pending req, cv::Mat frame, std::string sha) {
   asio::post(*pool_, [this, req, frame, sha] {
     try {
       auto progress = [this](const std::string& stage, double p) {
-        asio::post(strand_, [this, stage, p] { setStage(stage, 0.3 + 0.6 * p, false); });
+        postToStrand([this, stage, p] { setStage(stage, 0.3 + 0.6 * p, false); });
       };
       nlohmann::json calibration = processor_->calibrate(frame, progress);
-      asio::post(strand_, [this, req, sha, calibration] { onCalibrated(req, sha, calibration); });
+      postToStrand([this, req, sha, calibration] { onCalibrated(req, sha, calibration); });
     } catch (const std::exception& e) {
-      asio::post(strand_, [this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+      postToStrand([this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
     }
   });
 }
@@ -630,11 +630,11 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
       if (sku.empty())
         sku = decodeHangTagSku(dressed);
       auto progress = [this](const std::string& stage, double p) {
-        asio::post(strand_, [this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
+        postToStrand([this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
       };
       ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress);
       // Encoding and fsyncing the product images takes a noticeable moment at full resolution.
-      asio::post(strand_, [this] { setStage("images", 0.92, false); });
+      postToStrand([this] { setStage("images", 0.92, false); });
       auto item = std::make_shared<NewItem>();
       item->sku = sku;
       item->type = r.type;
@@ -660,9 +660,9 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
         item->images.push_back(
             {kind, store_->put(png), "image/png", static_cast<std::int64_t>(png.size())});
       }
-      asio::post(strand_, [this, req, item] { onProcessed(req, item); });
+      postToStrand([this, req, item] { onProcessed(req, item); });
     } catch (const std::exception& e) {
-      asio::post(strand_, [this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+      postToStrand([this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
     }
   });
 }
@@ -763,11 +763,11 @@ nlohmann::json Station::statusJson() {
 }
 
 void Station::status(std::function<void(nlohmann::json)> done) {
-  asio::post(strand_, [this, done = std::move(done)] { done(statusJson()); });
+  postToStrand([this, done = std::move(done)] { done(statusJson()); });
 }
 
 void Station::job(std::int64_t id, std::function<void(std::optional<nlohmann::json>)> done) {
-  asio::post(strand_, [this, id, done = std::move(done)] {
+  postToStrand([this, id, done = std::move(done)] {
     auto j = catalog_->job(id);
     done(j ? std::optional<nlohmann::json>(jobJson(*j)) : std::nullopt);
   });
@@ -789,7 +789,7 @@ void Station::broadcast(const std::string& event, const nlohmann::json& data) {
 }
 
 void Station::addEventSink(std::shared_ptr<StreamSink> sink) {
-  asio::post(strand_, [this, sink] {
+  postToStrand([this, sink] {
     Response head{http::status::ok, 11};
     head.set(http::field::content_type, "text/event-stream");
     head.set(http::field::cache_control, "no-store");
@@ -802,7 +802,7 @@ void Station::addEventSink(std::shared_ptr<StreamSink> sink) {
 // --- MJPEG preview -------------------------------------------------------------------------------
 
 void Station::addPreviewSink(std::shared_ptr<StreamSink> sink) {
-  asio::post(strand_, [this, sink] {
+  postToStrand([this, sink] {
     Response head{http::status::ok, 11};
     head.set(http::field::content_type, "multipart/x-mixed-replace;boundary=garmcapframe");
     head.set(http::field::cache_control, "no-store, no-cache, must-revalidate");
@@ -846,7 +846,7 @@ void Station::previewTick() {
       } catch (const std::exception& e) {
         spdlog::warn("station: preview frame failed: {}", e.what());
       }
-      asio::post(strand_, [this, jpeg = std::move(jpeg)] {
+      postToStrand([this, jpeg = std::move(jpeg)] {
         previewInFlight_ = false;
         if (jpeg.empty())
           return;
@@ -868,7 +868,7 @@ void Station::previewTick() {
 // --- lifecycle -----------------------------------------------------------------------------------
 
 void Station::shutdown(std::chrono::seconds grace, std::function<void()> done) {
-  asio::post(strand_, [this, grace, done = std::move(done)] {
+  postToStrand([this, grace, done = std::move(done)] {
     if (stopping_)
       return;
     stopping_ = true;
@@ -937,7 +937,7 @@ void Station::maybeFinishShutdown() {
 }
 
 void Station::reload(const Config& c) {
-  asio::post(strand_, [this, c] {
+  postToStrand([this, c] {
     config_.reviewBelowConfidence = c.reviewBelowConfidence;
     config_.namingTemplate = c.namingTemplate;
     config_.queueLimit = c.queueLimit;
@@ -985,7 +985,7 @@ std::string Station::statusLine() const {
 }
 
 void Station::withCatalog(std::function<void(Catalog&)> fn) {
-  asio::post(strand_, [this, fn = std::move(fn)] {
+  postToStrand([this, fn = std::move(fn)] {
     try {
       fn(*catalog_);
     } catch (const std::exception& e) {

@@ -15,6 +15,7 @@
 // into it (never lost, never multiplied). Queue length is bounded by Config::queueLimit.
 
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/thread_pool.hpp>
@@ -163,6 +164,19 @@ class Station : public RouteContext {
   void keepAliveTick();
   void maybeFinishShutdown();
 
+  // Runs `f` on the strand unless the station is gone by then: the camera thread and the pool
+  // post their results back, and an io_context that outlives the station (a restart in the same
+  // process, the tests) would otherwise run them on a destroyed object.
+  template <typename F>
+  void postToStrand(F&& f) {
+    boost::asio::post(strand_,
+                      [life = std::weak_ptr<void>(alive_), f = std::forward<F>(f)]() mutable {
+                        if (life.lock())
+                          f();
+                      });
+  }
+
+  std::shared_ptr<void> alive_ = std::make_shared<int>(0);
   boost::asio::io_context& io_;
   boost::asio::strand<boost::asio::io_context::executor_type> strand_;
   Config config_;
