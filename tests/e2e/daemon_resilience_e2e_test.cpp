@@ -122,14 +122,16 @@ TEST(DaemonResilience, SigkillWhileCapturesFileItemsLosesNothingReported) {
   const unsigned seed = static_cast<unsigned>(std::random_device{}());
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> jitter(0, 1);
-  const int kRounds = 8;
+  // Twenty kills, as the acceptance asks; the time guard only keeps a badly loaded
+  // machine from running into ctest's timeout (the rounds done are checked below).
+  const int kRounds = 20;
   std::map<std::string, int> killedIn;  // stage of the running job at the kill
   std::set<std::int64_t> queuedAtKill;
   auto doneCount = [&] {
     return std::count_if(jobs.begin(), jobs.end(),
                          [](const auto& j) { return j.second.state == "done"; });
   };
-  for (int round = 0; round < kRounds && secondsSince(t0) < 45; ++round) {
+  for (int round = 0; round < kRounds && secondsSince(t0) < 240; ++round) {
     Daemon d(data, DaemonOptions{{}, rig, {}, {}});
     const auto started = Clock::now();  // a resumed job starts with the process
     auto status = d.get("/api/status").json();
@@ -263,6 +265,10 @@ TEST(DaemonResilience, SigkillWhileCapturesFileItemsLosesNothingReported) {
       seed, captureS, stages.c_str(), jobs.size(), done, interrupted, queuedAtKill.size(),
       resumedDone, rowSet.size(), secondsSince(t0));
   EXPECT_GE(done, 2);
+  int kills = 0;
+  for (const auto& [stage, n] : killedIn)
+    kills += n;
+  EXPECT_GE(kills, 10) << "the time guard stopped the loop early (machine overloaded?)";
   // The point of the test: some kills hit a capture past its still, while it makes an item.
   int inProcessing = 0;
   for (const auto& [stage, n] : killedIn)
