@@ -6,6 +6,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "garmcap/calib/garment_model.h"
+
 namespace garmcap::pipeline {
 namespace {
 
@@ -308,19 +310,9 @@ std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
 
 }  // namespace
 
+// The pipeline reports exactly what the simulator's truth.json holds: one vocabulary, in calib.
 const std::vector<std::string>& measurementNamesFor(const std::string& type) {
-  static const std::map<std::string, std::vector<std::string>> kNames = {
-      {"top", {"bust_circ", "waist_circ", "hem_circ", "garment_length", "sleeve_length"}},
-      {"dress",
-       {"bust_circ", "waist_circ", "hip_circ", "hem_circ", "garment_length", "skirt_length",
-        "sleeve_length"}},
-      {"skirt", {"waist_circ", "hip_circ", "hem_circ", "skirt_length"}},
-      {"pants", {"waist_circ", "hip_circ", "outseam", "inseam", "leg_opening_circ"}},
-  };
-  const auto it = kNames.find(type);
-  if (it == kNames.end())
-    throw std::invalid_argument("unknown garment type '" + type + "' (top, dress, skirt, pants)");
-  return it->second;
+  return calib::garmentMeasurementNames(type);
 }
 
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
