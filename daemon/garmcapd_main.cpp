@@ -19,6 +19,7 @@
 #include "garmcap/daemon/config.h"
 #include "garmcap/daemon/http_server.h"
 #include "garmcap/daemon/station.h"
+#include "garmcap/pipeline/capture_pipeline.h"
 
 namespace asio = boost::asio;
 using namespace garmcap;
@@ -75,6 +76,7 @@ std::unique_ptr<capture::Gpio> makeGpio(const daemon::Config& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  garmcap::pipeline::keepFrameMemoryMapped();
   CLI::App app{"garmcapd: the GarmCap Station daemon (HTTP API, catalog, capture queue)"};
   Options o;
   app.add_option("-c,--config", o.configFile, "TOML configuration file")->check(CLI::ExistingFile);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include "garmcap/calib/errors.h"
@@ -91,6 +92,7 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
   screenW.setTo(1.0f, g > 0.5f * gBorder);
   cv::Mat1f gScreen = smoothFill(g, screenW, 0.08, 1e-3);
   gScreen = cv::max(gScreen, 0.25f * gBorder);
+  r.screenGreenness = gScreen;
 
   // 3. Binary mask: nearer to the form than to the screen; largest component only.
   cv::Mat1f ratio = g / gScreen;
@@ -188,18 +190,50 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
   }
   r.mask = r.alpha > 0.5f;
 
-  // 5. Spill suppression on the foreground: green may not exceed the larger of red and blue.
+  // 5. Spill suppression on the foreground.
   r.despilled = frame.clone();
-  for (int y = 0; y < frame.rows; ++y) {
-    const uchar* m = outer.ptr(y);
-    for (int x = 0; x < frame.cols; ++x) {
-      if (!m[x])
-        continue;
-      cv::Vec3b& p = r.despilled(y, x);
-      p[1] = std::min(p[1], std::max(p[0], p[2]));
-    }
-  }
+  despill(r.despilled, outer);
   return r;
+}
+
+void despill(cv::Mat3b& bgr, const cv::Mat1b& mask) {
+  if (mask.size() != bgr.size())
+    throw std::invalid_argument("despill: the mask is not the image's size");
+  for (int y = 0; y < bgr.rows; ++y) {
+    const uchar* m = mask.ptr(y);
+    cv::Vec3b* row = bgr.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < bgr.cols; ++x)
+      if (m[x])
+        row[x][1] = std::min(row[x][1], std::max(row[x][0], row[x][2]));
+  }
+}
+
+cv::Mat1b foregroundInRegion(const cv::Mat3b& fullBgr, const KeyResult& workKey,
+                             const cv::Mat1b& where) {
+  if (where.size() != fullBgr.size())
+    throw std::invalid_argument("foregroundInRegion: the region is not the frame's size");
+  const cv::Mat1f& gs = workKey.screenGreenness;
+  if (gs.empty())
+    throw std::invalid_argument("foregroundInRegion: the key holds no screen greenness");
+  const double fx = static_cast<double>(gs.cols) / fullBgr.cols;
+  const double fy = static_cast<double>(gs.rows) / fullBgr.rows;
+  cv::Mat1b out = cv::Mat1b::zeros(fullBgr.size());
+  cv::parallel_for_(cv::Range(0, fullBgr.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const uchar* w = where.ptr(y);
+      const cv::Vec3b* p = fullBgr.ptr<cv::Vec3b>(y);
+      const float* screen = gs.ptr<float>(std::min(gs.rows - 1, static_cast<int>(y * fy)));
+      uchar* o = out.ptr(y);
+      for (int x = 0; x < fullBgr.cols; ++x) {
+        if (!w[x])
+          continue;
+        const float g = static_cast<float>(p[x][1]) - std::max(p[x][0], p[x][2]);
+        const float s = screen[std::min(gs.cols - 1, static_cast<int>(x * fx))];
+        o[x] = g < 0.5f * s ? 255 : 0;
+      }
+    }
+  });
+  return out;
 }
 
 }  // namespace garmcap::calib

@@ -3,8 +3,10 @@
 #include <exception>
 
 #include "commands.h"
+#include "garmcap/pipeline/capture_pipeline.h"
 
 int main(int argc, char** argv) {
+  garmcap::pipeline::keepFrameMemoryMapped();
   CLI::App app{"garmcap: drafts, grading, calibration and capture for GarmCap Station"};
   app.require_subcommand(1);
   garmcap::cli::addDraftCommands(app);

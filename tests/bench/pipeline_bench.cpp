@@ -2,7 +2,10 @@
 // full-resolution GrabCut on the same trimap.
 //
 //   build/bin/pipeline_bench [--sizes 480x640,1728x2304,3000x4000] [--reps 3] [--full-grabcut]
+//                            [--default-malloc]
 //
+// Like garmcapd it keeps freed frame memory mapped (pipeline::keepFrameMemoryMapped);
+// --default-malloc leaves glibc's defaults, to measure what that saves.
 // For each size (ascending) a simulated dress scene is rendered on the bundled dress form, the
 // pipeline runs once to build its per-calibration context (reported apart: the daemon builds it
 // once per calibration), then `reps` times; the table gives the median wall time per stage and
@@ -84,6 +87,7 @@ int main(int argc, char** argv) {
   std::string sizesArg = "480x640,1728x2304,3000x4000";
   int reps = 3;
   bool fullGrabCut = false;
+  bool systemAllocator = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sizes" && i + 1 < argc) {
@@ -92,17 +96,24 @@ int main(int argc, char** argv) {
       reps = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--full-grabcut") {
       fullGrabCut = true;
+    } else if (a == "--default-malloc") {
+      systemAllocator = true;
     } else {
-      std::fprintf(stderr, "usage: pipeline_bench [--sizes WxH,...] [--reps N] [--full-grabcut]\n");
+      std::fprintf(stderr,
+                   "usage: pipeline_bench [--sizes WxH,...] [--reps N] [--full-grabcut] "
+                   "[--default-malloc]\n");
       return 2;
     }
   }
+  if (!systemAllocator)
+    pipeline::keepFrameMemoryMapped();  // as garmcapd does
   try {
     const std::string formPath =
         std::string(GARMCAP_SHARED_DIR) + "/data/forms/garmentcode_mean_female/form.json";
     const calib::FormModel form = calib::FormModel::load(formPath);
-    std::printf("%-10s %5s %9s %9s %8s %8s %8s %8s %8s %9s %8s\n", "size", "MP", "context", "total",
-                "regist", "masks", "grabcut", "measure", "images", "peak_MB", "type");
+    std::printf("%-10s %5s %8s %7s %7s %7s %7s %7s %7s %7s %7s %7s %8s %6s\n", "size", "MP",
+                "context", "total", "regist", "masks", "grabcut", "type", "measure", "pattern",
+                "images", "texture", "peak_MB", "class");
     struct GrabCutRow {
       cv::Size size;
       double c2fMs, fullMs, c2fIou, fullIou;
@@ -131,11 +142,13 @@ int main(int argc, char** argv) {
         for (const auto& t : res.timings)
           stages[t.stage].push_back(t.ms);
       }
-      std::printf("%4dx%-5d %5.1f %9.0f %9.0f %8.0f %8.0f %8.0f %8.0f %8.0f %9.0f %8s\n",
-                  size.width, size.height, static_cast<double>(size.area()) / 1e6, contextMs,
-                  median(stages["total"]), median(stages["registration"]), median(stages["masks"]),
-                  median(stages["grabcut"]), median(stages["measure"]), median(stages["images"]),
-                  peakRssMb(), first.type.c_str());
+      std::printf(
+          "%4dx%-5d %5.1f %8.0f %7.0f %7.0f %7.0f %7.0f %7.0f %7.0f %7.0f %7.0f %7.0f %8.0f %6s\n",
+          size.width, size.height, static_cast<double>(size.area()) / 1e6, contextMs,
+          median(stages["total"]), median(stages["registration"]), median(stages["masks"]),
+          median(stages["grabcut"]), median(stages["type"]), median(stages["measure"]),
+          median(stages["pattern"]), median(stages["images"]), median(stages["texture"]),
+          peakRssMb(), first.type.c_str());
 
       const cv::Mat1f truth = renderer.garmentCoverage();
       const cv::Mat truthMask = truth > 0.5f;

@@ -1,5 +1,7 @@
 #include "garmcap/pipeline/capture_pipeline.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,6 +31,8 @@ using Reason = CaptureError::Reason;
 // Camera or form shifts below this are re-registered; above it the capture is refused.
 constexpr double kMaxShiftCm = 1.0;
 constexpr double kMinShiftPx = 1.0;
+// Below the hip, pants part into legs for at least this long (the shortest shorts' inseam).
+constexpr double kPartedLegsCm = 5.0;
 
 class StageTimer {
  public:
@@ -135,6 +139,31 @@ cv::Point2d estimateShift(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr) {
   return {shift.x / scale, shift.y / scale};
 }
 
+// The garment mask at full resolution from the work-frame one. Where the garment meets the screen
+// the full frame's own key places the edge (to the pixel); where it meets the form, or inside,
+// the work-frame decision is upsampled. Only a band of a few work pixels around the outline is
+// keyed again, so this costs a few percent of a full-frame key.
+cv::Mat garmentAtFullResolution(const cv::Mat& dressedFull, const calib::KeyResult& keyW,
+                                const cv::Mat& garmentW, const cv::Mat& foregroundW) {
+  // Let the garment reach over the screen by two work pixels: the full-frame key then decides
+  // where it ends there. Over the form it stays as the work frame cut it.
+  cv::Mat grown;
+  cv::dilate(garmentW, grown, cv::Mat(), cv::Point(-1, -1), 2);
+  const cv::Mat extended = garmentW | (grown & ~foregroundW);
+  cv::Mat bandW;
+  cv::morphologyEx(garmentW, bandW, cv::MORPH_GRADIENT, cv::Mat());
+  cv::dilate(bandW, bandW, cv::Mat(), cv::Point(-1, -1), 2);
+  cv::Mat up, band;
+  cv::resize(extended, up, dressedFull.size(), 0, 0, cv::INTER_LINEAR);
+  cv::resize(bandW, band, dressedFull.size(), 0, 0, cv::INTER_NEAREST);
+  cv::Mat full;
+  cv::resize(garmentW, full, dressedFull.size(), 0, 0, cv::INTER_NEAREST);
+  const cv::Mat1b fg = calib::foregroundInRegion(dressedFull, keyW, band);
+  const cv::Mat inBand = (up >= 128) & fg;
+  inBand.copyTo(full, band);
+  return full;
+}
+
 void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeasurement& m,
                  const calib::Calibration& cal) {
   std::vector<std::vector<cv::Point>> contours;
@@ -151,6 +180,13 @@ void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeas
 }
 
 }  // namespace
+
+void keepFrameMemoryMapped() {
+  // Frames above the default 32 MB limit would each get their own mapping, given back on free;
+  // and the heap's top would be trimmed after every capture.
+  mallopt(M_MMAP_THRESHOLD, 512 * 1024 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 1024 * 1024 * 1024);
+}
 
 nlohmann::json CaptureResult::toJson() const {
   nlohmann::json j;
@@ -206,28 +242,61 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
                                               std::to_string(cal.imageSize.height));
   timer.done("context");
 
-  // 1. Remove the camera roll so that image rows are form heights.
-  cv::Mat empty = emptyBgr, dressed = dressedBgr;
+  // Segmentation runs on copies of about options.workMegapixels; only the garment's outline against
+  // the screen is placed at full resolution again (below), where the key is exact to the pixel. At
+  // 12 MP this keeps every whole-frame operation on ~1 MP.
+  const double ws = std::min(
+      1.0, std::sqrt(options.workMegapixels * 1e6 / static_cast<double>(emptyBgr.total())));
+  const double sw = s * ws;  // work-frame px per cm
+  auto toWork = [&](const cv::Mat& full) {
+    if (ws >= 1.0)
+      return full;
+    cv::Mat small;
+    cv::resize(full, small, cv::Size(), ws, ws, cv::INTER_AREA);
+    return small;
+  };
+  const Eigen::Vector2d centreW = cal.pose.offsetPx * ws;
+
+  // 1. Remove the camera roll so that image rows are form heights (work frames here; the full
+  // dressed frame below, in one warp with any re-registration shift).
+  cv::Mat empty = toWork(emptyBgr), dressed = toWork(dressedBgr);
   if (std::abs(cal.pose.rollRad) > 1e-6) {
-    empty = rotateAbout(emptyBgr, cal.pose.offsetPx, cal.pose.rollRad, cv::INTER_LINEAR);
-    dressed = rotateAbout(dressedBgr, cal.pose.offsetPx, cal.pose.rollRad, cv::INTER_LINEAR);
+    empty = rotateAbout(empty, centreW, cal.pose.rollRad, cv::INTER_LINEAR);
+    dressed = rotateAbout(dressed, centreW, cal.pose.rollRad, cv::INTER_LINEAR);
   }
 
   // 2. Key both frames; check the camera and form have not moved.
   // The shift comes first: a moved camera can also push the form against the frame's edge, and
   // "the camera moved" is the reason staff can act on.
-  const cv::Point2d shift = estimateShift(empty, dressed);
+  const cv::Point2d shiftW = estimateShift(empty, dressed);
+  const cv::Point2d shift = shiftW / ws;  // full-frame px
   const double shiftPx = std::hypot(shift.x, shift.y);
   if (shiftPx > kMaxShiftCm * s)
     throw CaptureError(Reason::kCameraMoved,
                        "the camera or the form moved by " + fmt1(shiftPx) + " px (" +
                            fmt1(shiftPx / s) +
                            " cm) since the bare-form frame; capture the bare form again");
-  if (shiftPx > kMinShiftPx) {
-    const cv::Mat back = (cv::Mat_<double>(2, 3) << 1, 0, -shift.x, 0, 1, -shift.y);
+  const bool reregister = shiftPx > kMinShiftPx;
+  if (reregister) {
+    const cv::Mat back = (cv::Mat_<double>(2, 3) << 1, 0, -shiftW.x, 0, 1, -shiftW.y);
     cv::warpAffine(dressed, dressed, back, dressed.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
     result.warnings.push_back("re-registered a camera shift of " + fmt1(shiftPx) + " px");
   }
+  // The full dressed frame, upright and registered: one warp, and none when neither applies.
+  auto dressedFullJob = std::async(std::launch::async, [&] {
+    if (std::abs(cal.pose.rollRad) <= 1e-6 && !reregister)
+      return dressedBgr;
+    const cv::Point2f c(static_cast<float>(cal.pose.offsetPx.x()),
+                        static_cast<float>(cal.pose.offsetPx.y()));
+    cv::Mat m = cv::getRotationMatrix2D(c, -cal.pose.rollRad * 180.0 / M_PI, 1.0);
+    if (reregister) {
+      m.at<double>(0, 2) -= shift.x;
+      m.at<double>(1, 2) -= shift.y;
+    }
+    cv::Mat out;
+    cv::warpAffine(dressedBgr, out, m, dressedBgr.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    return out;
+  });
   // The two keys are independent: the dressed one runs beside the (usually cached) bare one.
   auto dressedKey = std::async(std::launch::async, [&] { return key(dressed, "dressed frame"); });
   const calib::KeyResult keyE = keyBareForm(empty);
@@ -249,7 +318,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
     cv::magnitude(ch[1], ch[2], diff);
     diff = diff + 0.5f * ch[0];
     // Sensor noise differs between the two shots; average it away before thresholding.
-    const int k = 2 * std::max(2, static_cast<int>(std::lround(0.3 * s))) + 1;
+    const int k = 2 * std::max(2, static_cast<int>(std::lround(0.3 * sw))) + 1;
     cv::GaussianBlur(diff, diff, cv::Size(k, k), 0);
   }
   const cv::Mat formMask = keyE.mask;
@@ -273,7 +342,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
                        5.0, 25.0);
     }
   }
-  const int r = std::max(2, static_cast<int>(std::lround(0.4 * s)));
+  const int r = std::max(2, static_cast<int>(std::lround(0.4 * sw)));
   const cv::Mat kernel =
       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
   cv::Mat exposed = (diff < static_cast<float>(tau)) & formMask & fgD;
@@ -283,7 +352,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   cv::morphologyEx(base, base, cv::MORPH_OPEN, kernel);
   cv::Mat sure;
   cv::erode(base, sure, kernel);
-  if (cv::countNonZero(sure) < 0.002 * static_cast<double>(formMask.total()) + 50)
+  if (cv::countNonZero(sure) < 0.002 * static_cast<double>(formMask.total()) + 50 * ws * ws)
     throw CaptureError(
         Reason::kNoGarment,
         "no garment found: the dressed frame shows the bare form (is the garment on the form?)");
@@ -300,57 +369,78 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
     cv::imwrite(std::string(dir) + "/diff.png", d8);
   }
 
-  cv::Mat garment = grabCutCoarseToFine(keyD.despilled, trimap);
+  cv::Mat garmentW = grabCutCoarseToFine(keyD.despilled, trimap);
   // Keep the garment's main piece and fill its holes (prints the colour of the form).
   {
     cv::Mat labels, stats, centroids;
-    const int n = cv::connectedComponentsWithStats(garment, labels, stats, centroids, 8);
+    const int n = cv::connectedComponentsWithStats(garmentW, labels, stats, centroids, 8);
     int best = 0, bestArea = 0;
     for (int i = 1; i < n; ++i)
       if (stats.at<int>(i, cv::CC_STAT_AREA) > bestArea) {
         bestArea = stats.at<int>(i, cv::CC_STAT_AREA);
         best = i;
       }
-    garment = labels == best;
+    garmentW = labels == best;
     if (bestArea == 0)
       throw CaptureError(Reason::kNoGarment, "no garment found after segmentation");
     std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(garment.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-    garment.setTo(0);
-    cv::drawContours(garment, contours, -1, cv::Scalar(255), cv::FILLED);
+    cv::findContours(garmentW.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    garmentW.setTo(0);
+    cv::drawContours(garmentW, contours, -1, cv::Scalar(255), cv::FILLED);
   }
-  timer.done("grabcut");
 
   // 4. A garment must be worn by the form: mostly over it and clear of the frame's edges.
   {
-    const cv::Rect inner(2, 2, garment.cols - 4, garment.rows - 4);
-    cv::Mat border = garment.clone();
+    const cv::Rect inner(2, 2, garmentW.cols - 4, garmentW.rows - 4);
+    cv::Mat border = garmentW.clone();
     border(inner).setTo(0);
     if (cv::countNonZero(border) > 0)
       throw CaptureError(Reason::kOffForm, "the garment is cut off by the frame edge");
-    const double onForm = cv::countNonZero(garment & formMask) /
-                          std::max(1.0, static_cast<double>(cv::countNonZero(garment)));
+    const double onForm = cv::countNonZero(garmentW & formMask) /
+                          std::max(1.0, static_cast<double>(cv::countNonZero(garmentW)));
     if (onForm < 0.25)
       throw CaptureError(Reason::kOffForm, "the garment hangs off the form (only " +
                                                std::to_string(static_cast<int>(onForm * 100)) +
                                                "% of it covers the form)");
   }
+  const cv::Mat dressedFull = dressedFullJob.get();
+  const cv::Mat garment =
+      ws >= 1.0 ? garmentW : garmentAtFullResolution(dressedFull, keyD, garmentW, fgD);
+  timer.done("grabcut");
 
   // 5. Type by silhouette against the references rendered on this form.
-  const Classification cls = ctx->classifier->classify(garment, MatchMethod::kIou);
+  const Classification cls = ctx->classifier->classify(garmentW, MatchMethod::kIou);
   result.type = cls.type;
   result.attributes = cls.attributes;
   result.confidence = cls.confidence;
   result.runnerUp = cls.runnerUp;
+  // Skirt or pants: shape similarity confuses a short pair of pants with a skirt of its length
+  // (and a form-coloured skirt, cut less cleanly, with pants); legs that part below the crotch
+  // decide it.
+  if (cls.type == "skirt" || cls.type == "pants") {
+    const bool pants = partedLegsCm(garment, view) >= kPartedLegsCm;
+    const std::string decided = pants ? "pants" : "skirt";
+    if (decided != result.type) {
+      result.warnings.push_back("type: the silhouette is closest to " + result.type + ", but it " +
+                                (pants ? "parts into two legs" : "does not part into legs") +
+                                "; taken for " + decided);
+      result.runnerUp = result.type;
+      result.type = decided;
+      if (pants)
+        result.attributes.erase("skirt");
+      else
+        result.attributes["skirt"] = "h_line";  // a_line or h_line from the hem below
+    }
+  }
   timer.done("type");
 
   GarmentMeasurement gm;
-  if (cls.type == "unknown") {
+  if (result.type == "unknown") {
     result.warnings.push_back("no garment type matches this silhouette well (best IoU " +
                               fmt1(cls.bestScore) + "); review it by hand");
   } else {
     // 6. Measurements, and the attributes they decide better than shape does.
-    gm = measureGarment(garment, view, cls.type);
+    gm = measureGarment(garment, view, result.type);
     result.measurements = gm.measurements;
     for (const auto& w : gm.warnings)
       result.warnings.push_back(w);
@@ -378,22 +468,35 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
     timer.done("pattern");
   }
 
-  // 8. Images.
+  // 8. Images, from the garment's part of the full frame only.
   result.silhouette = garment;
-  result.overlay = dressed.clone();
+  result.overlay = dressedFull.clone();
   drawOverlay(result.overlay, garment, gm, cal);
-  if (options.makeProductImages) {
-    result.cutout = makeCutout(keyD.despilled, garment);
-    const ProductImages p =
-        makeProductImages(keyD.despilled, garment, {.sizePx = options.productSizePx});
-    result.product = p.onWhite;
-  }
-  timer.done("images");
-  if (options.makeTexture) {
-    const TextureResult t = extractTexture(keyD.despilled, garment);
-    result.texture = t.tile;
-    result.attributes["fabric"] = toString(t.kind);
-    timer.done("texture");
+  if (options.makeProductImages || options.makeTexture) {
+    const int margin = static_cast<int>(std::ceil(2.0 * s));
+    cv::Rect box = cv::boundingRect(garment);
+    box =
+        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
+        cv::Rect(0, 0, garment.cols, garment.rows);
+    cv::Mat3b crop = dressedFull(box).clone();
+    const cv::Mat1b maskCrop = garment(box);
+    cv::Mat1b spill;
+    cv::dilate(maskCrop, spill, cv::Mat(), cv::Point(-1, -1), 2);
+    calib::despill(crop, spill);
+    if (options.makeProductImages) {
+      result.cutout = makeCutout(crop, maskCrop);
+      const ProductImages p = makeProductImages(crop, maskCrop, {.sizePx = options.productSizePx});
+      result.product = p.onWhite;
+    }
+    timer.done("images");
+    if (options.makeTexture) {
+      const TextureResult t = extractTexture(crop, maskCrop);
+      result.texture = t.tile;
+      result.attributes["fabric"] = toString(t.kind);
+      timer.done("texture");
+    }
+  } else {
+    timer.done("images");
   }
   return result;
 }

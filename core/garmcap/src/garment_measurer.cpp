@@ -429,4 +429,34 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
   return out;
 }
 
+double partedLegsCm(const cv::Mat& garmentMask, const FormView& view) {
+  if (garmentMask.size() != view.size() || garmentMask.type() != CV_8UC1)
+    throw std::invalid_argument("partedLegs: the garment mask must be CV_8UC1 of the frame's size");
+  const double s = view.pose().pxPerCm;
+  const int axis = static_cast<int>(std::lround(view.axisXPx()));
+  // The centre line counts as uncovered when a band of +-0.5 cm around it is; each leg must
+  // show at least 2 cm of garment within 25 cm of the axis.
+  const int half = std::max(1, static_cast<int>(std::lround(0.5 * s)));
+  const int reach = static_cast<int>(std::lround(25.0 * s));
+  const int minLeg = static_cast<int>(std::lround(2.0 * s));
+  const int hipRow = std::max(0, static_cast<int>(std::lround(view.rowOfHeight(view.hipCm()))));
+  int parted = 0;
+  for (int r = hipRow; r < garmentMask.rows; ++r) {
+    const uchar* m = garmentMask.ptr(r);
+    bool centre = false;
+    for (int x = std::max(0, axis - half); x <= std::min(garmentMask.cols - 1, axis + half); ++x)
+      centre = centre || m[x] != 0;
+    if (centre)
+      continue;
+    int left = 0, right = 0;
+    for (int x = std::max(0, axis - reach); x < axis - half; ++x)
+      left += m[x] != 0;
+    for (int x = axis + half + 1; x <= std::min(garmentMask.cols - 1, axis + reach); ++x)
+      right += m[x] != 0;
+    if (left >= minLeg && right >= minLeg)
+      ++parted;
+  }
+  return parted / s;
+}
+
 }  // namespace garmcap::pipeline

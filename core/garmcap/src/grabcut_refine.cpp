@@ -107,21 +107,24 @@ cv::Mat grabCutCoarseToFine(const cv::Mat& bgr, const cv::Mat& trimap,
   labels.setTo(kBgd, trimap == kBgd);
   labels.setTo(kFgd, trimap == kFgd);
 
-  // 4. Refine the band tile by tile with the coarse colour models frozen. Tiles overlap by the
-  // band width so that each boundary pixel is cut with context on both sides.
-  const int tile = std::max(64, options.tilePx);
-  const int overlap = halfWidth;
+  // 4. Refine the band tile by tile with the coarse colour models frozen. Tiles overlap by twice
+  // the band width so that each boundary pixel is cut with context on both sides.
+  const int tile = std::max(32, options.tilePx);
+  const int overlap = 2 * halfWidth;
   struct Tile {
     cv::Rect withOverlap;
     cv::Rect core;
   };
   std::vector<Tile> tiles;
+  // Only band pixels the caller left open need a cut: where its hard labels meet (the garment
+  // against the green screen, say) the boundary is already decided.
+  const cv::Mat open = (labels == kPrFgd) | (labels == kPrBgd);
   for (int y = 0; y < bgr.rows; y += tile) {
     for (int x = 0; x < bgr.cols; x += tile) {
       cv::Rect r(x - overlap, y - overlap, tile + 2 * overlap, tile + 2 * overlap);
       r &= cv::Rect(0, 0, bgr.cols, bgr.rows);
       const cv::Rect core(x, y, std::min(tile, bgr.cols - x), std::min(tile, bgr.rows - y));
-      if (cv::countNonZero(band(core)) > 0)
+      if (cv::countNonZero(open(core)) > 0)
         tiles.push_back({r, core});
     }
   }

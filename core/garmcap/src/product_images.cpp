@@ -50,19 +50,19 @@ ProductImages makeProductImages(const cv::Mat& bgr, const cv::Mat& mask,
   else
     transparent = canvas;
 
-  // Composite on white with the alpha channel.
-  cv::Mat colour, alpha;
-  cv::cvtColor(transparent, colour, cv::COLOR_BGRA2BGR);
-  cv::extractChannel(transparent, alpha, 3);
-  cv::Mat colourF, alphaF;
-  colour.convertTo(colourF, CV_32FC3, 1.0 / 255);
-  alpha.convertTo(alphaF, CV_32F, 1.0 / 255);
-  cv::Mat alpha3;
-  cv::merge(std::vector<cv::Mat>{alphaF, alphaF, alphaF}, alpha3);
-  cv::Mat white(colourF.size(), CV_32FC3, cv::Scalar(1, 1, 1));
-  cv::Mat composite = colourF.mul(alpha3) + white.mul(cv::Scalar(1, 1, 1) - alpha3);
+  // Composite on white with the alpha channel, in 8 bits: a float copy of a 1600x1600 image
+  // costs more than the whole composite.
   ProductImages out;
-  composite.convertTo(out.onWhite, CV_8UC3, 255.0);
+  out.onWhite.create(transparent.size(), CV_8UC3);
+  for (int y = 0; y < transparent.rows; ++y) {
+    const cv::Vec4b* src = transparent.ptr<cv::Vec4b>(y);
+    cv::Vec3b* dst = out.onWhite.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < transparent.cols; ++x) {
+      const int a = src[x][3];
+      for (int c = 0; c < 3; ++c)
+        dst[x][c] = static_cast<uchar>((src[x][c] * a + 255 * (255 - a) + 127) / 255);
+    }
+  }
   out.transparent = transparent;
   return out;
 }

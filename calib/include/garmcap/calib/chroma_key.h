@@ -24,6 +24,8 @@ struct KeyResult {
   cv::Mat3b despilled;  // the frame with green spill removed from the foreground (G <= max(R,B))
   cv::Vec3b screenBgr;  // median border colour
   double screenHueDeg = 0;  // its hue, 0..360
+  cv::Mat1f
+      screenGreenness;  // the screen's greenness G - max(R, B) per pixel, at this frame's size
 };
 
 /// Keys `frameBgr` (8-bit BGR). Throws CalibError kNotGreenScreen when the border is not a
@@ -31,5 +33,19 @@ struct KeyResult {
 /// kFormCutOff when the foreground touches the frame edge. `what` names the frame in messages.
 KeyResult keyGreenScreen(const cv::Mat3b& frameBgr, const std::string& what,
                          const KeyOptions& options = {});
+
+/// What stands in front of the screen, at full resolution, for the pixels set in `where` only:
+/// a pixel is foreground when its greenness is below half the screen's there. `workKey` is the
+/// key of a downscaled copy of `fullBgr`; its screen greenness varies slowly, so it is sampled at
+/// the pixel's place in the small frame. This lets a pipeline key ~1 MP and still place edges
+/// against the screen to the full frame's pixel. Returns CV_8U of fullBgr's size, 255 =
+/// foreground, 0 elsewhere (and everywhere outside `where`). Throws std::invalid_argument on
+/// mismatched sizes.
+cv::Mat1b foregroundInRegion(const cv::Mat3b& fullBgr, const KeyResult& workKey,
+                             const cv::Mat1b& where);
+
+/// Removes green spill in place where `mask` is set: green may not exceed the larger of red and
+/// blue there.
+void despill(cv::Mat3b& bgr, const cv::Mat1b& mask);
 
 }  // namespace garmcap::calib

@@ -36,7 +36,18 @@ struct CaptureOptions {
   bool makeProductImages = true;
   bool makeTexture = true;
   int productSizePx = 1600;  // square product photo edge, limited by the camera's resolution
+  // Frames larger than this are segmented on a downscaled copy; the outline against the screen
+  // is then placed at full resolution. 2 MP keeps the 4 MP rig's errors within 0.1 cm of
+  // full-resolution segmentation at a fraction of its time (docs/pipeline.md).
+  double workMegapixels = 2.0;
 };
+
+/// Makes the C allocator keep the freed memory of frame-sized buffers for the next one instead
+/// of returning it to the kernel: a capture allocates and frees dozens of 4-36 MB images, and
+/// fresh pages cost a fault each (over half the capture's time measured in a VM). The process
+/// then keeps up to about its peak (~1.5 GB at 12 MP) mapped between captures. Call once at
+/// start-up, before any thread starts.
+void keepFrameMemoryMapped();
 
 struct StageTiming {
   std::string stage;  // "registration", "masks", "grabcut", "type", "landmarks", ...

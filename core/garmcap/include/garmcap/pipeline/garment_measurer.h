@@ -40,4 +40,9 @@ const std::vector<std::string>& measurementNamesFor(const std::string& type);
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
                                   const std::string& type);
 
+/// How far, in cm of height, the garment below the form's hip runs as two legs with the form's
+/// centre line uncovered between them: pants part so, a skirt covers the centre line down to
+/// its hem. Same mask contract as measureGarment.
+double partedLegsCm(const cv::Mat& garmentMask, const FormView& view);
+
 }  // namespace garmcap::pipeline

@@ -10,10 +10,12 @@ namespace garmcap::pipeline {
 
 struct CoarseToFineOptions {
   double workMegapixels = 0.12;  // resolution of the coarse GrabCut
-  int iterations = 3;           // GrabCut iterations at the coarse level
-  int minBandPx = 6;            // half-width of the refinement band at full resolution (at least
-                                // twice the upsampling factor, see .cpp)
-  int tilePx = 384;             // edge of the full-resolution refinement tiles
+  int iterations = 3;            // GrabCut iterations at the coarse level
+  int minBandPx = 6;             // half-width of the refinement band at full resolution (at least
+                                 // twice the upsampling factor, see .cpp)
+  int tilePx = 256;              // edge of the refinement tiles: smaller ones hug the band (GrabCut
+                                 // works on every pixel of a tile) but lose context: at 128 the cut
+                                 // drifts from plain GrabCut (IoU 0.989 in grabcut_refine_test)
 };
 
 /// Garment mask from a trimap.
