@@ -120,12 +120,28 @@ int vertexIndex(const Panel& panel, const Point2& p) {
                          ", " + std::to_string(p.y()) + ")");
 }
 
+namespace {
+
+// polylineLength(edgePoints(panel, e)), the same sum, without copying the points.
+double edgeLength(const Panel& panel, const EdgeRef& e) {
+  const int n = static_cast<int>(panel.outline.size());
+  double total = 0;
+  for (int i = e.from; i != e.to;) {
+    const int next = (i + 1) % n;
+    total +=
+        (panel.outline[static_cast<std::size_t>(next)] - panel.outline[static_cast<std::size_t>(i)])
+            .norm();
+    i = next;
+  }
+  return total;
+}
+
+}  // namespace
+
 EdgeRef shortEdge(const Panel& panel, const Point2& p1, const Point2& p2) {
   const EdgeRef forward{panel.name, vertexIndex(panel, p1), vertexIndex(panel, p2)};
   const EdgeRef backward{panel.name, forward.to, forward.from};
-  return polylineLength(edgePoints(panel, forward)) <= polylineLength(edgePoints(panel, backward))
-             ? forward
-             : backward;
+  return edgeLength(panel, forward) <= edgeLength(panel, backward) ? forward : backward;
 }
 
 void addSeam(Pattern& pattern, const std::string& name, const std::string& a, const Point2& a1,
