@@ -85,6 +85,56 @@ std::optional<std::pair<int, int>> findSelfIntersection(const Polyline& polygon)
     boxMin[size_t(j)] = p(j).cwiseMin(p(j + 1));
     boxMax[size_t(j)] = p(j).cwiseMax(p(j + 1));
   }
+  // The pair of edges i < j that the loop below tests, by the same predicate: boxes within
+  // kGeometryEpsCm of each other, then segmentsTouch.
+  auto pairTouches = [&](int i, int j) {
+    if (j < i + 2 || (i == 0 && j == n - 1))
+      return false;  // adjacent, possibly through the closing edge
+    const Point2 amin = boxMin[size_t(i)].array() - kGeometryEpsCm;
+    const Point2 amax = boxMax[size_t(i)].array() + kGeometryEpsCm;
+    const Point2& bmin = boxMin[size_t(j)];
+    const Point2& bmax = boxMax[size_t(j)];
+    if ((bmin.array() > amax.array()).any() || (bmax.array() < amin.array()).any())
+      return false;
+    return segmentsTouch(p(i), p(i + 1), p(j), p(j + 1));
+  };
+  auto spikeAt = [&](int i) {
+    // Adjacent edges share a vertex; they intersect improperly only when the second folds
+    // back along the first (a zero-angle spike).
+    const Point2 d0 = p(i + 1) - p(i);
+    const Point2 d1 = p(i + 2) - p(i + 1);
+    return std::abs(cross(d0, d1)) < kGeometryEpsCm * d0.norm() && d0.dot(d1) < 0;
+  };
+  // The usual answer, none, without testing all n²/2 pairs: edges sorted by the left side of
+  // their box, each compared with the following ones whose box starts before its own ends
+  // (sweep and prune, with a margin of 2 kGeometryEpsCm, wider than the pair test's, so that no
+  // pair that test would accept is skipped). Only when a spike or a touching pair turns up
+  // does the full loop below run, to report the same first pair as always.
+  const bool finite =
+      std::all_of(polygon.begin(), polygon.end(), [](const Point2& q) { return q.allFinite(); });
+  if (finite) {  // (a NaN box has no place in the order: the full loop takes it)
+    bool found = false;
+    for (int i = 0; i < n && !found; ++i)
+      found = spikeAt(i);
+    std::vector<int> order(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i)
+      order[size_t(i)] = i;
+    std::sort(order.begin(), order.end(),
+              [&](int a, int b) { return boxMin[size_t(a)].x() < boxMin[size_t(b)].x(); });
+    for (size_t a = 0; a < order.size() && !found; ++a) {
+      const int e = order[a];
+      const double reach = boxMax[size_t(e)].x() + 2 * kGeometryEpsCm;
+      for (size_t b = a + 1; b < order.size() && boxMin[size_t(order[b])].x() <= reach; ++b) {
+        const int f = order[b];
+        if (pairTouches(std::min(e, f), std::max(e, f))) {
+          found = true;
+          break;
+        }
+      }
+    }
+    if (!found)
+      return std::nullopt;
+  }
   for (int i = 0; i < n; ++i) {
     // Adjacent edges share a vertex; they intersect improperly only when the second folds
     // back along the first (a zero-angle spike).

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "geometry_polyline_cum.h"
+
 namespace garmcap::drafts {
 
 namespace {
@@ -66,11 +68,7 @@ Point2 pointAtLength(const Polyline& pl, double s) {
   requireNonEmpty(pl, "pointAtLength");
   if (pl.size() == 1)
     return pl.front();
-  const auto cum = cumulativeLengths(pl);
-  if (s >= cum.back())
-    return pl.back();
-  const auto [i, f] = locate(cum, s);
-  return pointAtFraction(pl[i], pl[i + 1], f);
+  return detail::pointAtLength(pl, cumulativeLengths(pl), s);
 }
 
 std::optional<Point2> tangentAtLength(const Polyline& pl, double s) {
@@ -132,24 +130,9 @@ Polyline resample(const Polyline& pl, int count) {
 
 Polyline subPolyline(const Polyline& pl, double s0, double s1) {
   requireNonEmpty(pl, "subPolyline");
-  if (s0 > s1)
-    return reversed(subPolyline(pl, s1, s0));
   if (pl.size() == 1)
     return {pl.front()};
-  const auto cum = cumulativeLengths(pl);
-  s0 = std::clamp(s0, 0.0, cum.back());
-  s1 = std::clamp(s1, 0.0, cum.back());
-  const auto [i0, f0] = locate(cum, s0);
-  const auto [i1, f1] = locate(cum, s1);
-  Polyline out{pointAtFraction(pl[i0], pl[i0 + 1], f0)};
-  for (size_t j = i0 + 1; j <= i1; ++j) {
-    if ((pl[j] - out.back()).norm() >= kGeometryEpsCm)
-      out.push_back(pl[j]);
-  }
-  const Point2 end = s1 >= cum.back() ? pl.back() : pointAtFraction(pl[i1], pl[i1 + 1], f1);
-  if ((end - out.back()).norm() >= kGeometryEpsCm || out.size() == 1)
-    out.push_back(end);
-  return out;
+  return detail::subPolyline(pl, cumulativeLengths(pl), s0, s1);
 }
 
 Polyline trimStart(const Polyline& pl, double lengthCm) {
@@ -275,10 +258,38 @@ std::vector<PolylineHit> intersectPolylines(const Polyline& a, const Polyline& b
 }
 
 std::optional<PolylineHit> firstIntersection(const Polyline& pl, const Line& line) {
-  auto hits = intersectPolylineLine(pl, line);
-  if (hits.empty())
+  // intersectPolylineLine's first hit, found by the same tests in the same order, but stopping
+  // there: sides and arc lengths are computed up to the hit only (the same sums as
+  // cumulativeLengths, so the same values).
+  if (pl.size() < 2)
     return std::nullopt;
-  return hits.front();
+  auto sideOf = [&](size_t i) {
+    const double d = signedDistanceToLine(pl[i], line);
+    return std::abs(d) < kGeometryEpsCm ? 0.0 : d;
+  };
+  double before = 0;  // side of vertex i - 1 (read only when i > 0)
+  double d0 = sideOf(0);
+  double s0 = 0.0;
+  for (size_t i = 0; i + 1 < pl.size(); ++i) {
+    const double d1 = sideOf(i + 1);
+    const double s1 = s0 + (pl[i + 1] - pl[i]).norm();
+    if (d0 != 0 || d1 != 0) {  // both zero: collinear overlap, not a crossing
+      if (d0 == 0) {
+        if (!(i > 0 && before != 0))
+          return PolylineHit{pl[i], s0, line.parameterOf(pl[i]), int(i)};
+      } else if (d1 == 0) {
+        return PolylineHit{pl[i + 1], s1, line.parameterOf(pl[i + 1]), int(i)};
+      } else if ((d0 < 0) != (d1 < 0)) {
+        const double f = d0 / (d0 - d1);
+        const Point2 p = pointAtFraction(pl[i], pl[i + 1], f);
+        return PolylineHit{p, s0 + f * (s1 - s0), line.parameterOf(p), int(i)};
+      }
+    }
+    before = d0;
+    d0 = d1;
+    s0 = s1;
+  }
+  return std::nullopt;
 }
 
 std::optional<PolylineHit> firstIntersection(const Polyline& a, const Polyline& b) {
@@ -343,5 +354,40 @@ ClosestPoint closestPoint(const Polyline& pl, const Point2& p) {
   }
   return best;
 }
+
+namespace detail {
+
+Point2 pointAtLength(const Polyline& pl, const std::vector<double>& cum, double s) {
+  requireNonEmpty(pl, "pointAtLength");
+  if (pl.size() == 1)
+    return pl.front();
+  if (s >= cum.back())
+    return pl.back();
+  const auto [i, f] = locate(cum, s);
+  return pointAtFraction(pl[i], pl[i + 1], f);
+}
+
+Polyline subPolyline(const Polyline& pl, const std::vector<double>& cum, double s0, double s1) {
+  requireNonEmpty(pl, "subPolyline");
+  if (s0 > s1)
+    return reversed(detail::subPolyline(pl, cum, s1, s0));
+  if (pl.size() == 1)
+    return {pl.front()};
+  s0 = std::clamp(s0, 0.0, cum.back());
+  s1 = std::clamp(s1, 0.0, cum.back());
+  const auto [i0, f0] = locate(cum, s0);
+  const auto [i1, f1] = locate(cum, s1);
+  Polyline out{pointAtFraction(pl[i0], pl[i0 + 1], f0)};
+  for (size_t j = i0 + 1; j <= i1; ++j) {
+    if ((pl[j] - out.back()).norm() >= kGeometryEpsCm)
+      out.push_back(pl[j]);
+  }
+  const Point2 end = s1 >= cum.back() ? pl.back() : pointAtFraction(pl[i1], pl[i1 + 1], f1);
+  if ((end - out.back()).norm() >= kGeometryEpsCm || out.size() == 1)
+    out.push_back(end);
+  return out;
+}
+
+}  // namespace detail
 
 }  // namespace garmcap::drafts

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "geometry_polyline_cum.h"
+
 namespace garmcap::drafts::detail {
 
 Polyline curve(const std::vector<CurveNode>& nodes, int count) {
@@ -56,7 +58,8 @@ std::optional<LineWithDarts> openDarts(const Polyline& line, std::vector<DartSpe
                                        int pieceCount) {
   std::sort(darts.begin(), darts.end(),
             [](const DartSpec& a, const DartSpec& b) { return a.centreS < b.centreS; });
-  const double total = polylineLength(line);
+  const std::vector<double> cum = cumulativeLengths(line);  // the line is long: sum it once
+  const double total = cum.empty() ? 0.0 : cum.back();
   LineWithDarts out;
   double s = 0;
   for (const auto& d : darts) {
@@ -64,11 +67,11 @@ std::optional<LineWithDarts> openDarts(const Polyline& line, std::vector<DartSpe
     const double s2 = d.centreS + d.width / 2;
     if (d.width <= 0.05 || s1 < s + 0.3 || s2 > total - 0.3)
       return std::nullopt;
-    const Polyline piece = resample(subPolyline(line, s, s1), pieceCount);
+    const Polyline piece = resample(subPolyline(line, cum, s, s1), pieceCount);
     append(out.points, piece);
     out.sewnLength += polylineLength(piece);
-    const Point2 leg1 = pointAtLength(line, s1);
-    const Point2 leg2 = pointAtLength(line, s2);
+    const Point2 leg1 = pointAtLength(line, cum, s1);
+    const Point2 leg2 = pointAtLength(line, cum, s2);
     // Apex on the perpendicular bisector of the legs at the requested height: legs equal.
     const Point2 mid = midpoint(leg1, leg2);
     Point2 n = perpendicularVector(leg2 - leg1).normalized();
@@ -80,7 +83,7 @@ std::optional<LineWithDarts> openDarts(const Polyline& line, std::vector<DartSpe
     out.darts.push_back(Dart{d.name, apex, leg1, leg2});
     s = s2;
   }
-  const Polyline last = resample(subPolyline(line, s, total), pieceCount);
+  const Polyline last = resample(subPolyline(line, cum, s, total), pieceCount);
   append(out.points, last);
   out.sewnLength += polylineLength(last);
   return out;
@@ -117,12 +120,28 @@ int vertexIndex(const Panel& panel, const Point2& p) {
                          ", " + std::to_string(p.y()) + ")");
 }
 
+namespace {
+
+// polylineLength(edgePoints(panel, e)), the same sum, without copying the points.
+double edgeLength(const Panel& panel, const EdgeRef& e) {
+  const int n = static_cast<int>(panel.outline.size());
+  double total = 0;
+  for (int i = e.from; i != e.to;) {
+    const int next = (i + 1) % n;
+    total +=
+        (panel.outline[static_cast<std::size_t>(next)] - panel.outline[static_cast<std::size_t>(i)])
+            .norm();
+    i = next;
+  }
+  return total;
+}
+
+}  // namespace
+
 EdgeRef shortEdge(const Panel& panel, const Point2& p1, const Point2& p2) {
   const EdgeRef forward{panel.name, vertexIndex(panel, p1), vertexIndex(panel, p2)};
   const EdgeRef backward{panel.name, forward.to, forward.from};
-  return polylineLength(edgePoints(panel, forward)) <= polylineLength(edgePoints(panel, backward))
-             ? forward
-             : backward;
+  return edgeLength(panel, forward) <= edgeLength(panel, backward) ? forward : backward;
 }
 
 void addSeam(Pattern& pattern, const std::string& name, const std::string& a, const Point2& a1,
@@ -165,7 +184,7 @@ Grainline grainline(const Point2& a, const Point2& b) {
 }
 
 Point2 pointAlong(const Polyline& pl, double s) {
-  return pointAtLength(pl, s);
+  return drafts::pointAtLength(pl, s);
 }
 
 }  // namespace garmcap::drafts::detail
