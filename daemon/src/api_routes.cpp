@@ -454,15 +454,53 @@ void addApiRoutes(Router& router, Station& station) {
     });
   });
 
+  // The simulated rig's camera faults: {"present": bool} unplugs or replugs it,
+  // {"still_delay_ms": 0..120000} makes each still take that long (a hanging driver).
   router.add(V::post, "/api/sim/camera", [st](const Request& req, const RouteMatch&, Reply reply) {
     const auto body = parseJsonBody(req);
-    if (!body.is_object() || !body.contains("present") || !body["present"].is_boolean())
-      throw BadRequest("body must be {\"present\": true|false}");
-    if (!st->setCameraUnplugged(!body["present"].get<bool>()))
+    const char* kShape = R"(body must be {"present": true|false, "still_delay_ms": 0..120000})";
+    if (!body.is_object() || body.empty())
+      throw BadRequest(kShape);
+    for (const auto& [key, value] : body.items()) {
+      if (key == "present" && !value.is_boolean())
+        throw BadRequest(kShape);
+      if (key == "still_delay_ms" && (!value.is_number_integer() || value.get<std::int64_t>() < 0 ||
+                                      value.get<std::int64_t>() > 120000))
+        throw BadRequest(kShape);
+      if (key != "present" && key != "still_delay_ms")
+        throw BadRequest("unknown field '" + key + "'; " + kShape);
+    }
+    if (!st->simulated())
       return reply(
-          jsonError(http::status::forbidden, "only the simulated rig can unplug its camera"));
-    reply(jsonResponse(http::status::ok, {{"present", body["present"]}}));
+          jsonError(http::status::forbidden, "only the simulated rig can fake camera faults"));
+    nlohmann::json out = nlohmann::json::object();
+    if (body.contains("still_delay_ms")) {
+      st->setSimulatedStillDelay(std::chrono::milliseconds(body["still_delay_ms"].get<int>()));
+      out["still_delay_ms"] = body["still_delay_ms"];
+    }
+    if (body.contains("present")) {
+      st->setCameraUnplugged(!body["present"].get<bool>());
+      out["present"] = body["present"];
+    }
+    reply(jsonResponse(http::status::ok, out));
   });
+
+#ifdef GARMCAP_TEST_HOOKS
+  // Test builds only (CMake GARMCAP_TEST_HOOKS), and only on the simulated rig: blocks the event
+  // loop, for the e2e test that the systemd watchdog pings stop while it is blocked.
+  router.add(V::post, "/api/sim/stall", [st](const Request& req, const RouteMatch&, Reply reply) {
+    const auto body = parseJsonBody(req);
+    if (!body.is_object() || !body.contains("ms") || !body["ms"].is_number_integer() ||
+        body["ms"].get<std::int64_t>() < 0 || body["ms"].get<std::int64_t>() > 30000)
+      throw BadRequest(R"(body must be {"ms": 0..30000})");
+    if (!st->simulated())
+      return reply(jsonError(http::status::forbidden, "only the simulated rig can be stalled"));
+    const int ms = body["ms"].get<int>();
+    st->stallLoopForTest(std::chrono::milliseconds(ms), [reply, ms] {
+      reply(jsonResponse(http::status::ok, {{"stalled_ms", ms}}));
+    });
+  });
+#endif
 }
 
 }  // namespace garmcap::daemon

@@ -5,6 +5,7 @@
 #include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/post.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
 #include "garmcap/capture/camera.h"
 #include "garmcap/capture/gpio.h"
@@ -79,11 +80,14 @@ cv::Mat decodeImage(const std::string& bytes, const std::string& what) {
   return img;
 }
 
-// Simulated rig only: a camera that can be "unplugged" to exercise the disconnect paths.
+// Simulated rig only: a camera that can be "unplugged" to exercise the disconnect paths, and
+// whose stills can be made slow (a long exposure, a driver that hangs) so that the camera can
+// also disappear during a still.
 class UnpluggableCamera : public capture::Camera {
  public:
-  UnpluggableCamera(std::unique_ptr<capture::Camera> inner, std::shared_ptr<std::atomic<bool>> off)
-      : inner_(std::move(inner)), off_(std::move(off)) {}
+  UnpluggableCamera(std::unique_ptr<capture::Camera> inner, std::shared_ptr<std::atomic<bool>> off,
+                    std::shared_ptr<std::atomic<int>> stillDelayMs)
+      : inner_(std::move(inner)), off_(std::move(off)), stillDelayMs_(std::move(stillDelayMs)) {}
   std::string backend() const override { return inner_->backend(); }
   std::string device() const override { return inner_->device(); }
   void open() override {
@@ -106,6 +110,15 @@ class UnpluggableCamera : public capture::Camera {
   }
   capture::Frame captureStill(const capture::StillRequest& r) override {
     check();
+    // The simulated exposure: an unplug during it fails the still as a real disconnect would.
+    const auto until = Clock::now() + std::chrono::milliseconds(stillDelayMs_->load());
+    while (Clock::now() < until) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      if (*off_)
+        throw capture::CameraError(
+            capture::CameraErrorKind::kDisconnected,
+            "camera " + inner_->device() + " disconnected during the still (simulated unplug)");
+    }
     return inner_->captureStill(r);
   }
   void startPreview() override {
@@ -132,6 +145,7 @@ class UnpluggableCamera : public capture::Camera {
   }
   std::unique_ptr<capture::Camera> inner_;
   std::shared_ptr<std::atomic<bool>> off_;
+  std::shared_ptr<std::atomic<int>> stillDelayMs_;
 };
 
 // Settings the running objects were built from (camera, GPIO, HTTP server, data folder): a
@@ -167,13 +181,14 @@ Station::Station(asio::io_context& io, Config config, std::unique_ptr<capture::C
       gpio_(std::move(gpio)),
       processor_(std::move(processor)),
       unplugged_(std::make_shared<std::atomic<bool>>(false)),
+      stillDelayMs_(std::make_shared<std::atomic<int>>(0)),
       ledTimer_(strand_),
       buttonTimer_(strand_),
       previewTimer_(strand_),
       keepAliveTimer_(strand_),
       graceTimer_(strand_) {
   if (camera && simulated())
-    camera_ = std::make_unique<UnpluggableCamera>(std::move(camera), unplugged_);
+    camera_ = std::make_unique<UnpluggableCamera>(std::move(camera), unplugged_, stillDelayMs_);
   else
     camera_ = std::move(camera);
   pool_ = std::make_unique<asio::thread_pool>(static_cast<std::size_t>(config_.workerThreads));
@@ -201,6 +216,23 @@ bool Station::setCameraUnplugged(bool unplugged) {
   *unplugged_ = unplugged;
   return true;
 }
+
+bool Station::setSimulatedStillDelay(std::chrono::milliseconds delay) {
+  if (!simulated())
+    return false;
+  *stillDelayMs_ = static_cast<int>(delay.count());
+  return true;
+}
+
+#ifdef GARMCAP_TEST_HOOKS
+void Station::stallLoopForTest(std::chrono::milliseconds duration, std::function<void()> done) {
+  postToStrand([duration, done = std::move(done)] {
+    spdlog::warn("station: test hook: blocking the event loop for {} ms", duration.count());
+    std::this_thread::sleep_for(duration);  // deliberately on the loop's only thread
+    done();
+  });
+}
+#endif
 
 void Station::start() {
   std::filesystem::create_directories(config_.dataDir);

@@ -76,6 +76,85 @@ TEST(DaemonE2E, CameraThatDisappearsMidSessionIsAClearState) {
   EXPECT_EQ(d.terminate(), 0);
 }
 
+// The camera goes away while a still is being taken (the simulated still is slowed down so the
+// unplug lands inside it), on a station with an item already filed; then a volley of bad
+// requests. Each gets a clear error or state, the daemon keeps serving, the stored item is
+// untouched, and with the camera back the next capture files an item.
+TEST(DaemonE2E, CameraThatDisappearsDuringTheStillLosesNothingStored) {
+  TempDir dir;
+  const auto data = dir.path() / "data";
+  const auto db = data / "catalog.sqlite";
+  Daemon d(data, {}, makeSimulatedRig(dir.path()));
+  ASSERT_EQ(d.waitJob(d.post("/api/capture/empty").json()["job"])["state"], "done");
+  auto first = d.waitJob(d.post("/api/capture", R"({"sku": "KEEP-1"})").json()["job"]);
+  ASSERT_EQ(first["state"], "done") << first.dump();
+  const std::string itemUrl = "/api/items/" + first["item_id"].dump();
+  const Json before = d.get(itemUrl).json();
+  const auto blobsBefore = blobsOnDisk(data);
+  const auto imageRows = column(db, "SELECT count(*) FROM images");
+
+  ASSERT_EQ(d.post("/api/sim/camera", R"({"still_delay_ms": 1500})").status, 200);
+  const std::int64_t job = d.post("/api/capture", R"({"sku": "LOST-2"})").json()["job"];
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (std::chrono::steady_clock::now() < deadline &&
+         d.get("/api/jobs/" + std::to_string(job)).json().value("stage", "") != "capturing")
+    std::this_thread::sleep_for(10ms);
+  std::this_thread::sleep_for(300ms);  // inside the 1.5 s still
+  ASSERT_EQ(d.post("/api/sim/camera", R"({"present": false})").status, 200);
+  auto failed = d.waitJob(job, 30s);
+  EXPECT_EQ(failed["state"], "failed") << failed.dump();
+  EXPECT_NE(failed["error"].get<std::string>().find("disconnected during the still"),
+            std::string::npos)
+      << failed.dump();
+  auto status = d.get("/api/status").json();
+  EXPECT_EQ(status["state"], "error");
+  EXPECT_EQ(status["camera"]["open"], false) << status.dump();
+  // While the camera is away a capture fails at once with a camera error, not a hang.
+  auto again = d.waitJob(d.post("/api/capture").json()["job"], 30s);
+  EXPECT_EQ(again["state"], "failed");
+  EXPECT_NE(again["error"].get<std::string>().find("camera"), std::string::npos) << again.dump();
+
+  // Bad requests against a catalog that holds an item.
+  EXPECT_EQ(d.post("/api/capture", R"({"sku": )").status, 400);
+  EXPECT_EQ(d.post("/api/capture", "[]").status, 400);
+  EXPECT_EQ(d.post("/api/capture", R"({"sku": "../../etc"})").status, 400);
+  EXPECT_EQ(httpCall(d.port(), http::verb::patch, itemUrl, R"({"title": )").status, 400);
+  EXPECT_EQ(httpCall(d.port(), http::verb::patch, itemUrl, R"({"title": 5})").status, 400);
+  EXPECT_EQ(httpCall(d.port(), http::verb::patch, itemUrl, std::string(2u << 20, ' ')).status, 413);
+  EXPECT_EQ(httpCall(d.port(), http::verb::patch, "/api/items/424242", R"({"title": "x"})").status,
+            404);
+  EXPECT_EQ(httpCall(d.port(), http::verb::delete_, "/api/items/424242").status, 404);
+  EXPECT_EQ(d.get("/api/items/99999999999999999999999").status, 400);
+  EXPECT_EQ(d.get("/api/items/-1").status, 400);
+  EXPECT_EQ(d.get(itemUrl + "/images/..%2f..%2fcatalog.sqlite").status, 404);
+  EXPECT_EQ(d.get(itemUrl + "/images/../../../catalog.sqlite").status, 404);
+  EXPECT_EQ(d.get(itemUrl + "/pattern.json?size=..%2f..").status / 100, 4);
+  EXPECT_EQ(d.post("/api/sim/camera", R"({"present": "yes"})").status, 400);
+  EXPECT_EQ(d.post("/api/sim/camera", R"({"still_delay_ms": -5})").status, 400);
+
+  // Nothing stored was lost or changed; the failed capture left no frame behind.
+  const Json after = d.get(itemUrl).json();
+  EXPECT_EQ(after["sku"], "KEEP-1");
+  EXPECT_EQ(after["title"], before["title"]);
+  EXPECT_EQ(after["measurements"], before["measurements"]);
+  EXPECT_EQ(after["images"], before["images"]);
+  for (const auto& [kind, im] : after["images"].items())
+    EXPECT_EQ(d.get(im["url"].get<std::string>()).status, 200) << kind;
+  EXPECT_EQ(d.get("/api/items").json()["total"], 1);
+  EXPECT_EQ(blobsOnDisk(data), blobsBefore);
+  EXPECT_EQ(column(db, "SELECT count(*) FROM images"), imageRows);
+  EXPECT_EQ(integrity(db), "ok");
+
+  // The camera comes back: the next capture files an item.
+  ASSERT_EQ(d.post("/api/sim/camera", R"({"present": true, "still_delay_ms": 0})").status, 200);
+  auto back = d.waitJob(d.post("/api/capture", R"({"sku": "BACK-3"})").json()["job"]);
+  EXPECT_EQ(back["state"], "done") << back.dump();
+  EXPECT_EQ(d.get("/api/items").json()["total"], 2);
+  EXPECT_NE(d.get("/api/status").json()["state"], "error");
+  EXPECT_EQ(d.terminate(), 0);
+  EXPECT_EQ(integrity(db), "ok");
+}
+
 TEST(DaemonE2E, FiftyConcurrentClientsWhileACaptureRuns) {
   TempDir dir;
   Daemon d(dir.path());

@@ -392,6 +392,7 @@ class NotifySocket {
                        [&](const Message& m) { return m.text.find(what) != std::string::npos; });
   }
   const std::string& path() const { return path_; }
+  Clock::time_point made() const { return made_; }
 
  private:
   std::string path_;
@@ -430,6 +431,124 @@ TEST(DaemonResilience, WatchdogPingsAtHalfTheIntervalWhileHealthy) {
   EXPECT_TRUE(NotifySocket::has(
       sock.collect(1000ms, [](const auto& m) { return NotifySocket::has(m, "STOPPING=1"); }),
       "STOPPING=1"));
+}
+
+/// Times of the WATCHDOG=1 pings among `ms`.
+std::vector<double> pingTimes(const std::vector<NotifySocket::Message>& ms) {
+  std::vector<double> out;
+  for (const auto& m : ms)
+    if (m.text.find("WATCHDOG=1") != std::string::npos)
+      out.push_back(m.at);
+  return out;
+}
+
+/// The longest gap between consecutive pings that ends in [from, to], and where it starts.
+std::pair<double, double> longestGapEndingIn(const std::vector<double>& pings, double from,
+                                             double to) {
+  double gap = 0, start = 0;
+  for (std::size_t i = 1; i < pings.size(); ++i)
+    if (pings[i] >= from && pings[i] <= to && pings[i] - pings[i - 1] > gap)
+      gap = pings[i] - pings[i - 1], start = pings[i - 1];
+  return {gap, start};
+}
+
+// A blocked event loop sends no pings: systemd (WatchdogSec) would kill and restart the daemon.
+// The loop is blocked through the test-only hook POST /api/sim/stall (GARMCAP_TEST_HOOKS).
+TEST(DaemonResilience, WatchdogPingsStopWhileTheEventLoopIsBlocked) {
+  TempDir dir;
+  NotifySocket sock(dir.path() / "notify.sock");
+  const int kWatchdogUs = 400000;  // pings every 200 ms
+  const int kStallMs = 2000;
+  Daemon d(dir.path() / "data", DaemonOptions{{},
+                                              {},
+                                              {{"NOTIFY_SOCKET", sock.path()},
+                                               {"WATCHDOG_USEC", std::to_string(kWatchdogUs)}},
+                                              {}});
+  ASSERT_TRUE(NotifySocket::has(
+      sock.collect(5s, [](const auto& m) { return NotifySocket::has(m, "READY=1"); }), "READY=1"));
+  if (d.post("/api/sim/stall", R"({"ms": 0})").status == 404)
+    GTEST_SKIP() << "garmcapd built without GARMCAP_TEST_HOOKS";
+  sock.collect(1000ms);
+  // The stalling request answers only when the loop runs again: send it from a thread.
+  const double stallSent = secondsSince(sock.made());
+  Reply stalled;
+  std::thread client(
+      [&] { stalled = d.post("/api/sim/stall", R"({"ms": )" + std::to_string(kStallMs) + "}"); });
+  sock.collect(std::chrono::milliseconds(kStallMs + 1500));
+  client.join();
+  ASSERT_EQ(stalled.status, 200) << stalled.body;
+  const auto pings = pingTimes(sock.collect(0ms));
+  // Before the stall: a ping every half interval.
+  EXPECT_LT(longestGapEndingIn(pings, 0.3, stallSent).first, kWatchdogUs / 1e6);
+  // During it none: the gap spans the stall and is longer than WatchdogSec.
+  const auto [gap, gapStart] = longestGapEndingIn(pings, stallSent, 1e9);
+  std::printf("[watchdog] loop blocked %d ms: no ping for %.0f ms (WATCHDOG_USEC %d)\n", kStallMs,
+              gap * 1000, kWatchdogUs);
+  EXPECT_GE(gap, kStallMs / 1000.0 - 0.25) << "pings went on while the loop was blocked";
+  EXPECT_GT(gap, kWatchdogUs / 1e6) << "systemd would not have noticed";
+  EXPECT_GE(gapStart, stallSent - 0.25);
+  // After it the pings resume at the half interval.
+  const double resumed = gapStart + gap;
+  EXPECT_GE(std::count_if(pings.begin(), pings.end(),
+                          [&](double t) { return t > resumed && t < resumed + 1.0; }),
+            3);
+  EXPECT_EQ(d.get("/api/status").status, 200);
+  EXPECT_EQ(d.terminate(), 0);
+}
+
+// The loop runs and the API answers, but a still that does not come back is a hung camera: the
+// pings are withheld (so systemd restarts the service) and resume when the camera answers.
+TEST(DaemonResilience, WatchdogIsWithheldWhileTheCameraHangs) {
+  TempDir dir;
+  NotifySocket sock(dir.path() / "notify.sock");
+  const auto conf = dir.path() / "garmcapd.toml";
+  // Hung after 3 x capture_timeout_ms + 5 s in "capturing" (Station::healthy): 5.3 s here.
+  std::ofstream(conf) << "[camera]\ncapture_timeout_ms = 100\n";
+  const int kWatchdogUs = 400000;
+  Daemon d(dir.path() / "data", DaemonOptions{{"--config", conf.string()},
+                                              {},
+                                              {{"NOTIFY_SOCKET", sock.path()},
+                                               {"WATCHDOG_USEC", std::to_string(kWatchdogUs)}},
+                                              {}});
+  ASSERT_TRUE(NotifySocket::has(
+      sock.collect(5s, [](const auto& m) { return NotifySocket::has(m, "READY=1"); }), "READY=1"));
+  ASSERT_EQ(d.post("/api/sim/camera", R"({"still_delay_ms": 8000})").status, 200);
+  const double captureSent = secondsSince(sock.made());
+  const std::int64_t job = d.post("/api/capture/empty").json()["job"];
+  // While the still hangs the API still answers and reports the station unhealthy.
+  bool sawUnhealthy = false;
+  const auto deadline = Clock::now() + 7500ms;
+  while (Clock::now() < deadline) {
+    sock.collect(100ms);
+    auto s = d.get("/api/status");
+    ASSERT_EQ(s.status, 200) << "the API must answer while the camera hangs";
+    sawUnhealthy |= s.json()["healthy"] == false;
+  }
+  EXPECT_TRUE(sawUnhealthy);
+  ASSERT_EQ(d.post("/api/sim/camera", R"({"still_delay_ms": 0})").status, 200);
+  // Keep reading the notify socket while waiting: a full datagram queue (net.unix.max_dgram_qlen,
+  // 10 by default) would block the daemon's sd_notify, as an unresponsive systemd would.
+  Json j = Json::object();
+  const auto jobDeadline = Clock::now() + 60s;
+  while (Clock::now() < jobDeadline && j.value("state", "") != "done" &&
+         j.value("state", "") != "failed") {
+    sock.collect(100ms);
+    if (auto r = d.get("/api/jobs/" + std::to_string(job)).json(); r.is_object())
+      j = r;
+  }
+  EXPECT_TRUE(j["state"] == "done" || j["state"] == "failed") << j.dump();
+  sock.collect(1500ms);
+  const auto pings = pingTimes(sock.collect(0ms));
+  const auto [gap, gapStart] = longestGapEndingIn(pings, captureSent, 1e9);
+  std::printf("[watchdog] still hung 8 s: pings withheld for %.0f ms from %.1f s into it\n",
+              gap * 1000, gapStart - captureSent);
+  EXPECT_GT(gap, kWatchdogUs / 1e6) << "systemd would not have restarted a hung camera";
+  EXPECT_GE(gap, 1.5);
+  EXPECT_GE(gapStart - captureSent, 4.5) << "withheld before the camera's limit";
+  EXPECT_GE(std::count_if(pings.begin(), pings.end(), [&](double t) { return t > gapStart + gap; }),
+            3)
+      << "pings did not resume once the camera answered";
+  EXPECT_EQ(d.terminate(), 0);
 }
 
 // --- SIGHUP -----------------------------------------------------------------------------------

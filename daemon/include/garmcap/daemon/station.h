@@ -122,7 +122,15 @@ class Station : public RouteContext {
   /// Simulated rig only: makes the camera "disappear" (every camera call fails as disconnected)
   /// or come back. Returns false when the station is not simulated.
   bool setCameraUnplugged(bool unplugged);
+  /// Simulated rig only: each still takes `delay` before the camera answers (0: at once); an
+  /// unplug during it fails the still as disconnected. Returns false when not simulated.
+  bool setSimulatedStillDelay(std::chrono::milliseconds delay);
   bool simulated() const;
+#ifdef GARMCAP_TEST_HOOKS
+  /// Test builds only (GARMCAP_TEST_HOOKS): blocks the event loop for `duration`, then calls
+  /// `done` on it, so that the e2e tests can see the systemd watchdog pings stop.
+  void stallLoopForTest(std::chrono::milliseconds duration, std::function<void()> done);
+#endif
 
  private:
   struct Pending {
@@ -200,6 +208,7 @@ class Station : public RouteContext {
   std::string cameraError_;
   bool cameraOpen_ = false;
   std::shared_ptr<std::atomic<bool>> unplugged_;
+  std::shared_ptr<std::atomic<int>> stillDelayMs_;
   std::vector<std::weak_ptr<StreamSink>> eventSinks_;
   std::vector<std::weak_ptr<StreamSink>> previewSinks_;
   bool previewInFlight_ = false;
