@@ -71,7 +71,8 @@ struct ErrorStats {
   }
 };
 
-int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods) {
+int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
+            double workMegapixels) {
   const capture::Rig rig = capture::readRig(rigDir);
   std::map<std::string, ErrorStats> errors;
   int typeOk = 0, attrOk = 0, attrN = 0, failures = 0;
@@ -88,6 +89,7 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods)
       pipeline::CaptureOptions opt;
       opt.makeTexture = !outDir.empty();
       opt.makeProductImages = !outDir.empty();
+      opt.workMegapixels = workMegapixels;
       const auto r = pipeline::runCapture(c.empty, c.dressed, c.calibration, opt);
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -192,6 +194,11 @@ void addPipelineCommands(CLI::App& app) {
   eval->add_option("--out", evalOut, "write each case's outputs and eval.json here");
   eval->add_flag("--compare-classifiers", compare,
                  "also time and score IoU, chamfer and Shape Context");
+  static double workMp = pipeline::CaptureOptions{}.workMegapixels;
+  eval->add_option("--work-mp", workMp,
+                   "segment frames on a copy of about this many megapixels (default 2; a large "
+                   "value segments at full resolution)")
+      ->check(CLI::PositiveNumber);
   static fs::path refsOut;
   eval->add_option("--dump-references", refsOut,
                    "write the type database's silhouettes of the first case here");
@@ -211,7 +218,7 @@ void addPipelineCommands(CLI::App& app) {
       for (const auto& n : ctx->notes)
         std::cerr << n << "\n";
     }
-    const int rc = rigEval(rigDir, evalOut, compare);
+    const int rc = rigEval(rigDir, evalOut, compare, workMp);
     if (rc != 0)
       throw std::runtime_error("some rig cases failed (see their \"error\")");
   });

@@ -144,12 +144,13 @@ cv::Point2d estimateShift(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr) {
 // the work-frame decision is upsampled. Only a band of a few work pixels around the outline is
 // keyed again, so this costs a few percent of a full-frame key.
 cv::Mat garmentAtFullResolution(const cv::Mat& dressedFull, const calib::KeyResult& keyW,
-                                const cv::Mat& garmentW, const cv::Mat& foregroundW) {
-  // Let the garment reach over the screen by two work pixels: the full-frame key then decides
-  // where it ends there. Over the form it stays as the work frame cut it.
+                                const cv::Mat& garmentW, const cv::Mat& formW) {
+  // Let the garment reach two work pixels further where the bare frame shows the screen: the
+  // full frame's key then decides where it ends there (the work cut may stop a pixel short of
+  // the screen at mixed edge pixels). Over the form it stays as the work frame cut it.
   cv::Mat grown;
   cv::dilate(garmentW, grown, cv::Mat(), cv::Point(-1, -1), 2);
-  const cv::Mat extended = garmentW | (grown & ~foregroundW);
+  const cv::Mat extended = garmentW | (grown & ~formW);
   cv::Mat bandW;
   cv::morphologyEx(garmentW, bandW, cv::MORPH_GRADIENT, cv::Mat());
   cv::dilate(bandW, bandW, cv::Mat(), cv::Point(-1, -1), 2);
@@ -405,7 +406,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   }
   const cv::Mat dressedFull = dressedFullJob.get();
   const cv::Mat garment =
-      ws >= 1.0 ? garmentW : garmentAtFullResolution(dressedFull, keyD, garmentW, fgD);
+      ws >= 1.0 ? garmentW : garmentAtFullResolution(dressedFull, keyD, garmentW, formMask);
   timer.done("grabcut");
 
   // 5. Type by silhouette against the references rendered on this form.
