@@ -13,22 +13,22 @@ namespace garmcap::calib {
 
 namespace {
 
-// Normalised convolution: the weighted average of `value` over a Gaussian neighbourhood, using
-// only pixels with weight > 0; computed on a reduced image because the screen varies slowly.
-cv::Mat1f smoothFill(const cv::Mat1f& value, const cv::Mat1f& weight, double sigmaFraction,
-                     double minWeight) {
-  const int maxDim = std::max(value.cols, value.rows);
+// Normalised convolution: the weighted average of a value over a Gaussian neighbourhood, using
+// only pixels with weight > 0, from `valueTimesWeight` and `weight`; computed on a reduced image
+// because the screen varies slowly.
+cv::Mat1f smoothFill(const cv::Mat1f& valueTimesWeight, const cv::Mat1f& weight,
+                     double sigmaFraction, double minWeight) {
+  const int maxDim = std::max(weight.cols, weight.rows);
   const double f = std::min(1.0, 256.0 / maxDim);
   cv::Mat1f v, w;
-  cv::Mat1f vw = value.mul(weight);
-  cv::resize(vw, v, cv::Size(), f, f, cv::INTER_AREA);
+  cv::resize(valueTimesWeight, v, cv::Size(), f, f, cv::INTER_AREA);
   cv::resize(weight, w, cv::Size(), f, f, cv::INTER_AREA);
   const double sigma = std::max(1.0, sigmaFraction * std::max(v.cols, v.rows));
   cv::GaussianBlur(v, v, cv::Size(), sigma, sigma, cv::BORDER_REPLICATE);
   cv::GaussianBlur(w, w, cv::Size(), sigma, sigma, cv::BORDER_REPLICATE);
   cv::Mat1f out = v / cv::max(w, minWeight);
   cv::Mat1f full;
-  cv::resize(out, full, value.size(), 0, 0, cv::INTER_LINEAR);
+  cv::resize(out, full, weight.size(), 0, 0, cv::INTER_LINEAR);
   return full;
 }
 
@@ -80,23 +80,43 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
     throw CalibError(CalibErrorKind::kNotGreenScreen, msg.str());
   }
 
-  // 2. Greenness and the screen's greenness per pixel.
-  cv::Mat3f f;
-  frame.convertTo(f, CV_32F);
-  std::vector<cv::Mat1f> ch;
-  cv::split(f, ch);
-  cv::Mat1f g = ch[1] - cv::max(ch[0], ch[2]);
+  // 2. Greenness and the screen's greenness per pixel. One pass per step over the frame: at
+  // 2 MP the whole-image float expressions (convert, split, max, compare) cost ~100 ms.
   const float gBorder = static_cast<float>(r.screenBgr[1]) -
                         static_cast<float>(std::max(r.screenBgr[0], r.screenBgr[2]));
-  cv::Mat1f screenW = cv::Mat1f::zeros(g.size());
-  screenW.setTo(1.0f, g > 0.5f * gBorder);
-  cv::Mat1f gScreen = smoothFill(g, screenW, 0.08, 1e-3);
-  gScreen = cv::max(gScreen, 0.25f * gBorder);
-  r.screenGreenness = gScreen;
+  cv::Mat1f g(frame.size()), screenW(frame.size()), gOnScreen(frame.size());
+  cv::parallel_for_(cv::Range(0, frame.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const cv::Vec3b* p = frame.ptr<cv::Vec3b>(y);
+      float* gr = g.ptr<float>(y);
+      float* wr = screenW.ptr<float>(y);
+      float* vr = gOnScreen.ptr<float>(y);
+      for (int x = 0; x < frame.cols; ++x) {
+        const float gv =
+            static_cast<float>(p[x][1]) - static_cast<float>(std::max(p[x][0], p[x][2]));
+        const bool screen = gv > 0.5f * gBorder;
+        gr[x] = gv;
+        wr[x] = screen ? 1.0f : 0.0f;
+        vr[x] = screen ? gv : 0.0f;
+      }
+    }
+  });
+  cv::Mat1f gScreen = smoothFill(gOnScreen, screenW, 0.08, 1e-3);
 
   // 3. Binary mask: nearer to the form than to the screen; largest component only.
-  cv::Mat1f ratio = g / gScreen;
-  cv::Mat1b mask = ratio < 0.5f;
+  cv::Mat1b mask(frame.size());
+  cv::parallel_for_(cv::Range(0, frame.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      float* gs = gScreen.ptr<float>(y);
+      const float* gr = g.ptr<float>(y);
+      uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < frame.cols; ++x) {
+        gs[x] = std::max(gs[x], 0.25f * gBorder);
+        m[x] = gr[x] / gs[x] < 0.5f ? 255 : 0;
+      }
+    }
+  });
+  r.screenGreenness = gScreen;
   cv::morphologyEx(mask, mask, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
   cv::Mat1i labels;
@@ -165,29 +185,47 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
   cv::Mat1b inner, outer;
   cv::erode(mask, inner, kernel);
   cv::dilate(mask, outer, kernel);
-  cv::Mat1f formW = cv::Mat1f::zeros(g.size());
-  formW.setTo(1.0f, inner);
-  // The form's own greenness near its edge; a fine blur because the form's colour varies.
-  cv::Mat1f gw = g.mul(formW), ww = formW.clone();
+  // The form's own greenness near its edge: a normalised convolution of the inner form's
+  // greenness, a fine blur because the form's colour varies. Only the edge band reads it, so it
+  // runs on the band's box plus the kernel's reach, and at half resolution (the form's greenness
+  // varies slowly; at 2 MP the full-resolution blur over the whole frame cost ~100 ms).
   const double s = 3.0 * band;
-  cv::GaussianBlur(gw, gw, cv::Size(), s, s);
-  cv::GaussianBlur(ww, ww, cv::Size(), s, s);
-  cv::Mat1f gForm = gw / cv::max(ww, 1e-4f);
-  gForm = cv::min(gForm, 0.5f * gScreen);
+  const int reach = cvCeil(4.0 * s) + 2;
+  const cv::Rect bandBox = cv::boundingRect(outer);
+  const cv::Rect roi = cv::Rect(bandBox.x - reach, bandBox.y - reach, bandBox.width + 2 * reach,
+                                bandBox.height + 2 * reach) &
+                       cv::Rect(0, 0, frame.cols, frame.rows);
+  cv::Mat1f gForm;
+  {
+    cv::Mat1f ww = cv::Mat1f::zeros(roi.size());
+    ww.setTo(1.0f, inner(roi));
+    cv::Mat1f gw = g(roi).mul(ww), gwSmall, wwSmall;
+    cv::resize(gw, gwSmall, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    cv::resize(ww, wwSmall, gwSmall.size(), 0, 0, cv::INTER_AREA);
+    cv::GaussianBlur(gwSmall, gwSmall, cv::Size(), s / 2, s / 2);
+    cv::GaussianBlur(wwSmall, wwSmall, cv::Size(), s / 2, s / 2);
+    cv::resize(gwSmall / cv::max(wwSmall, 1e-4f), gForm, roi.size(), 0, 0, cv::INTER_LINEAR);
+  }
   r.alpha = cv::Mat1f::zeros(g.size());
-  for (int y = 0; y < g.rows; ++y) {
-    const uchar* in = inner.ptr(y);
-    const uchar* out = outer.ptr(y);
-    float* a = r.alpha.ptr<float>(y);
-    for (int x = 0; x < g.cols; ++x) {
-      if (in[x]) {
-        a[x] = 1.0f;
-      } else if (out[x]) {
-        const float gs = gScreen(y, x), gf = gForm(y, x);
-        a[x] = std::clamp((gs - g(y, x)) / (gs - gf), 0.0f, 1.0f);
+  cv::parallel_for_(cv::Range(0, g.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const uchar* in = inner.ptr(y);
+      const uchar* out = outer.ptr(y);
+      const float* gr = g.ptr<float>(y);
+      const float* gsr = gScreen.ptr<float>(y);
+      float* a = r.alpha.ptr<float>(y);
+      for (int x = 0; x < g.cols; ++x) {
+        if (in[x]) {
+          a[x] = 1.0f;
+        } else if (out[x]) {
+          // Outer band pixels lie inside the ROI by construction.
+          const float gs = gsr[x];
+          const float gf = std::min(gForm(y - roi.y, x - roi.x), 0.5f * gs);
+          a[x] = std::clamp((gs - gr[x]) / (gs - gf), 0.0f, 1.0f);
+        }
       }
     }
-  }
+  });
   r.mask = r.alpha > 0.5f;
 
   // 5. Spill suppression on the foreground.
@@ -199,13 +237,15 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
 void despill(cv::Mat3b& bgr, const cv::Mat1b& mask) {
   if (mask.size() != bgr.size())
     throw std::invalid_argument("despill: the mask is not the image's size");
-  for (int y = 0; y < bgr.rows; ++y) {
-    const uchar* m = mask.ptr(y);
-    cv::Vec3b* row = bgr.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < bgr.cols; ++x)
-      if (m[x])
-        row[x][1] = std::min(row[x][1], std::max(row[x][0], row[x][2]));
-  }
+  cv::parallel_for_(cv::Range(0, bgr.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const uchar* m = mask.ptr(y);
+      cv::Vec3b* row = bgr.ptr<cv::Vec3b>(y);
+      for (int x = 0; x < bgr.cols; ++x)
+        if (m[x])
+          row[x][1] = std::min(row[x][1], std::max(row[x][0], row[x][2]));
+    }
+  });
 }
 
 cv::Mat1b foregroundInRegion(const cv::Mat3b& fullBgr, const KeyResult& workKey,
