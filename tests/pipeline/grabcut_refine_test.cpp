@@ -60,6 +60,46 @@ TEST(GrabCutCoarseToFine, MatchesFullResolutionGrabCutAndTruth) {
   EXPECT_GT(maskIou(fast, s.truth), 0.98);
 }
 
+// The band cut must be the cut cv::grabCut makes on the whole frame with the same frozen models:
+// same energy, same beta, same maxflow, only a smaller graph.
+TEST(GrabCutFrozen, EqualsWholeFrameGrabCutWithFrozenModels) {
+  for (const unsigned seed : {5u, 9u}) {
+    const Scene s = makeScene(cv::Size(480, 360), seed);
+    cv::Mat learned = s.trimap.clone();
+    cv::Mat bgdModel, fgdModel;
+    cv::theRNG().state = 1;
+    cv::grabCut(s.bgr, learned, cv::Rect(), bgdModel, fgdModel, 1, cv::GC_INIT_WITH_MASK);
+    // A band of open labels around the truth's outline, hard labels elsewhere.
+    cv::Mat edge, band;
+    cv::morphologyEx(s.truth, edge, cv::MORPH_GRADIENT, cv::Mat());
+    cv::dilate(edge, band, cv::Mat(), cv::Point(-1, -1), 6);
+    cv::Mat labels(s.truth.size(), CV_8UC1, cv::Scalar(cv::GC_BGD));
+    labels.setTo(cv::GC_FGD, s.truth);
+    labels.setTo(cv::GC_PR_FGD, band & s.truth);
+    labels.setTo(cv::GC_PR_BGD, band & ~s.truth);
+    const int open = cv::countNonZero(band);
+    ASSERT_GT(open, 1000);
+
+    cv::Mat reference = labels.clone();
+    cv::Mat bgd = bgdModel.clone(), fgd = fgdModel.clone();
+    cv::grabCut(s.bgr, reference, cv::Rect(), bgd, fgd, 1, cv::GC_EVAL_FREEZE_MODEL);
+    const cv::Mat ours = grabCutFrozen(s.bgr, labels, bgdModel, fgdModel);
+    EXPECT_EQ(cv::countNonZero((ours != labels) & ~band), 0) << "a hard label changed";
+    const int differ = cv::countNonZero(ours != reference);
+    EXPECT_LE(differ, open / 1000)
+        << "seed " << seed << ": " << differ << " of " << open << " band pixels cut differently";
+    // And the cut is not trivial: both labels occur in the band.
+    EXPECT_GT(cv::countNonZero((ours == cv::GC_PR_FGD) & band), 0);
+    EXPECT_GT(cv::countNonZero((ours == cv::GC_PR_BGD) & band), 0);
+  }
+}
+
+TEST(GrabCutFrozen, RejectsMalformedModels) {
+  const Scene s = makeScene(cv::Size(160, 120), 2);
+  const cv::Mat model(1, 64, CV_64FC1, cv::Scalar(0));
+  EXPECT_THROW(grabCutFrozen(s.bgr, s.trimap, model, model), std::invalid_argument);
+}
+
 TEST(GrabCutCoarseToFine, NeverChangesHardLabels) {
   const Scene s = makeScene(cv::Size(800, 600), 3);
   const cv::Mat fast = grabCutCoarseToFine(s.bgr, s.trimap, {.workMegapixels = 0.1});

@@ -1,8 +1,12 @@
 #include "garmcap/pipeline/grabcut_refine.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/imgproc/detail/gcgraph.hpp>
 #include <stdexcept>
 #include <vector>
 
@@ -45,7 +49,175 @@ cv::Mat foreground(const cv::Mat& labels) {
   return ((labels == kFgd) | (labels == kPrFgd));
 }
 
+// cv::grabCut's energy constants (imgproc/src/grabcut.cpp): n-link weight gamma, and the hard
+// labels' terminal weight 9 gamma, more than the n-links of one pixel can sum to.
+constexpr double kGamma = 50.0;
+constexpr double kLambda = 9.0 * kGamma;
+
+// One of cv::grabCut's colour models, read from the 1x65 CV_64F matrix it returns: 5 weights,
+// then 5 means (BGR), then 5 row-major 3x3 covariances. Evaluates the mixture density as
+// cv::grabCut does (without the constant (2 pi)^-3/2, which cancels in the cut).
+class FrozenGmm {
+ public:
+  explicit FrozenGmm(const cv::Mat& model) {
+    if (model.type() != CV_64FC1 || model.total() != 65)
+      throw std::invalid_argument("grabCut: a colour model must be 1x65 CV_64F");
+    const double* m = model.ptr<double>(0);
+    for (int k = 0; k < 5; ++k) {
+      weight_[k] = m[k];
+      mean_[k] = Eigen::Vector3d(m[5 + 3 * k], m[6 + 3 * k], m[7 + 3 * k]);
+      const Eigen::Matrix3d cov =
+          Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m + 20 + 9 * k);
+      const double det = cov.determinant();
+      if (weight_[k] > 0 && !(det > 1e-12))
+        throw std::invalid_argument("grabCut: a colour model has a singular covariance");
+      scale_[k] = weight_[k] > 0 ? weight_[k] / std::sqrt(det) : 0.0;
+      inverse_[k] = weight_[k] > 0 ? Eigen::Matrix3d(cov.inverse()) : Eigen::Matrix3d::Zero();
+    }
+  }
+  double density(const cv::Vec3b& c) const {
+    const Eigen::Vector3d colour(c[0], c[1], c[2]);
+    double sum = 0;
+    for (int k = 0; k < 5; ++k) {
+      if (scale_[k] == 0)
+        continue;
+      const Eigen::Vector3d d = colour - mean_[k];
+      sum += scale_[k] * std::exp(-0.5 * d.dot(inverse_[k] * d));
+    }
+    return sum;
+  }
+
+ private:
+  std::array<double, 5> weight_{}, scale_{};
+  std::array<Eigen::Vector3d, 5> mean_;
+  std::array<Eigen::Matrix3d, 5> inverse_;
+};
+
+double squaredDistance(const cv::Vec3b& a, const cv::Vec3b& b) {
+  const double d0 = a[0] - b[0], d1 = a[1] - b[1], d2 = a[2] - b[2];
+  return d0 * d0 + d1 * d1 + d2 * d2;
+}
+
+// cv::grabCut's beta, 1 / (2 x the mean squared colour step between 8-neighbours), taken over
+// the kContextPx cells the open pixels lie in rather than the whole frame: a frame that is mostly
+// flat green screen has a tiny mean step, which makes every colour edge near the garment cheap to
+// cut (a 1 MP pants scene lost a 2-3 px strip along its side at the waist, -1.4 cm). Where the
+// cells cover the frame this is cv::grabCut's own beta.
+constexpr int kContextPx = 256;
+
+double edgeBeta(const cv::Mat3b& bgr, const cv::Mat& open) {
+  const int cellsX = (bgr.cols + kContextPx - 1) / kContextPx;
+  const int cellsY = (bgr.rows + kContextPx - 1) / kContextPx;
+  std::vector<cv::Rect> cells;
+  for (int cy = 0; cy < cellsY; ++cy)
+    for (int cx = 0; cx < cellsX; ++cx) {
+      const cv::Rect cell = cv::Rect(cx * kContextPx, cy * kContextPx, kContextPx, kContextPx) &
+                            cv::Rect(0, 0, bgr.cols, bgr.rows);
+      if (cv::countNonZero(open(cell)) > 0)
+        cells.push_back(cell);
+    }
+  std::vector<double> sums(cells.size(), 0.0), pairs(cells.size(), 0.0);
+  cv::parallel_for_(cv::Range(0, static_cast<int>(cells.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      const cv::Rect c = cells[static_cast<std::size_t>(i)];
+      double sum = 0, n = 0;
+      for (int y = c.y; y < c.y + c.height; ++y) {
+        const cv::Vec3b* row = bgr.ptr<cv::Vec3b>(y);
+        const cv::Vec3b* up = y > 0 ? bgr.ptr<cv::Vec3b>(y - 1) : nullptr;
+        for (int x = c.x; x < c.x + c.width; ++x) {
+          if (x > 0) {
+            sum += squaredDistance(row[x], row[x - 1]);
+            ++n;
+          }
+          if (up) {
+            if (x > 0) {
+              sum += squaredDistance(row[x], up[x - 1]);
+              ++n;
+            }
+            sum += squaredDistance(row[x], up[x]);
+            ++n;
+            if (x < bgr.cols - 1) {
+              sum += squaredDistance(row[x], up[x + 1]);
+              ++n;
+            }
+          }
+        }
+      }
+      sums[static_cast<std::size_t>(i)] = sum;
+      pairs[static_cast<std::size_t>(i)] = n;
+    }
+  });
+  double total = 0, count = 0;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    total += sums[i];
+    count += pairs[i];
+  }
+  return total <= std::numeric_limits<double>::epsilon() ? 0.0 : 1.0 / (2.0 * total / count);
+}
+
 }  // namespace
+
+cv::Mat grabCutFrozen(const cv::Mat& bgrIn, const cv::Mat& labels, const cv::Mat& bgdModel,
+                      const cv::Mat& fgdModel) {
+  checkInputs(bgrIn, labels);
+  const cv::Mat3b bgr = bgrIn;
+  const FrozenGmm bgd(bgdModel), fgd(fgdModel);
+  const double beta = edgeBeta(bgr, (labels == kPrBgd) | (labels == kPrFgd));
+  // Only the open pixels are graph nodes; a hard neighbour's n-link becomes a terminal weight of
+  // the node (a GC_FGD neighbour is on the source side for good, so cutting the node from it
+  // costs the link if the node goes to the sink, and the other way round for GC_BGD).
+  cv::Mat1i node(labels.size(), -1);
+  std::vector<cv::Point> open;
+  for (int y = 0; y < labels.rows; ++y) {
+    const uchar* l = labels.ptr<uchar>(y);
+    int* n = node.ptr<int>(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (l[x] == kPrBgd || l[x] == kPrFgd) {
+        n[x] = static_cast<int>(open.size());
+        open.emplace_back(x, y);
+      }
+  }
+  cv::Mat out = labels.clone();
+  if (open.empty())
+    return out;
+  cv::detail::GCGraph<double> graph(static_cast<unsigned>(open.size()),
+                                    static_cast<unsigned>(8 * open.size()));
+  for (std::size_t i = 0; i < open.size(); ++i)
+    graph.addVtx();
+  const double diagonal = kGamma / std::sqrt(2.0);
+  // The four "backward" neighbours link each pair once, as cv::grabCut does; the forward ones
+  // matter only when they are hard.
+  constexpr std::array<std::array<int, 2>, 8> kNeighbours = {
+      {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}}};
+  for (std::size_t i = 0; i < open.size(); ++i) {
+    const cv::Point p = open[i];
+    const cv::Vec3b c = bgr(p);
+    double toSource = -std::log(bgd.density(c));
+    double toSink = -std::log(fgd.density(c));
+    for (std::size_t k = 0; k < kNeighbours.size(); ++k) {
+      const cv::Point q(p.x + kNeighbours[k][0], p.y + kNeighbours[k][1]);
+      if (q.x < 0 || q.y < 0 || q.x >= bgr.cols || q.y >= bgr.rows)
+        continue;
+      const double w = (kNeighbours[k][0] != 0 && kNeighbours[k][1] != 0 ? diagonal : kGamma) *
+                       std::exp(-beta * squaredDistance(c, bgr(q)));
+      const int j = node(q);
+      if (j >= 0) {
+        if (k < 4)
+          graph.addEdges(static_cast<int>(i), j, w, w);
+      } else if (labels.at<uchar>(q) == kFgd) {
+        toSource += w;
+      } else {
+        toSink += w;
+      }
+    }
+    graph.addTermWeights(static_cast<int>(i), toSource, toSink);
+  }
+  graph.maxFlow();
+  for (std::size_t i = 0; i < open.size(); ++i)
+    out.at<uchar>(open[i]) =
+        static_cast<uchar>(graph.inSourceSegment(static_cast<int>(i)) ? kPrFgd : kPrBgd);
+  return out;
+}
 
 cv::Mat grabCutFullResolution(const cv::Mat& bgr, const cv::Mat& trimap, int iterations) {
   checkInputs(bgr, trimap);
@@ -62,8 +234,8 @@ cv::Mat grabCutFullResolution(const cv::Mat& bgr, const cv::Mat& trimap, int ite
 cv::Mat grabCutCoarseToFine(const cv::Mat& bgr, const cv::Mat& trimap,
                             const CoarseToFineOptions& options) {
   checkInputs(bgr, trimap);
-  if (!hasBothClasses(trimap))
-    return foreground(trimap);
+  if (!hasBothClasses(trimap) || cv::countNonZero(trimap >= kPrBgd) == 0)
+    return foreground(trimap);  // nothing left to decide
 
   const double megapixels = static_cast<double>(bgr.total()) / 1e6;
   const double scale = std::min(1.0, std::sqrt(options.workMegapixels / megapixels));
@@ -107,41 +279,9 @@ cv::Mat grabCutCoarseToFine(const cv::Mat& bgr, const cv::Mat& trimap,
   labels.setTo(kBgd, trimap == kBgd);
   labels.setTo(kFgd, trimap == kFgd);
 
-  // 4. Refine the band tile by tile with the coarse colour models frozen. Tiles overlap by twice
-  // the band width so that each boundary pixel is cut with context on both sides.
-  const int tile = std::max(32, options.tilePx);
-  const int overlap = 2 * halfWidth;
-  struct Tile {
-    cv::Rect withOverlap;
-    cv::Rect core;
-  };
-  std::vector<Tile> tiles;
-  // Only band pixels the caller left open need a cut: where its hard labels meet (the garment
-  // against the green screen, say) the boundary is already decided.
-  const cv::Mat open = (labels == kPrFgd) | (labels == kPrBgd);
-  for (int y = 0; y < bgr.rows; y += tile) {
-    for (int x = 0; x < bgr.cols; x += tile) {
-      cv::Rect r(x - overlap, y - overlap, tile + 2 * overlap, tile + 2 * overlap);
-      r &= cv::Rect(0, 0, bgr.cols, bgr.rows);
-      const cv::Rect core(x, y, std::min(tile, bgr.cols - x), std::min(tile, bgr.rows - y));
-      if (cv::countNonZero(open(core)) > 0)
-        tiles.push_back({r, core});
-    }
-  }
-  cv::Mat refined = labels.clone();
-  cv::parallel_for_(cv::Range(0, static_cast<int>(tiles.size())), [&](const cv::Range& range) {
-    for (int i = range.start; i < range.end; ++i) {
-      const cv::Rect r = tiles[static_cast<std::size_t>(i)].withOverlap;
-      const cv::Rect core = tiles[static_cast<std::size_t>(i)].core;
-      cv::Mat tileLabels = labels(r).clone();
-      cv::Mat bgd = bgdModel.clone();
-      cv::Mat fgd = fgdModel.clone();
-      cv::grabCut(bgr(r), tileLabels, cv::Rect(), bgd, fgd, 1, cv::GC_EVAL_FREEZE_MODEL);
-      // Write back only the tile's own core (no overlap) so that tiles never race.
-      tileLabels(core - r.tl()).copyTo(refined(core));
-    }
-  });
-  return foreground(refined);
+  // 4. Re-cut the band with the coarse colour models frozen: one graph over the band's open
+  // pixels, the same cut whole-frame GrabCut would make there with these models.
+  return foreground(grabCutFrozen(bgr, labels, bgdModel, fgdModel));
 }
 
 double maskIou(const cv::Mat& a, const cv::Mat& b) {
