@@ -33,6 +33,8 @@ constexpr double kMaxShiftCm = 1.0;
 constexpr double kMinShiftPx = 1.0;
 // Below the hip, pants part into legs for at least this long (the shortest shorts' inseam).
 constexpr double kPartedLegsCm = 5.0;
+// Dressed foreground this far from the exposed form is garment without asking GrabCut.
+constexpr double kSettledCm = 2.0;
 
 class StageTimer {
  public:
@@ -357,8 +359,19 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
     throw CaptureError(
         Reason::kNoGarment,
         "no garment found: the dressed frame shows the bare form (is the garment on the form?)");
+  // GrabCut has a choice to make only near the exposed form: elsewhere the dressed foreground is
+  // garment up to the key's edge against the screen (placed again at full resolution below).
+  // Probable garment farther than kSettledCm from any exposed pixel is therefore sure, which
+  // leaves the band cut nothing to decide along the screen-facing outline.
+  cv::Mat settled;
+  {
+    cv::Mat1f distToExposed;
+    cv::distanceTransform(~exposed, distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
+    settled = (distToExposed > static_cast<float>(kSettledCm * sw)) & fgD;
+  }
   cv::Mat trimap(fgD.size(), CV_8UC1, cv::Scalar(cv::GC_BGD + 0));
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
+  trimap.setTo(cv::GC_FGD + 0, settled);
   trimap.setTo(cv::GC_PR_BGD + 0, exposed);
   trimap.setTo(cv::GC_FGD + 0, sure);
   timer.done("masks");
