@@ -2,7 +2,7 @@
 // full-resolution GrabCut on the same trimap.
 //
 //   build/bin/pipeline_bench [--sizes 480x640,1728x2304,3000x4000] [--reps 3] [--full-grabcut]
-//                            [--default-malloc]
+//                            [--default-malloc] [--work-mp MP] [--no-compare]
 //
 // Like garmcapd it keeps freed frame memory mapped (pipeline::keepFrameMemoryMapped);
 // --default-malloc leaves glibc's defaults, to measure what that saves.
@@ -13,7 +13,8 @@
 // to the largest size so far). The GrabCut comparison cuts the same trimap (sure garment = true
 // coverage eroded by 1 cm, sure background beyond 1 cm outside it, probable in between) both
 // ways and reports time, the ratio and each mask's IoU with the true coverage. Plain GrabCut
-// at 12 MP takes minutes on 2 cores, so it runs only with --full-grabcut above 4 MP.
+// at 12 MP takes minutes on 2 cores, so it runs only with --full-grabcut above 4 MP; --no-compare
+// leaves the comparison out. --work-mp sets the pipeline's work-frame size (CaptureOptions).
 // Numbers are wall-clock: compare ratios from one run, not absolute times between machines.
 #include <sys/resource.h>
 
@@ -88,6 +89,8 @@ int main(int argc, char** argv) {
   int reps = 3;
   bool fullGrabCut = false;
   bool systemAllocator = false;
+  bool compare = true;
+  pipeline::CaptureOptions options;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sizes" && i + 1 < argc) {
@@ -98,10 +101,18 @@ int main(int argc, char** argv) {
       fullGrabCut = true;
     } else if (a == "--default-malloc") {
       systemAllocator = true;
+    } else if (a == "--no-compare") {
+      compare = false;
+    } else if (a == "--work-mp" && i + 1 < argc) {
+      options.workMegapixels = std::atof(argv[++i]);
+      if (!(options.workMegapixels > 0.05)) {
+        std::fprintf(stderr, "pipeline_bench: --work-mp must be above 0.05 (megapixels)\n");
+        return 2;
+      }
     } else {
       std::fprintf(stderr,
                    "usage: pipeline_bench [--sizes WxH,...] [--reps N] [--full-grabcut] "
-                   "[--default-malloc]\n");
+                   "[--default-malloc] [--work-mp MP] [--no-compare]\n");
       return 2;
     }
   }
@@ -129,7 +140,7 @@ int main(int argc, char** argv) {
       const nlohmann::json cal = renderer.calibration();
 
       auto t0 = Clock::now();
-      pipeline::CaptureResult first = pipeline::runCapture(empty, dressed, cal);
+      pipeline::CaptureResult first = pipeline::runCapture(empty, dressed, cal, options);
       double contextMs = 0;
       for (const auto& t : first.timings)
         if (t.stage == "context")
@@ -137,7 +148,7 @@ int main(int argc, char** argv) {
       std::map<std::string, std::vector<double>> stages;
       for (int r = 0; r < reps; ++r) {
         t0 = Clock::now();
-        const pipeline::CaptureResult res = pipeline::runCapture(empty, dressed, cal);
+        const pipeline::CaptureResult res = pipeline::runCapture(empty, dressed, cal, options);
         stages["total"].push_back(msSince(t0));
         for (const auto& t : res.timings)
           stages[t.stage].push_back(t.ms);
@@ -150,6 +161,8 @@ int main(int argc, char** argv) {
           median(stages["pattern"]), median(stages["images"]), median(stages["texture"]),
           peakRssMb(), first.type.c_str());
 
+      if (!compare)
+        continue;
       const cv::Mat1f truth = renderer.garmentCoverage();
       const cv::Mat truthMask = truth > 0.5f;
       const cv::Mat trimap = trimapFromCoverage(truth, cal["pose"]["px_per_cm"].get<double>());
