@@ -35,6 +35,10 @@ constexpr double kMinShiftPx = 1.0;
 constexpr double kPartedLegsCm = 5.0;
 // Dressed foreground this far from the exposed form is garment without asking GrabCut.
 constexpr double kSettledCm = 2.0;
+// The colour-difference noise floor is read on the form from this far above its side neck up.
+constexpr double kNoiseAboveNeckCm = 4.0;
+constexpr double kNoiseSigmas = 6.0;
+constexpr double kAveragedDifferenceCm = 0.5;
 
 class StageTimer {
  public:
@@ -165,6 +169,40 @@ cv::Mat garmentAtFullResolution(const cv::Mat& dressedFull, const calib::KeyResu
   const cv::Mat inBand = (up >= 128) & fg;
   inBand.copyTo(full, band);
   return full;
+}
+
+// The Lab difference of the two frames averaged over about sigmaPx before taking its size
+// (a,b magnitude plus half of L, as the fine difference): sensor noise averages out, while a
+// garment the colour of the form keeps its small, steady offset and its folds. Each channel is
+// clipped at `clip` first, so that a strong garment edge spreads only a thin halo.
+cv::Mat1f averagedDifference(const cv::Mat& labE, const cv::Mat& labD, double sigmaPx, float clip) {
+  cv::Mat e, d;
+  labE.convertTo(e, CV_32F);
+  labD.convertTo(d, CV_32F);
+  cv::Mat signedDiff = d - e;
+  signedDiff = cv::min(cv::max(signedDiff, -clip), clip);
+  cv::Mat small;
+  cv::resize(signedDiff, small, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  cv::GaussianBlur(small, small, cv::Size(), std::max(1.0, sigmaPx / 2));
+  cv::Mat ch[3];
+  cv::split(small, ch);
+  cv::Mat1f size;
+  cv::magnitude(ch[1], ch[2], size);
+  size += 0.5f * cv::abs(ch[0]);
+  cv::Mat1f out;
+  cv::resize(size, out, labE.size(), 0, 0, cv::INTER_LINEAR);
+  return out;
+}
+
+// Median + k robust sigmas (1.4826 x the median absolute deviation) of `values`.
+double noiseThreshold(std::vector<float> values, double k) {
+  const auto mid = values.begin() + static_cast<long>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  const double median = *mid;
+  for (float& v : values)
+    v = static_cast<float>(std::abs(v - median));
+  std::nth_element(values.begin(), mid, values.end());
+  return median + k * 1.4826 * *mid;
 }
 
 void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeasurement& m,
@@ -327,10 +365,26 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   const cv::Mat formMask = keyE.mask;
   const cv::Mat fgD = keyD.mask;
   // Where the form is still visible the difference is noise; where the garment covers it, it is
-  // the garment's contrast. Otsu's threshold over the form separates the two; it is kept within
-  // bounds so that a garment the colour of the form is not all taken for form.
+  // the garment's contrast. The noise floor is read where no garment goes: the form above its
+  // neck (head or neck cap). A pixel is exposed when its difference is within that noise, so a
+  // garment the colour of the form still stands out by its folds and weave; Otsu's threshold
+  // over the form is only the fallback for a form with too little above its neck.
   double tau = 10.0;
-  {
+  const int neckRow =
+      static_cast<int>(view.rowOfHeight(view.neckSideCm() + kNoiseAboveNeckCm) * ws);
+  auto aboveNeck = [&](const cv::Mat1f& values) {
+    std::vector<float> out;
+    for (int y = 0; y < std::min(neckRow, values.rows); ++y)
+      for (int x = 0; x < values.cols; x += 2)
+        if (formMask.at<uchar>(y, x) && fgD.at<uchar>(y, x))
+          out.push_back(values(y, x));
+    return out;
+  };
+  const std::vector<float> noise = aboveNeck(diff);
+  const bool noiseKnown = noise.size() > 2000;
+  if (noiseKnown) {
+    tau = std::clamp(noiseThreshold(noise, kNoiseSigmas), 2.0, 25.0);
+  } else {
     cv::Mat d8;
     diff.convertTo(d8, CV_8U, 4.0);
     std::vector<uchar> values;
@@ -349,6 +403,14 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   const cv::Mat kernel =
       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
   cv::Mat exposed = (diff < static_cast<float>(tau)) & formMask & fgD;
+  if (noiseKnown) {
+    // Of what looks exposed pixel by pixel, keep only what also matches over about a centimetre:
+    // a garment the colour of the form differs there.
+    const cv::Mat1f averaged =
+        averagedDifference(labE, labD, kAveragedDifferenceCm * sw, static_cast<float>(tau));
+    const double tauAveraged = std::max(0.3, noiseThreshold(aboveNeck(averaged), kNoiseSigmas));
+    exposed &= averaged < static_cast<float>(tauAveraged);
+  }
   cv::morphologyEx(exposed, exposed, cv::MORPH_CLOSE, kernel);
   exposed &= formMask & fgD;
   cv::Mat base = fgD & ~exposed;
@@ -363,16 +425,22 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   // garment up to the key's edge against the screen (placed again at full resolution below).
   // Probable garment farther than kSettledCm from any exposed pixel is therefore sure, which
   // leaves the band cut nothing to decide along the screen-facing outline.
-  cv::Mat settled;
+  // Likewise exposed form farther than kSettledCm from any garment evidence is sure form: a
+  // garment the colour of the form gives GrabCut's colour models nothing to tell them apart by,
+  // and it would otherwise flood the bare torso and arms from the garment.
+  cv::Mat settled, settledForm;
   {
-    cv::Mat1f distToExposed;
+    cv::Mat1f distToExposed, distToGarment;
     cv::distanceTransform(~exposed, distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
     settled = (distToExposed > static_cast<float>(kSettledCm * sw)) & fgD;
+    cv::distanceTransform(~(fgD & ~exposed), distToGarment, cv::DIST_L2, cv::DIST_MASK_3);
+    settledForm = (distToGarment > static_cast<float>(kSettledCm * sw)) & exposed;
   }
   cv::Mat trimap(fgD.size(), CV_8UC1, cv::Scalar(cv::GC_BGD + 0));
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
   trimap.setTo(cv::GC_FGD + 0, settled);
   trimap.setTo(cv::GC_PR_BGD + 0, exposed);
+  trimap.setTo(cv::GC_BGD + 0, settledForm);
   trimap.setTo(cv::GC_FGD + 0, sure);
   timer.done("masks");
   if (const char* dir = std::getenv("GARMCAP_DEBUG_DIR")) {
