@@ -100,3 +100,45 @@ TEST(WorkFrame, AsAccurateAsFullResolutionSegmentation) {
     }
   }
 }
+
+// Hard scenes (fabric the colour of the form or dark green, camera shake, strong spill): a
+// garment may come out `unknown`, or a measurement may be left out with a warning, but a
+// garment is never given a wrong type and no reported measurement is far off. Before the
+// noise-floor exposed test and the sure-form rule, form-coloured tops read as dresses with the
+// whole torso, and hems 40-90 cm off. Of these 10 scenes 5 are typed (the rest unknown or "no
+// garment"). Known gap: where a form-coloured sleeve ends over the arm, its end is found up to
+// 7 cm off (top seed 3), so sleeve length has a wider bound here.
+TEST(WorkFrame, HardScenesNeverGetAWrongTypeOrAnAbsurdMeasurement) {
+  int typed = 0;
+  for (const std::string type : {"top", "pants"}) {
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+      capture::RandomSceneOptions o;
+      o.size = {960, 1280};
+      o.hardFraction = 1.0;
+      o.type = type;
+      const capture::SceneRenderer r(form(), capture::randomScene(form(), kFormPath, seed, o));
+      pipeline::CaptureResult res;
+      try {
+        res = pipeline::runCapture(r.renderEmpty(), r.renderDressed(), r.calibration(),
+                                   measureOnly(2.0));
+      } catch (const pipeline::CaptureError& e) {
+        // A dark green garment the key takes for screen: "no garment" is an honest answer.
+        EXPECT_EQ(e.reason(), pipeline::CaptureError::Reason::kNoGarment) << e.what();
+        continue;
+      }
+      const std::string where = type + " seed " + std::to_string(seed);
+      ASSERT_TRUE(res.type == type || res.type == "unknown") << where << ": " << res.type;
+      if (res.type == "unknown")
+        continue;
+      ++typed;
+      const nlohmann::json expected = r.truth().at("measurements");
+      for (const auto& [name, v] : res.measurements) {
+        if (!expected.contains(name))
+          continue;
+        const double err = v - expected.at(name).get<double>();
+        EXPECT_LE(std::abs(err), name == "sleeve_length" ? 8.0 : 3.0) << where << " " << name;
+      }
+    }
+  }
+  EXPECT_GE(typed, 5) << "most hard tops and pants should still be typed";
+}

@@ -108,7 +108,7 @@ std::pair<int, int> armLimits(const FormView& view, int row, const RowSection& t
 // bodice hides the body's side seam, and the run holds sleeve and the gap to the arm. When the
 // whole band is hidden so, the nearest rows below it (up to kHiddenSearchCm) that show the side
 // stand in, and a warning says how far below.
-std::optional<double> circumferenceAt(Context& c, double heightCm, const std::string& name) {
+std::optional<double> circumferenceReading(Context& c, double heightCm, const std::string& name) {
   const auto ref = referenceAt(c.view, heightCm);
   if (!ref || ref->widthPx() <= 1 || ref->circCm <= 0)
     return std::nullopt;
@@ -223,6 +223,26 @@ std::optional<double> circumferenceAt(Context& c, double heightCm, const std::st
   c.out.landmarks.push_back({base + "_left", clear.back().left});
   c.out.landmarks.push_back({base + "_right", clear.back().right});
   return median(values);
+}
+
+// A garment is worn over the form, so it cannot measure much less round than the form under it
+// (a knit stretches by 10 % or so): a smaller reading means the silhouette lost part of the
+// garment there (a patch the colour of the form cut out of it, say). It is dropped with a
+// warning rather than reported.
+constexpr double kMinFractionOfForm = 0.85;
+
+std::optional<double> circumferenceAt(Context& c, double heightCm, const std::string& name) {
+  const auto value = circumferenceReading(c, heightCm, name);
+  const auto ref = referenceAt(c.view, heightCm);
+  if (value && ref && *value < kMinFractionOfForm * ref->circCm) {
+    c.out.warnings.push_back(
+        name + ": the silhouette reads " + std::to_string(static_cast<int>(std::lround(*value))) +
+        " cm round where the form is " +
+        std::to_string(static_cast<int>(std::lround(ref->circCm))) +
+        " cm, so part of the garment is missing from it there; not measured, review by hand");
+    return std::nullopt;
+  }
+  return value;
 }
 
 // Lowest garment row below `fromRow` along column `col` (following the run down).
@@ -384,12 +404,23 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
     return out;
   }
 
-  const auto hemRowOpt = lowestRow(garmentMask, axisCol, std::min(waistRow, garmentMask.rows - 1));
-  if (!hemRowOpt) {
+  // The hem at the centre front: the median of the lowest covered rows of columns spread over the
+  // middle third of the waist, so that a notch or slit the segmentation leaves at the centre
+  // (a form-coloured or green patch cut out of the garment) does not lift the hem.
+  const int fromRow = std::min(waistRow, garmentMask.rows - 1);
+  if (!on(garmentMask, fromRow, axisCol)) {
     out.warnings.push_back("the garment does not cover the centre front at the waist");
     return out;
   }
-  const double hemEdge = *hemRowOpt + 1.0;  // lower edge of the last covered row
+  const auto waistSection = view.torsoAtRow(fromRow);
+  const double spread = waistSection ? waistSection->widthPx() / 6.0 : 0.0;
+  std::vector<double> lowest;
+  for (int k = -4; k <= 4; ++k) {
+    const int col = axisCol + static_cast<int>(std::lround(k * spread / 4.0));
+    if (const auto low = lowestRow(garmentMask, col, fromRow))
+      lowest.push_back(static_cast<double>(*low));
+  }
+  const double hemEdge = median(lowest) + 1.0;  // lower edge of the last covered row
   const double hemH = view.heightOfRow(hemEdge);
   out.landmarks.push_back({"hem_centre", {static_cast<double>(axisCol), hemEdge}});
   if (wants("hem_circ"))
