@@ -12,8 +12,18 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* imageName(Shot shot) {
-  return shot == Shot::kDressed ? "dressed.png" : "empty.png";
+const char* frameName(Shot shot) {
+  return shot == Shot::kDressed ? "dressed" : "empty";
+}
+
+/// The file of one frame of a case (PNG or JPEG, exactly one: rigFramePath); the error names
+/// the case and the files.
+fs::path framePath(const fs::path& caseDir, Shot shot, const std::string& caseId) {
+  try {
+    return rigFramePath(caseDir, frameName(shot));
+  } catch (const RigError& e) {
+    throw CameraError(CameraErrorKind::kBadData, "rig case " + caseId + ": " + e.what());
+  }
 }
 
 /// Reads an image file with the rig reader's checks; the error names the case and the file.
@@ -25,32 +35,61 @@ cv::Mat readImage(const fs::path& path, const std::string& caseId) {
   }
 }
 
-/// Reads only the size of an image (PNG IHDR); falls back to a full decode for other formats.
-std::optional<cv::Size> pngSize(const fs::path& path) {
+/// Reads only the size of an image from its header (PNG IHDR, JPEG SOFn); nullopt when the
+/// header is not understood, and the caller decodes the whole file instead.
+std::optional<cv::Size> headerSize(const fs::path& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (f == nullptr) {
     return std::nullopt;
   }
-  unsigned char h[24];
-  const std::size_t n = std::fread(h, 1, sizeof(h), f);
+  // The JPEG frame header follows the APPn/DQT/DHT segments, each at most 64 KiB.
+  std::vector<unsigned char> h(1u << 18);
+  const std::size_t n = std::fread(h.data(), 1, h.size(), f);
   std::fclose(f);
+  auto be16 = [&](std::size_t o) {
+    return static_cast<int>((static_cast<unsigned>(h[o]) << 8) | h[o + 1]);
+  };
   static const unsigned char kSig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  if (n < 24 || !std::equal(kSig, kSig + 8, h) || std::string(h + 12, h + 16) != "IHDR") {
+  if (n >= 24 && std::equal(kSig, kSig + 8, h.begin()) &&
+      std::string(h.begin() + 12, h.begin() + 16) == "IHDR") {
+    if (be16(16) != 0 || be16(20) != 0)
+      return std::nullopt;  // beyond 65535 px: let the decoder judge
+    return cv::Size(be16(18), be16(22));
+  }
+  if (n < 4 || h[0] != 0xFF || h[1] != 0xD8) {
     return std::nullopt;
   }
-  auto be32 = [&](int o) {
-    return static_cast<int>((static_cast<unsigned>(h[o]) << 24) |
-                            (static_cast<unsigned>(h[o + 1]) << 16) |
-                            (static_cast<unsigned>(h[o + 2]) << 8) | h[o + 3]);
-  };
-  return cv::Size(be32(16), be32(20));
+  std::size_t o = 2;
+  while (o + 4 <= n) {
+    if (h[o] != 0xFF)
+      return std::nullopt;
+    const unsigned m = h[o + 1];
+    if (m == 0xFF) {  // fill byte
+      ++o;
+      continue;
+    }
+    if (m == 0x01 || (m >= 0xD0 && m <= 0xD7)) {  // markers without a length
+      o += 2;
+      continue;
+    }
+    const bool sof = m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC;
+    if (sof) {
+      if (o + 9 > n)
+        return std::nullopt;
+      return cv::Size(be16(o + 7), be16(o + 5));
+    }
+    if (m == 0xD9 || m == 0xDA)  // end of image or start of scan before any frame header
+      return std::nullopt;
+    o += 2 + static_cast<std::size_t>(be16(o + 2));
+  }
+  return std::nullopt;
 }
 
 void requireSamePairSize(const cv::Mat& loaded, Shot shot, const fs::path& caseDir,
                          const std::string& caseId) {
   const Shot other = shot == Shot::kDressed ? Shot::kEmpty : Shot::kDressed;
-  const fs::path otherPath = caseDir / imageName(other);
-  std::optional<cv::Size> otherSize = pngSize(otherPath);
+  const fs::path otherPath = framePath(caseDir, other, caseId);
+  std::optional<cv::Size> otherSize = headerSize(otherPath);
   if (!otherSize) {
     otherSize = readImage(otherPath, caseId).size();
   }
@@ -99,7 +138,7 @@ class RigSceneSource final : public SceneSource {
     const RigCaseInfo& ref = cases_.at(index);
     SceneImage out;
     out.caseId = ref.id;
-    out.source = ref.dir / imageName(shot);
+    out.source = framePath(ref.dir, shot, ref.id);
     out.bgr = readImage(out.source, ref.id);
     requireSamePairSize(out.bgr, shot, ref.dir, ref.id);
     out.truthPath = ref.dir / "truth.json";

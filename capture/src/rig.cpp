@@ -1,15 +1,18 @@
 #include "garmcap/capture/rig.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <random>
 
 #include "garmcap/calib/form_generator.h"
 #include "garmcap/calib/mesh.h"
 #include "garmcap/capture/scene.h"
 #include "garmcap/capture/sim.h"
+#include "garmcap/capture/v4l2_decode.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/size_charts.h"
 
@@ -34,7 +37,79 @@ std::string sizeText(const cv::Mat& m) {
   return std::to_string(m.cols) + "x" + std::to_string(m.rows);
 }
 
+constexpr RigImageFormat kFormats[] = {RigImageFormat::kPng, RigImageFormat::kJpeg};
+
+std::string frameFile(const std::string& frame, RigImageFormat format) {
+  return frame + "." + rigImageExtension(format);
+}
+
 }  // namespace
+
+const char* rigImageExtension(RigImageFormat format) {
+  return format == RigImageFormat::kJpeg ? "jpg" : "png";
+}
+
+RigImageFormat parseRigImageFormat(const std::string& text) {
+  for (const RigImageFormat f : kFormats) {
+    if (text == rigImageExtension(f))
+      return f;
+  }
+  throw std::invalid_argument("image format must be png or jpg, not '" + text + "'");
+}
+
+void RigImageOptions::validate() const {
+  if (jpegQuality < 1 || jpegQuality > 100) {
+    throw std::invalid_argument("JPEG quality must be 1..100, not " + std::to_string(jpegQuality));
+  }
+}
+
+std::filesystem::path rigFramePath(const std::filesystem::path& caseDir, const std::string& frame) {
+  const auto png = caseDir / frameFile(frame, RigImageFormat::kPng);
+  const auto jpg = caseDir / frameFile(frame, RigImageFormat::kJpeg);
+  std::error_code ec;
+  const bool hasPng = std::filesystem::is_regular_file(png, ec);
+  const bool hasJpg = std::filesystem::is_regular_file(jpg, ec);
+  if (hasPng && hasJpg) {
+    throw RigError(png.string() + " and " + jpg.filename().string() +
+                   ": both present (a case holds its " + frame +
+                   " frame in exactly one of the two formats)");
+  }
+  if (!hasPng && !hasJpg) {
+    throw RigError(png.string() + ": missing (nor is there " + jpg.filename().string() +
+                   "; a case holds its " + frame + " frame as one of them)");
+  }
+  return hasPng ? png : jpg;
+}
+
+std::filesystem::path writeRigFrame(const std::filesystem::path& caseDir, const std::string& frame,
+                                    const cv::Mat& bgr, const RigImageOptions& options) {
+  options.validate();
+  const RigImageFormat format = options.format;
+  const auto path = caseDir / frameFile(frame, format);
+  std::vector<uchar> buf;
+  bool ok = false;
+  try {
+    if (format == RigImageFormat::kJpeg) {
+      // Baseline, optimised Huffman tables; OpenCV 4.6 leaves libjpeg's 4:2:0 chroma.
+      ok = cv::imencode(
+          ".jpg", bgr, buf,
+          {cv::IMWRITE_JPEG_QUALITY, options.jpegQuality, cv::IMWRITE_JPEG_OPTIMIZE, 1});
+    } else {
+      ok = cv::imencode(".png", bgr, buf, {cv::IMWRITE_PNG_COMPRESSION, 9});
+    }
+  } catch (const cv::Exception& e) {
+    throw drafts::FileError(path.string() + ": encoding failed (" + e.what() + ")");
+  }
+  if (!ok)
+    throw drafts::FileError(path.string() + ": encoding failed");
+  drafts::writeFileAtomic(path,
+                          std::string_view(reinterpret_cast<const char*>(buf.data()), buf.size()));
+  for (const RigImageFormat other : kFormats) {
+    if (other != format)
+      std::filesystem::remove(caseDir / frameFile(frame, other));
+  }
+  return path;
+}
 
 const RigCaseInfo& Rig::find(const std::string& id) const {
   for (const auto& c : cases) {
@@ -55,7 +130,8 @@ Rig readRig(const std::filesystem::path& dir) {
     throw RigError(e.what());
   }
   onlyKeys(rig.index,
-           {"format", "version", "generator", "form", "width", "height", "seed", "chart", "cases"},
+           {"format", "version", "generator", "form", "width", "height", "seed", "chart",
+            "image_format", "jpeg_quality", "cases"},
            what);
   try {
     if (drafts::requireString(rig.index, "format", what) != "garmcap-rig") {
@@ -63,6 +139,19 @@ Rig readRig(const std::filesystem::path& dir) {
     }
     if (drafts::requireNumber(rig.index, "version", what) != 1) {
       throw RigError(what + ": field 'version' must be 1");
+    }
+    std::optional<RigImageFormat> imageFormat;
+    if (rig.index.contains("image_format")) {
+      const std::string f = drafts::requireString(rig.index, "image_format", what);
+      if (f != "png" && f != "jpg")
+        throw RigError(what + ": field 'image_format' must be \"png\" or \"jpg\", not \"" + f +
+                       "\"");
+      imageFormat = parseRigImageFormat(f);
+    }
+    if (rig.index.contains("jpeg_quality")) {
+      const double q = drafts::requireNumber(rig.index, "jpeg_quality", what);
+      if (!(q >= 1 && q <= 100) || q != std::floor(q))
+        throw RigError(what + ": field 'jpeg_quality' must be an integer 1..100");
     }
     const auto& cases = drafts::requireField(rig.index, "cases", what);
     if (!cases.is_array())
@@ -88,11 +177,20 @@ Rig readRig(const std::filesystem::path& dir) {
       c.hard = hard.get<bool>();
       if (cases[i].contains("size"))
         c.size = drafts::requireString(cases[i], "size", cw);
-      for (const char* f : {"empty.png", "dressed.png", "truth.json"}) {
-        if (!std::filesystem::is_regular_file(c.dir / f)) {
-          throw RigError((c.dir / f).string() + ": missing (case '" + c.id + "' of " + what + ")");
+      const std::string ofCase = " (case '" + c.id + "' of " + what + ")";
+      for (const char* frame : {"empty", "dressed"}) {
+        std::filesystem::path file;
+        try {
+          file = rigFramePath(c.dir, frame);
+        } catch (const RigError& e) {
+          throw RigError(e.what() + ofCase);
         }
+        if (imageFormat && file.extension() != std::string(".") + rigImageExtension(*imageFormat))
+          throw RigError(file.string() + ": not " + rigImageExtension(*imageFormat) +
+                         " as field 'image_format' of " + what + " says");
       }
+      if (!std::filesystem::is_regular_file(c.dir / "truth.json"))
+        throw RigError((c.dir / "truth.json").string() + ": missing" + ofCase);
       for (const auto& other : rig.cases) {
         if (other.id == c.id)
           throw RigError(cw + ": duplicate case id '" + c.id + "'");
@@ -114,6 +212,25 @@ cv::Mat loadRigImage(const std::filesystem::path& file) {
   } catch (const drafts::FileError& e) {
     throw RigError(e.what());
   }
+  const std::string ext = file.extension().string();
+  const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+  if (ext == ".jpg" || ext == ".jpeg") {
+    // The framing checks of MJPEG frames: libjpeg would decode a cut file with only a warning.
+    switch (checkMjpegFrame({data, bytes.size()})) {
+      case MjpegCheck::kOk:
+        break;
+      case MjpegCheck::kBadEndMarker:
+        throw RigError(file.string() + ": truncated JPEG (no FF D9 end marker)");
+      case MjpegCheck::kNoStartMarker:
+        throw RigError(file.string() + ": not a JPEG (no FF D8 start marker)");
+      case MjpegCheck::kTooSmall:
+        throw RigError(file.string() + ": not a JPEG (" + std::to_string(bytes.size()) + " bytes)");
+    }
+  } else if (ext == ".png") {
+    static const char kSig[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
+    if (bytes.size() < sizeof kSig || !std::equal(kSig, kSig + sizeof kSig, bytes.data()))
+      throw RigError(file.string() + ": not a PNG (no PNG signature)");
+  }
   cv::Mat img;
   try {
     img = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, bytes.data()),
@@ -130,11 +247,13 @@ RigCase loadRigCase(const std::filesystem::path& caseDir) {
   RigCase c;
   c.dir = caseDir;
   c.id = caseDir.filename().string();
-  c.empty = loadRigImage(caseDir / "empty.png");
-  c.dressed = loadRigImage(caseDir / "dressed.png");
+  const auto emptyPath = rigFramePath(caseDir, "empty");
+  const auto dressedPath = rigFramePath(caseDir, "dressed");
+  c.empty = loadRigImage(emptyPath);
+  c.dressed = loadRigImage(dressedPath);
   if (c.empty.size() != c.dressed.size()) {
-    throw RigError((caseDir / "dressed.png").string() + ": " + sizeText(c.dressed) +
-                   " differs from " + (caseDir / "empty.png").string() + ": " + sizeText(c.empty) +
+    throw RigError(dressedPath.string() + ": " + sizeText(c.dressed) + " differs from " +
+                   emptyPath.string() + ": " + sizeText(c.empty) +
                    " (the two frames must come from the same camera setting)");
   }
   try {
@@ -166,6 +285,7 @@ Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
   const std::string formPath = std::filesystem::absolute(formPathArg).lexically_normal().string();
   if (options.count < 1)
     throw std::invalid_argument("rig make: --count must be at least 1");
+  options.images.validate();
   if (!options.chart.empty())
     drafts::sizeChart(options.chart);  // an unknown chart is refused before anything is written
   std::filesystem::create_directories(outDir);
@@ -213,7 +333,7 @@ Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
     }
     Scene scene = randomScene(*caseForm, caseFormPath, caseSeed, so);
     const SceneRenderer renderer(*caseForm, std::move(scene));
-    writeCase(renderer, outDir / id);
+    writeCase(renderer, outDir / id, options.images);
     const auto& g = renderer.scene().garment;
     nlohmann::json entry = {{"id", id},
                             {"dir", id},
@@ -233,7 +353,10 @@ Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
                           {"width", options.size.width},
                           {"height", options.size.height},
                           {"seed", options.seed},
+                          {"image_format", rigImageExtension(options.images.format)},
                           {"cases", cases}};
+  if (options.images.format == RigImageFormat::kJpeg)
+    index["jpeg_quality"] = options.images.jpegQuality;
   if (!options.chart.empty())
     index["chart"] = options.chart;
   drafts::writeJsonFile(outDir / "rig.json", index);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
@@ -314,21 +313,19 @@ nlohmann::json SceneRenderer::truth() const {
        "garment width = reference form width x garment/form circumference (docs/simulator.md)"}};
 }
 
-void writeCase(const SceneRenderer& renderer, const std::filesystem::path& caseDir) {
+void writeCase(const SceneRenderer& renderer, const std::filesystem::path& caseDir,
+               const RigImageOptions& images) {
+  images.validate();
   std::filesystem::create_directories(caseDir);
-  const std::vector<int> png = {cv::IMWRITE_PNG_COMPRESSION, 9};
-  auto writePng = [&](const std::filesystem::path& p, const cv::Mat& img) {
-    std::vector<uchar> buf;
-    if (!cv::imencode(".png", img, buf, png)) {
-      throw drafts::FileError(p.string() + ": PNG encoding failed");
-    }
-    drafts::writeFileAtomic(
-        p, std::string_view(reinterpret_cast<const char*>(buf.data()), buf.size()));
-  };
-  writePng(caseDir / "empty.png", renderer.renderEmpty());
-  writePng(caseDir / "dressed.png", renderer.renderDressed());
-  drafts::writeJsonFile(caseDir / "truth.json", renderer.truth());
-  drafts::writeJsonFile(caseDir / "calibration.json", renderer.calibration());
+  const auto emptyPath = writeRigFrame(caseDir, "empty", renderer.renderEmpty(), images);
+  writeRigFrame(caseDir, "dressed", renderer.renderDressed(), images);
+  // The calibration names the bare-form frame it was made from: the file actually written.
+  nlohmann::json calibration = renderer.calibration();
+  calibration["empty_frame"] = emptyPath.filename().string();
+  nlohmann::json truth = renderer.truth();
+  truth["calibration"] = calibration;
+  drafts::writeJsonFile(caseDir / "truth.json", truth);
+  drafts::writeJsonFile(caseDir / "calibration.json", calibration);
   drafts::writeJsonFile(caseDir / "scene.json", renderer.scene().toJson());
 }
 

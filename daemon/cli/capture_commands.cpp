@@ -22,6 +22,39 @@ struct RenderArgs {
   std::string type, measurements, size, chart, form, out, sleeve, skirt;
   std::uint64_t seed = 1;
   int width = 1728, height = 2304;
+  capture::RigImageOptions images;
+};
+
+// --image-format png|jpg and --jpeg-quality N of `render` and `rig make`. The format is kept as
+// text until the callback so that both options are checked together, with messages that name them.
+struct ImageArgs {
+  std::string format = "png";
+  int jpegQuality = capture::kDefaultJpegQuality;
+  CLI::Option* qualityOption = nullptr;
+
+  void add(CLI::App* cmd) {
+    cmd->add_option("--image-format", format,
+                    "png (default; lossless, the rig contract) or jpg (what MJPEG cameras "
+                    "deliver; about a fifth of the size)");
+    qualityOption = cmd->add_option("--jpeg-quality", jpegQuality,
+                                    "JPEG quality 1..100 with --image-format jpg (default " +
+                                        std::to_string(capture::kDefaultJpegQuality) + ")");
+  }
+
+  capture::RigImageOptions options() const {
+    capture::RigImageOptions o;
+    if (format != "png" && format != "jpg")
+      throw std::invalid_argument("--image-format must be png or jpg, not '" + format + "'");
+    o.format = capture::parseRigImageFormat(format);
+    if (qualityOption != nullptr && qualityOption->count() > 0 &&
+        o.format != capture::RigImageFormat::kJpeg)
+      throw std::invalid_argument("--jpeg-quality applies to --image-format jpg only");
+    if (jpegQuality < 1 || jpegQuality > 100)
+      throw std::invalid_argument("--jpeg-quality must be 1..100, not " +
+                                  std::to_string(jpegQuality));
+    o.jpegQuality = jpegQuality;
+    return o;
+  }
 };
 
 // Garment measurements file: {"units": "cm", "measurements": {"bust_circ": 96, ...}} with the
@@ -118,7 +151,7 @@ void runRender(const RenderArgs& a) {
   }
   g.measurements = m;
   const capture::SceneRenderer renderer(form, scene);
-  capture::writeCase(renderer, a.out);
+  capture::writeCase(renderer, a.out, a.images);
   std::printf("%s: %s %dx%d, truth.json written\n", a.out.c_str(), g.type.c_str(), a.width,
               a.height);
 }
@@ -127,6 +160,7 @@ void runRender(const RenderArgs& a) {
 
 void addCaptureCommands(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
+  auto renderImages = std::make_shared<ImageArgs>();
   auto* render = app.add_subcommand(
       "render", "Render a simulated bare-form/dressed frame pair with truth.json");
   render->add_option("--type", args->type, "Garment type: top, dress, skirt, pants")->required();
@@ -147,10 +181,12 @@ void addCaptureCommands(CLI::App& app) {
   render->add_option("--skirt", args->skirt,
                      "a_line or h_line (skirt, dress; default from the seed)");
   render->add_option("--out", args->out, "Case folder to write")->required();
-  render->callback([args] {
+  renderImages->add(render);
+  render->callback([args, renderImages] {
     if (args->measurements.empty() && args->size.empty()) {
       throw std::invalid_argument("render: give --measurements M.json or --size S --chart C");
     }
+    args->images = renderImages->options();
     runRender(*args);
   });
 
@@ -180,7 +216,10 @@ void addCaptureCommands(CLI::App& app) {
                    "Draft every garment for a size of this chart (see `garmcap draft --charts`; "
                    "sizes drawn from the seed, those that do not fit the form skipped). Default: "
                    "ease sampled around the form");
-  make->callback([ro, form, out, wh] {
+  auto makeImages = std::make_shared<ImageArgs>();
+  makeImages->add(make);
+  make->callback([ro, form, out, wh, makeImages] {
+    ro->images = makeImages->options();
     const std::string formPath = form->empty() ? defaultForm() : *form;
     const auto model = calib::FormModel::load(formPath);
     ro->size = {wh->first, wh->second};

@@ -2,7 +2,8 @@
 // garmcapd on the simulated rig, on a free loopback port, with a fresh catalog and profile.
 //   node browser_test.mjs GARMCAPD WEB_DIR [SCREENSHOT_DIR] [--rig CASE_DIR]
 //   node browser_test.mjs --stub WEB_DIR [SCREENSHOT_DIR]   (UI only, against stub_server.mjs)
-// --rig: a rig case folder (empty.png, dressed.png, truth.json, e.g. tests/data/rig/case_002)
+// --rig: a rig case folder (empty.png or .jpg, dressed.png or .jpg, truth.json, e.g.
+// tests/data/rig/case_002)
 // that garmcapd replays (--camera replay), so every run sees the same garment; without it the
 // daemon's synthetic camera renders random scenes.
 // Steps: calibrate (bare form), capture a garment, see it in the last result and the catalog,
@@ -10,7 +11,7 @@
 // it, export the Shopify CSV and read the title back from it.
 // Prints one line per step and "N passed, N failed"; exits 1 on the first failure.
 import { spawn } from 'node:child_process';
-import { copyFileSync, mkdtempSync, readFileSync, rmSync, mkdirSync, writeFileSync } from 'node:fs';
+import { copyFileSync, existsSync, mkdtempSync, readFileSync, rmSync, mkdirSync, writeFileSync } from 'node:fs';
 import { createServer } from 'node:net';
 import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
@@ -63,7 +64,10 @@ async function main() {
   if (rigCase) {
     // A one-case replay rig in the temp folder: the bare form and the dressed frame of CASE_DIR.
     mkdirSync(join(work, 'rig', 'c1'), { recursive: true });
-    for (const f of ['empty.png', 'dressed.png', 'truth.json']) copyFileSync(join(rigCase, f), join(work, 'rig', 'c1', f));
+    // Frames as the case holds them, PNG or JPEG (docs/formats.md); the replay camera checks there is one of each.
+    for (const f of ['empty.png', 'empty.jpg', 'dressed.png', 'dressed.jpg', 'truth.json']) {
+      if (f === 'truth.json' || existsSync(join(rigCase, f))) copyFileSync(join(rigCase, f), join(work, 'rig', 'c1', f));
+    }
     // The rig index as capture::readRig reads it (docs/formats.md).
     writeFileSync(join(work, 'rig', 'rig.json'), JSON.stringify({
       format: 'garmcap-rig', version: 1,

@@ -1,5 +1,6 @@
-// Replay back end: rig index, case sequencing, bad rig data (missing/corrupt images named,
-// mismatched pair sizes refused), and injected faults (latency, corrupt frame, unplug).
+// Replay back end: rig index, case sequencing, PNG and JPEG cases, bad rig data (missing,
+// doubled, corrupt and truncated images named, mismatched pair sizes refused), and injected
+// faults (latency, corrupt frame, unplug).
 
 #include "garmcap/capture/replay_camera.h"
 
@@ -146,6 +147,70 @@ TEST(ReplayCamera, EmptyAndDressedOfDifferentSizesAreRefused) {
     EXPECT_NE(msg.find("64x50"), std::string::npos) << msg;
     EXPECT_NE(msg.find("case_000"), std::string::npos) << msg;
   }
+}
+
+// JPEG cases (empty.jpg, dressed.jpg) are served like PNG ones; their pair sizes are checked
+// from the JPEG headers; a truncated JPEG and a frame present in both formats are refused.
+TEST(ReplayCamera, ServesJpegCases) {
+  TempRig rig("jpeg");
+  rig.make(2, {120, 90}, "jpg");
+  auto cam = openCamera(rig.dir);
+  const Frame e0 = cam->captureStill();
+  const Frame d0 = cam->captureStill();
+  EXPECT_EQ(d0.meta.caseId, "case_000");
+  EXPECT_EQ(d0.bgr.size(), cv::Size(120, 90));
+  const cv::Mat fileDressed = cv::imread((rig.dir / "case_000" / "dressed.jpg").string());
+  EXPECT_EQ(cv::norm(d0.bgr, fileDressed, cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(d0.bgr, e0.bgr, cv::NORM_L1), 0.0);
+}
+
+TEST(ReplayCamera, JpegPairOfDifferentSizesIsRefused) {
+  TempRig rig("jpeg_sizes");
+  rig.make(1, {64, 48}, "jpg");
+  cv::imwrite((rig.dir / "case_000" / "dressed.jpg").string(),
+              cv::Mat(50, 64, CV_8UC3, cv::Scalar(1, 2, 3)));
+  auto cam = openCamera(rig.dir);
+  for (Shot shot : {Shot::kEmpty, Shot::kDressed}) {
+    CameraErrorKind kind{};
+    const std::string msg = errorOf([&] { cam->captureStill({shot}); }, &kind);
+    EXPECT_EQ(kind, CameraErrorKind::kBadData) << msg;
+    EXPECT_NE(msg.find("64x48"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("64x50"), std::string::npos) << msg;
+  }
+}
+
+TEST(ReplayCamera, TruncatedJpegNamesTheFile) {
+  TempRig rig("jpeg_cut");
+  rig.make(1, {64, 48}, "jpg");
+  const fs::path cut = rig.dir / "case_000" / "dressed.jpg";
+  fs::resize_file(cut, fs::file_size(cut) - 10);
+  auto cam = openCamera(rig.dir);
+  // The empty frame is served: the pair's sizes are checked from the headers, which the cut
+  // file still has. The dressed frame is refused, named.
+  EXPECT_EQ(cam->captureStill({Shot::kEmpty}).bgr.size(), cv::Size(64, 48));
+  CameraErrorKind kind{};
+  const std::string msg = errorOf([&] { cam->captureStill({Shot::kDressed}); }, &kind);
+  EXPECT_EQ(kind, CameraErrorKind::kBadData);
+  EXPECT_NE(msg.find(cut.string()), std::string::npos) << msg;
+  EXPECT_NE(msg.find("truncated JPEG"), std::string::npos) << msg;
+}
+
+TEST(ReplayCamera, FrameInBothFormatsNamesTheFiles) {
+  TempRig rig("both");
+  rig.make(1, {64, 48});
+  auto cam = openCamera(rig.dir);
+  cv::imwrite((rig.dir / "case_000" / "empty.jpg").string(),
+              cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3)));
+  CameraErrorKind kind{};
+  const std::string msg = errorOf([&] { cam->captureStill({Shot::kEmpty}); }, &kind);
+  EXPECT_EQ(kind, CameraErrorKind::kBadData);
+  EXPECT_NE(msg.find((rig.dir / "case_000" / "empty.png").string()), std::string::npos) << msg;
+  EXPECT_NE(msg.find("empty.jpg"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("both present"), std::string::npos) << msg;
+  ReplayCamera again(makeRigSceneSource(rig.dir));
+  const std::string atOpen = errorOf([&] { again.open(); }, &kind);
+  EXPECT_EQ(kind, CameraErrorKind::kBadData);
+  EXPECT_NE(atOpen.find("both present"), std::string::npos) << atOpen;
 }
 
 TEST(ReplayCamera, MissingRigFolderOrIndex) {

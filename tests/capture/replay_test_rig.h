@@ -35,8 +35,9 @@ struct TempRig {
     return s.str();
   }
 
-  /// Writes `count` cases of `size` and the index (rig.json as capture::readRig reads it).
-  void make(int count, cv::Size size) {
+  /// Writes `count` cases of `size` and the index (rig.json as capture::readRig reads it), the
+  /// frames as empty.<ext> and dressed.<ext> (`ext` "png" or "jpg").
+  void make(int count, cv::Size size, const std::string& ext = "png") {
     std::string index = "{\"format\": \"garmcap-rig\", \"version\": 1, \"cases\": [";
     for (int i = 0; i < count; ++i) {
       const std::filesystem::path c = dir / caseName(i);
@@ -49,8 +50,8 @@ struct TempRig {
       cv::rectangle(dressed,
                     cv::Rect(size.width / 3, size.height / 4, size.width / 3, size.height / 3),
                     cv::Scalar(30 + 40 * i, 40, 160), cv::FILLED);
-      cv::imwrite((c / "empty.png").string(), empty);
-      cv::imwrite((c / "dressed.png").string(), dressed);
+      cv::imwrite((c / ("empty." + ext)).string(), empty);
+      cv::imwrite((c / ("dressed." + ext)).string(), dressed);
       std::ofstream(c / "truth.json") << "{\"type\": \"skirt\"}\n";
       index += std::string(i ? ", " : "") + "{\"id\": \"" + caseName(i) + "\", \"dir\": \"" +
                caseName(i) + "\", \"type\": \"skirt\", \"attributes\": {}, \"hard\": false}";

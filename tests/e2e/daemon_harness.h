@@ -106,8 +106,11 @@ inline std::filesystem::path makeSimulatedRig(const std::filesystem::path& root)
   const auto rig = root / "simrig";
   const auto src = std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig" / "case_002";
   std::filesystem::create_directories(rig / "c1");
-  for (const char* f : {"empty.png", "dressed.png", "truth.json"})
-    std::filesystem::copy_file(src / f, rig / "c1" / f);
+  // The frames as the case holds them, PNG or JPEG (docs/formats.md).
+  for (const char* f : {"empty.png", "empty.jpg", "dressed.png", "dressed.jpg", "truth.json"}) {
+    if (std::filesystem::exists(src / f))
+      std::filesystem::copy_file(src / f, rig / "c1" / f);
+  }
   writeOneCaseRigJson(rig, "skirt");
   return rig;
 }

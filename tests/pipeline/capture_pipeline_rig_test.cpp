@@ -2,7 +2,9 @@
 // refusals of bad input. Label "rig".
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
@@ -41,37 +43,49 @@ pipeline::CaptureError::Reason reasonOf(const cv::Mat& e, const cv::Mat& d,
 
 }  // namespace
 
-// A regression guard at the accuracy reached so far on the bundled 0.3 MP rig, NOT the issue's
-// targets (type 100 %, mean error <= 0.7 cm, max <= 1.5 cm at 4 MP), which are not met yet:
-// sleeves touching the bodice at bust height, form-coloured and dark garments, and pants' hip
-// are the known gaps (see docs/measurement_model.md and the issue notes).
+// A regression guard at the accuracy reached so far on the bundled rig (6 cases, 864x1152 JPEG,
+// seed 2026), NOT the issue's targets (type 100 %, mean error <= 0.7 cm, max <= 1.5 cm at
+// 4 MP). Measured when the rig was made: 5 of 6 types right, mean error 0.49 cm over 26
+// measurements, largest 2.8 cm (a hem). The one miss is case_001, a hard case (a dark green
+// printed A-line dress on the green screen: no type's silhouette matches what the key leaves of
+// it, best IoU 0.2), reported as "unknown" with a review warning rather than as a wrong type;
+// that is asserted as today's honest behaviour (the 480x640 PNG rig did the same). The known
+// gaps: sleeves touching the bodice at bust height, form-coloured and dark garments, and pants'
+// hip (see docs/measurement_model.md and the issue notes).
 TEST(CapturePipelineRig, RegressionGuardOnTheBundledRig) {
   if (!fs::exists(kRig / "rig.json"))
     GTEST_SKIP() << "no rig at " << kRig;
   const auto rig = capture::readRig(kRig);
   int typeOk = 0;
-  double sumAbs = 0;
+  double sumAbs = 0, maxAbs = 0;
   int n = 0;
   for (const auto& info : rig.cases) {
     const auto c = capture::loadRigCase(info.dir);
     const auto r = pipeline::runCapture(c.empty, c.dressed, c.calibration, fastOptions());
     const std::string truthType = c.truth.at("type");
     typeOk += r.type == truthType;
-    if (r.type != truthType)
+    if (r.type != truthType) {
+      // A miss is owned up to, never a wrong type.
+      EXPECT_EQ(r.type, "unknown") << c.id << " is a " << truthType;
+      EXPECT_TRUE(info.hard) << c.id << ": only a hard case is expected to be missed";
       continue;
+    }
     for (const auto& [k, v] : c.truth.at("measurements").items()) {
       const auto it = r.measurements.find(k);
       if (it == r.measurements.end())
         continue;
       const double e = std::abs(it->second - v.get<double>());
-      EXPECT_LE(e, 12.0) << c.id << " " << k << " measured " << it->second << " truth " << v;
+      EXPECT_LE(e, 6.0) << c.id << " " << k << " measured " << it->second << " truth " << v;
       sumAbs += e;
+      maxAbs = std::max(maxAbs, e);
       ++n;
     }
   }
-  EXPECT_GE(typeOk, static_cast<int>(rig.cases.size()) - 2);
-  ASSERT_GT(n, 10);
-  EXPECT_LE(sumAbs / n, 2.5);
+  std::printf("bundled rig: %d of %zu types, mean |error| %.2f cm over %d measurements, max %.2f\n",
+              typeOk, rig.cases.size(), n ? sumAbs / n : 0.0, n, maxAbs);
+  EXPECT_GE(typeOk, static_cast<int>(rig.cases.size()) - 1);
+  ASSERT_GT(n, 20);
+  EXPECT_LE(sumAbs / n, 1.2);
 }
 
 TEST(CapturePipelineRig, IdenticalFramesHaveNoGarment) {

@@ -104,6 +104,63 @@ TEST(RenderCli, BadChartOptionsAreRefused) {
   EXPECT_FALSE(std::filesystem::exists(d / "c"));
 }
 
+// --image-format jpg writes empty.jpg and dressed.jpg (the calibration names the JPEG); a bad
+// format or quality is refused before anything is written.
+TEST(RenderCli, JpegFramesAndTheirOptions) {
+  const TempDir d("render_cli_jpeg");
+  const std::string common = "render --type skirt --size 46 --chart french_women --form " + kForm +
+                             " --seed 2 --width 120 --height 160 --out ";
+  const std::string out = d / "jpg";
+  const CliResult r = runGarmcap(common + out + " --image-format jpg --jpeg-quality 90");
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* f : {"empty.jpg", "dressed.jpg", "truth.json", "calibration.json"})
+    EXPECT_TRUE(std::filesystem::is_regular_file(out + "/" + f)) << f;
+  EXPECT_FALSE(std::filesystem::exists(out + "/empty.png"));
+  EXPECT_EQ(readJson(out + "/calibration.json").at("empty_frame"), "empty.jpg");
+  // The same case rendered again as PNG replaces the JPEGs.
+  ASSERT_EQ(runGarmcap(common + out).status, 0);
+  EXPECT_TRUE(std::filesystem::is_regular_file(out + "/empty.png"));
+  EXPECT_FALSE(std::filesystem::exists(out + "/empty.jpg"));
+  EXPECT_FALSE(std::filesystem::exists(out + "/dressed.jpg"));
+
+  const std::string bad = d / "bad";
+  expectRefused(runGarmcap(common + bad + " --image-format jpg --jpeg-quality 0"),
+                {"--jpeg-quality", "1..100", "0"});
+  expectRefused(runGarmcap(common + bad + " --image-format jpg --jpeg-quality 101"),
+                {"--jpeg-quality", "1..100", "101"});
+  expectRefused(runGarmcap(common + bad + " --image-format gif"), {"--image-format", "gif"});
+  expectRefused(runGarmcap(common + bad + " --jpeg-quality 90"),
+                {"--jpeg-quality", "--image-format jpg"});
+  EXPECT_FALSE(std::filesystem::exists(bad));
+}
+
+// rig.json records how the frames are stored.
+TEST(RigMakeCli, RecordsItsImageFormat) {
+  const TempDir d("rig_cli_jpeg");
+  const std::string common =
+      "rig make --count 2 --seed 5 --width 120 --height 160 --form " + kForm + " --out ";
+  const std::string jpg = d / "jpg";
+  ASSERT_EQ(runGarmcap(common + jpg + " --image-format jpg").status, 0);
+  const auto index = readJson(jpg + "/rig.json");
+  EXPECT_EQ(index.at("image_format"), "jpg");
+  EXPECT_EQ(index.at("jpeg_quality"), 92);
+  for (const auto& c : index.at("cases")) {
+    const std::string dir = jpg + "/" + c.at("dir").get<std::string>();
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/empty.jpg")) << dir;
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/dressed.jpg")) << dir;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/empty.png")) << dir;
+  }
+  const std::string png = d / "png";
+  ASSERT_EQ(runGarmcap(common + png).status, 0);
+  const auto pngIndex = readJson(png + "/rig.json");
+  EXPECT_EQ(pngIndex.at("image_format"), "png");
+  EXPECT_FALSE(pngIndex.contains("jpeg_quality"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(png + "/case_000/empty.png"));
+  expectRefused(runGarmcap(common + (d / "bad") + " --image-format jpg --jpeg-quality 200"),
+                {"--jpeg-quality", "1..100"});
+  EXPECT_FALSE(std::filesystem::exists(d / "bad"));
+}
+
 // `rig make --chart`: every case a size of the chart, the form made for that size and the
 // garment drafted for it, recorded in rig.json and scene.json; the same rig without the chart
 // samples ease on the given form instead.

@@ -1,9 +1,10 @@
 #pragma once
 // Cameras that serve scenes instead of photographing them: "replay" serves the cases of a rig
 // folder (ARCHITECTURE.md: case folders with empty.png, dressed.png, truth.json, indexed by
-// rig.json); "synthetic" serves scenes rendered on demand by the scene simulator. Both are one
-// ReplayCamera over a SceneSource, so they behave identically towards the station, and faults
-// (latency, corrupt frame, disconnect) can be injected to exercise the daemon's error paths.
+// rig.json; the frames may be empty.jpg and dressed.jpg instead, see rig.h); "synthetic" serves
+// scenes rendered on demand by the scene simulator. Both are one ReplayCamera over a SceneSource,
+// so they behave identically towards the station, and faults (latency, corrupt frame, disconnect)
+// can be injected to exercise the daemon's error paths.
 //
 // Sequencing: a still with Shot::kEmpty serves the current case's empty frame; kDressed serves
 // its dressed frame and then moves to the next case; kAny alternates empty, dressed, next case.
@@ -44,8 +45,8 @@ class SceneSource {
   virtual std::size_t caseCount() const = 0;
   virtual std::string caseId(std::size_t index) const = 0;
   /// Loads one image of a case (kEmpty or kDressed). Throws CameraError kBadData naming the
-  /// file when it is missing or corrupt, and when the empty and dressed images of the case
-  /// differ in size.
+  /// file when it is missing, present in both formats, corrupt or truncated, and when the empty
+  /// and dressed images of the case differ in size.
   virtual SceneImage load(std::size_t index, Shot shot) = 0;
 };
 

@@ -4,16 +4,21 @@
 // when the simulator made it). The reader is shared by the replay camera, the rig tests and
 // `garmcap rig eval`; the writer is `garmcap rig make`.
 //
+// Frames may also be JPEG, empty.jpg and dressed.jpg (a superset of the contract: MJPEG/UVC
+// cameras deliver JPEG, and sensor noise makes PNGs of 1 MP frames about 4 MB each). A case
+// holds each frame in exactly one of the two formats.
+//
 // rig.json:
 //   {"format": "garmcap-rig", "version": 1, "generator": "...", "form": "...",
-//    "width": 960, "height": 1280, "seed": 7,
+//    "width": 960, "height": 1280, "seed": 7, "image_format": "jpg", "jpeg_quality": 92,
 //    "cases": [{"id": "case_000", "dir": "case_000", "type": "dress",
 //               "attributes": {"sleeve": "short", "skirt": "a_line"}, "hard": false}, ...]}
 // A rig made with a size chart (`rig make --chart C`) also has "chart": C, and each case the
-// "size" of C its garment was drafted for.
+// "size" of C its garment was drafted for. "image_format" ("png" or "jpg") is optional; when
+// given, every case's frames must be in that format. "jpeg_quality" (1..100) is informative.
 //
-// Errors: RigError naming the file and the reason (missing or corrupt image, unknown field,
-// frames of different sizes).
+// Errors: RigError naming the file and the reason (missing, doubled or corrupt image, unknown
+// field, frames of different sizes).
 
 #include <cstdint>
 #include <filesystem>
@@ -34,6 +39,41 @@ class RigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// How a case's frames are stored: PNG (lossless; the contract's empty.png/dressed.png) or
+/// JPEG (empty.jpg/dressed.jpg).
+enum class RigImageFormat { kPng, kJpeg };
+
+/// "png" or "jpg": the file extension without its dot, and the name in rig.json and on the
+/// command line.
+const char* rigImageExtension(RigImageFormat format);
+
+/// Parses "png" or "jpg"; throws std::invalid_argument naming the value otherwise.
+RigImageFormat parseRigImageFormat(const std::string& text);
+
+inline constexpr int kDefaultJpegQuality = 92;
+
+/// How the writer stores frames. `jpegQuality` (1..100, libjpeg's scale) applies to kJpeg.
+struct RigImageOptions {
+  RigImageFormat format = RigImageFormat::kPng;
+  int jpegQuality = kDefaultJpegQuality;
+  /// Throws std::invalid_argument when jpegQuality is outside 1..100.
+  void validate() const;
+};
+
+/// The file holding one frame of a case folder, `frame` "empty" or "dressed": <frame>.png or
+/// <frame>.jpg, whichever exists. Throws RigError naming the case folder and both file names
+/// when neither exists ("<dir>/empty.png: missing (nor is there empty.jpg) ...") or both do
+/// ("<dir>/empty.png and empty.jpg: both present ...").
+std::filesystem::path rigFramePath(const std::filesystem::path& caseDir, const std::string& frame);
+
+/// Encodes an 8-bit BGR frame as `options` says (PNG at compression 9, or baseline JPEG at
+/// options.jpegQuality) and writes it atomically to `caseDir`/<frame>.<ext>; then removes the
+/// frame in the other format, if any, so the case keeps exactly one. Returns the path written.
+/// Throws std::invalid_argument for a bad quality, drafts::FileError when encoding or writing
+/// fails.
+std::filesystem::path writeRigFrame(const std::filesystem::path& caseDir, const std::string& frame,
+                                    const cv::Mat& bgr, const RigImageOptions& options);
+
 struct RigCaseInfo {
   std::string id;
   std::filesystem::path dir;  // absolute (resolved against the rig folder)
@@ -51,8 +91,9 @@ struct Rig {
   const RigCaseInfo& find(const std::string& id) const;
 };
 
-/// Reads `dir`/rig.json strictly and checks that every case folder holds empty.png,
-/// dressed.png and truth.json. Images are not decoded here (see loadRigCase).
+/// Reads `dir`/rig.json strictly and checks that every case folder holds truth.json and each of
+/// its two frames in exactly one format (rigFramePath), the one of rig.json's "image_format"
+/// when it has one. Images are not decoded here (see loadRigCase).
 Rig readRig(const std::filesystem::path& dir);
 
 /// One case with its frames decoded (8-bit BGR).
@@ -65,11 +106,16 @@ struct RigCase {
   nlohmann::json calibration;  // calibration.json, or truth["calibration"]; null if neither
 };
 
-/// Loads a case folder. Throws RigError "<file>: missing", "<file>: not a readable image
-/// (corrupt or truncated)", or "<dressed>: 960x1280 differs from <empty>: 1000x1280".
+/// Loads a case folder. Throws RigError as rigFramePath and loadRigImage do, or
+/// "<dressed>: 960x1280 differs from <empty>: 1000x1280".
 RigCase loadRigCase(const std::filesystem::path& caseDir);
 
-/// Decodes one frame of a case folder ("empty" or "dressed"), with the same errors.
+/// Decodes one frame file (8-bit BGR). Its content must match its extension: a .png must start
+/// with the PNG signature; a .jpg/.jpeg must start with FF D8 and end with FF D9 (zero padding
+/// after it allowed, as UVC cameras pad): libjpeg decodes a truncated JPEG into a partly grey
+/// image with only a warning, so the end marker is what tells a cut file. Throws RigError
+/// "<file>: missing", "<file>: truncated JPEG (no FF D9 end marker)", "<file>: not a JPEG ...",
+/// "<file>: not a readable image (corrupt or truncated)".
 cv::Mat loadRigImage(const std::filesystem::path& file);
 
 struct RigMakeOptions {
@@ -79,6 +125,7 @@ struct RigMakeOptions {
   double hardFraction = 0.3;
   std::string
       chart;  // size chart the garments are drafted from (randomScene); empty = sampled ease
+  RigImageOptions images;  // how the frames are stored (recorded in rig.json)
   /// Called after each case with (index, count, case id).
   std::function<void(int, int, const std::string&)> progress;
 };

@@ -18,6 +18,7 @@
 
 #include "garmcap/calib/form_model.h"
 #include "garmcap/calib/form_view.h"
+#include "garmcap/capture/rig.h"
 #include "garmcap/capture/scene.h"
 
 namespace garmcap::capture {
@@ -54,8 +55,11 @@ class SceneRenderer {
   calib::FormView view_;
 };
 
-/// Writes a rig case folder: empty.png, dressed.png, truth.json, calibration.json, scene.json.
-/// PNG compression level 9 keeps committed rigs small.
-void writeCase(const SceneRenderer& renderer, const std::filesystem::path& caseDir);
+/// Writes a rig case folder: empty.png and dressed.png (or empty.jpg and dressed.jpg, as
+/// `images` says; writeRigFrame, which also removes frames of the other format left from an
+/// earlier run), truth.json, calibration.json (whose "empty_frame" names the file written),
+/// scene.json. Throws std::invalid_argument for a JPEG quality outside 1..100.
+void writeCase(const SceneRenderer& renderer, const std::filesystem::path& caseDir,
+               const RigImageOptions& images = {});
 
 }  // namespace garmcap::capture
