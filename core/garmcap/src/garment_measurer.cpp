@@ -387,8 +387,16 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
           legHere ? runAt(garmentMask, row, static_cast<int>(std::lround(legHere->centrePx())),
                           side == 0 ? -1 : axisCol, side == 0 ? axisCol : -1)
                   : std::nullopt;
-      if (legHere && run && legHere->widthPx() > 1)
-        openings.push_back(legHere->circCm * (run->second - run->first) / legHere->widthPx());
+      // The leg hangs around the form's leg, but where two wide legs meet between the form's
+      // legs their inner edges flatten against each other (on a form whose legs nearly touch,
+      // the run's width read 8 cm small). The inner edge can only be pulled in, so the width is
+      // the larger of the run and twice its outer half (the leg's centre to its outer edge).
+      if (legHere && run && legHere->widthPx() > 1) {
+        const double outerHalf =
+            side == 0 ? legHere->centrePx() - run->first : run->second - legHere->centrePx();
+        const double width = std::max(run->second - run->first, 2.0 * outerHalf);
+        openings.push_back(legHere->circCm * width / legHere->widthPx());
+      }
     }
     if (!crotchRow || hems.empty()) {
       out.warnings.push_back("pants: no crotch or leg hem found in the silhouette");
