@@ -142,3 +142,24 @@ TEST(WorkFrame, HardScenesNeverGetAWrongTypeOrAnAbsurdMeasurement) {
   }
   EXPECT_GE(typed, 5) << "most hard tops and pants should still be typed";
 }
+
+// On a form whose legs nearly touch (the generated korean_women_55), wide pants legs meet between
+// the form's legs and their inner edges flatten against each other; the leg opening comes from
+// the outer halves there (the run's width alone read 9-11 cm small on these three scenes).
+TEST(WorkFrame, LegOpeningOnAFormWhoseLegsNearlyTouch) {
+  const std::string path = std::string(GARMCAP_TEST_DATA_DIR) + "/forms/korean_women_55.json";
+  const calib::FormModel narrow = calib::FormModel::load(path);
+  for (const unsigned seed : {3u, 7u, 11u}) {
+    capture::RandomSceneOptions o;
+    o.size = {960, 1280};
+    o.hardFraction = 0;
+    o.type = "pants";
+    const capture::SceneRenderer r(narrow, capture::randomScene(narrow, path, seed, o));
+    const auto res =
+        pipeline::runCapture(r.renderEmpty(), r.renderDressed(), r.calibration(), measureOnly(2.0));
+    ASSERT_EQ(res.type, "pants") << "seed " << seed;
+    ASSERT_TRUE(res.measurements.count("leg_opening_circ")) << "seed " << seed;
+    const double truth = r.truth().at("measurements").at("leg_opening_circ").get<double>();
+    EXPECT_NEAR(res.measurements.at("leg_opening_circ"), truth, 1.5) << "seed " << seed;
+  }
+}
