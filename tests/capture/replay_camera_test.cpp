@@ -133,24 +133,27 @@ TEST(ReplayCamera, CorruptImageNamesTheFile) {
   EXPECT_NE(msg.find("corrupt"), std::string::npos) << msg;
 }
 
+// For PNG and JPEG cases alike (a JPEG pair's sizes come from the JPEG headers).
 TEST(ReplayCamera, EmptyAndDressedOfDifferentSizesAreRefused) {
-  TempRig rig("sizes");
-  rig.make(1, {64, 48});
-  cv::imwrite((rig.dir / "case_000" / "dressed.png").string(),
-              cv::Mat(50, 64, CV_8UC3, cv::Scalar(1, 2, 3)));
-  auto cam = openCamera(rig.dir);
-  for (Shot shot : {Shot::kEmpty, Shot::kDressed}) {
-    CameraErrorKind kind{};
-    const std::string msg = errorOf([&] { cam->captureStill({shot}); }, &kind);
-    EXPECT_EQ(kind, CameraErrorKind::kBadData) << msg;
-    EXPECT_NE(msg.find("64x48"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("64x50"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("case_000"), std::string::npos) << msg;
+  for (const std::string format : {"png", "jpg"}) {
+    TempRig rig("sizes_" + format);
+    rig.make(1, {64, 48}, format);
+    cv::imwrite((rig.dir / "case_000" / ("dressed." + format)).string(),
+                cv::Mat(50, 64, CV_8UC3, cv::Scalar(1, 2, 3)));
+    auto cam = openCamera(rig.dir);
+    for (Shot shot : {Shot::kEmpty, Shot::kDressed}) {
+      CameraErrorKind kind{};
+      const std::string msg = errorOf([&] { cam->captureStill({shot}); }, &kind);
+      EXPECT_EQ(kind, CameraErrorKind::kBadData) << format << ": " << msg;
+      EXPECT_NE(msg.find("64x48"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("64x50"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("case_000"), std::string::npos) << msg;
+    }
   }
 }
 
-// JPEG cases (empty.jpg, dressed.jpg) are served like PNG ones; their pair sizes are checked
-// from the JPEG headers; a truncated JPEG and a frame present in both formats are refused.
+// JPEG cases (empty.jpg, dressed.jpg) are served like PNG ones; a truncated JPEG and a frame
+// present in both formats are refused.
 TEST(ReplayCamera, ServesJpegCases) {
   TempRig rig("jpeg");
   rig.make(2, {120, 90}, "jpg");
@@ -162,21 +165,6 @@ TEST(ReplayCamera, ServesJpegCases) {
   const cv::Mat fileDressed = cv::imread((rig.dir / "case_000" / "dressed.jpg").string());
   EXPECT_EQ(cv::norm(d0.bgr, fileDressed, cv::NORM_INF), 0.0);
   EXPECT_GT(cv::norm(d0.bgr, e0.bgr, cv::NORM_L1), 0.0);
-}
-
-TEST(ReplayCamera, JpegPairOfDifferentSizesIsRefused) {
-  TempRig rig("jpeg_sizes");
-  rig.make(1, {64, 48}, "jpg");
-  cv::imwrite((rig.dir / "case_000" / "dressed.jpg").string(),
-              cv::Mat(50, 64, CV_8UC3, cv::Scalar(1, 2, 3)));
-  auto cam = openCamera(rig.dir);
-  for (Shot shot : {Shot::kEmpty, Shot::kDressed}) {
-    CameraErrorKind kind{};
-    const std::string msg = errorOf([&] { cam->captureStill({shot}); }, &kind);
-    EXPECT_EQ(kind, CameraErrorKind::kBadData) << msg;
-    EXPECT_NE(msg.find("64x48"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("64x50"), std::string::npos) << msg;
-  }
 }
 
 TEST(ReplayCamera, TruncatedJpegNamesTheFile) {
