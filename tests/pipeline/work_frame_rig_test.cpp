@@ -163,3 +163,36 @@ TEST(WorkFrame, LegOpeningOnAFormWhoseLegsNearlyTouch) {
     EXPECT_NEAR(res.measurements.at("leg_opening_circ"), truth, 1.5) << "seed " << seed;
   }
 }
+
+// A garment cannot measure much less round than the form it is worn on: where the silhouette
+// lost part of the garment (a slit cut into the hem, as a form-coloured patch leaves), the
+// circumference there is left out with a warning, not reported small; the rest still measures,
+// and the hem line is not lifted by the slit.
+TEST(Measure, ACircumferenceFarBelowTheFormsIsLeftOutNotInvented) {
+  const capture::SceneRenderer r = scene("top", 2, {720, 960});
+  const auto ctx = pipeline::cachedCaptureContext(r.calibration());
+  const calib::FormView& view = *ctx->view;
+  const cv::Mat full = r.garmentCoverage() > 0.5f;
+  const auto intact = pipeline::measureGarment(full, view, "top");
+  ASSERT_TRUE(intact.measurements.count("hem_circ"));
+
+  // A slit 1.5 cm wide, 1 cm right of the centre front, from the hem 5 cm up.
+  cv::Mat notched = full.clone();
+  const cv::Rect box = cv::boundingRect(full);
+  const double s = r.calibration().at("pose").at("px_per_cm").get<double>();
+  const int axis = static_cast<int>(std::lround(view.axisXPx()));
+  const int bottom = box.y + box.height;
+  notched(cv::Range(bottom - static_cast<int>(5 * s), bottom),
+          cv::Range(axis + static_cast<int>(s), axis + static_cast<int>(2.5 * s)))
+      .setTo(0);
+  const auto cut = pipeline::measureGarment(notched, view, "top");
+  EXPECT_FALSE(cut.measurements.count("hem_circ"))
+      << "hem_circ " << cut.measurements.at("hem_circ") << " reported";
+  bool warned = false;
+  for (const auto& w : cut.warnings)
+    warned |=
+        w.find("hem_circ") != std::string::npos && w.find("not measured") != std::string::npos;
+  EXPECT_TRUE(warned);
+  for (const std::string name : {"bust_circ", "waist_circ", "garment_length"})
+    EXPECT_NEAR(cut.measurements.at(name), intact.measurements.at(name), 0.3) << name;
+}
