@@ -32,6 +32,48 @@ cv::Mat1f smoothFill(const cv::Mat1f& valueTimesWeight, const cv::Mat1f& weight,
   return full;
 }
 
+// Spill tints a light surface towards the screen's colour but does not make it brighter than the
+// screen's own light there, so a pixel this much brighter than the screen would be is foreground
+// whatever its greenness: under strong spill the edges of light fabric keyed as screen, 0.3-0.8 cm
+// a side. The screen's brightness follows its greenness (one colour under varying light), so it
+// is read off the screen-greenness field. Assumes a matte screen (no glare hot spots).
+constexpr float kBrighterThanScreen = 1.3f;
+// Before the form's own luminance near its edge is known, only a pixel this much brighter than the
+// screen is taken for foreground on brightness alone (a half-mixed edge pixel of a white subject
+// reaches ~1.7 x, of a beige one ~1.5 x).
+constexpr float kSurelyBrighter = 1.6f;
+
+float luminance(const cv::Vec3b& p) {
+  return (static_cast<float>(p[0]) + static_cast<float>(p[1]) + static_cast<float>(p[2])) / 3.0f;
+}
+
+// Coverage by luminance unmixing, for a subject clearly brighter than the screen (else 0): spill
+// moves a light edge pixel's greenness towards the screen's but keeps its luminance, so the
+// larger of this and the greenness unmixing is the pixel's coverage. Mixed pixels give both the
+// same value.
+float luminanceAlpha(float lum, float lumScreen, float lumForm) {
+  if (!(lumForm > kBrighterThanScreen * lumScreen))
+    return 0.0f;
+  return std::clamp((lum - lumScreen) / (lumForm - lumScreen), 0.0f, 1.0f);
+}
+
+// The key's form luminance at pixel (x, y) of the keyed frame; 0 where it was not estimated.
+float formLuminanceAt(const KeyResult& k, int x, int y) {
+  if (k.formLuminance.empty() || x < k.formLuminanceRoi.x || y < k.formLuminanceRoi.y)
+    return 0.0f;
+  const int sx = (x - k.formLuminanceRoi.x) / 2, sy = (y - k.formLuminanceRoi.y) / 2;
+  if (sx >= k.formLuminance.cols || sy >= k.formLuminance.rows)
+    return 0.0f;
+  return k.formLuminance(sy, sx);
+}
+
+// Luminance of the screen per unit of its greenness, from its border colour.
+float screenLuminancePerGreenness(const cv::Vec3b& screenBgr) {
+  const float g =
+      static_cast<float>(screenBgr[1]) - static_cast<float>(std::max(screenBgr[0], screenBgr[2]));
+  return luminance(screenBgr) / std::max(1.0f, g);
+}
+
 }  // namespace
 
 KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const KeyOptions& opt) {
@@ -105,14 +147,17 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
 
   // 3. Binary mask: nearer to the form than to the screen; largest component only.
   cv::Mat1b mask(frame.size());
+  const float lumPerGreen = screenLuminancePerGreenness(r.screenBgr);
+  const float brightLimit = kSurelyBrighter * lumPerGreen;
   cv::parallel_for_(cv::Range(0, frame.rows), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       float* gs = gScreen.ptr<float>(y);
       const float* gr = g.ptr<float>(y);
+      const cv::Vec3b* p = frame.ptr<cv::Vec3b>(y);
       uchar* m = mask.ptr<uchar>(y);
       for (int x = 0; x < frame.cols; ++x) {
         gs[x] = std::max(gs[x], 0.25f * gBorder);
-        m[x] = gr[x] / gs[x] < 0.5f ? 255 : 0;
+        m[x] = gr[x] / gs[x] < 0.5f || luminance(p[x]) > brightLimit * gs[x] ? 255 : 0;
       }
     }
   });
@@ -203,8 +248,24 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
     cv::resize(gw, gwSmall, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
     cv::resize(ww, wwSmall, gwSmall.size(), 0, 0, cv::INTER_AREA);
     cv::GaussianBlur(gwSmall, gwSmall, cv::Size(), s / 2, s / 2);
+    const cv::Mat1f wwUnblurred = wwSmall.clone();
     cv::GaussianBlur(wwSmall, wwSmall, cv::Size(), s / 2, s / 2);
     cv::resize(gwSmall / cv::max(wwSmall, 1e-4f), gForm, roi.size(), 0, 0, cv::INTER_LINEAR);
+    // The same for the form's luminance, which spill leaves (it tints, it does not brighten);
+    // kept at half resolution over the ROI, where edge pixels read it.
+    cv::Mat3b half;
+    cv::resize(frame(roi), half, wwSmall.size(), 0, 0, cv::INTER_AREA);
+    cv::Mat1f lwSmall(half.size());
+    for (int y = 0; y < half.rows; ++y) {
+      const cv::Vec3b* p = half.ptr<cv::Vec3b>(y);
+      const float* wr = wwUnblurred.ptr<float>(y);
+      float* lr = lwSmall.ptr<float>(y);
+      for (int x = 0; x < half.cols; ++x)
+        lr[x] = wr[x] * luminance(p[x]);
+    }
+    cv::GaussianBlur(lwSmall, lwSmall, cv::Size(), s / 2, s / 2);
+    r.formLuminance = lwSmall / cv::max(wwSmall, 1e-4f);
+    r.formLuminanceRoi = roi;
   }
   r.alpha = cv::Mat1f::zeros(g.size());
   cv::parallel_for_(cv::Range(0, g.rows), [&](const cv::Range& rows) {
@@ -213,6 +274,7 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
       const uchar* out = outer.ptr(y);
       const float* gr = g.ptr<float>(y);
       const float* gsr = gScreen.ptr<float>(y);
+      const cv::Vec3b* p = frame.ptr<cv::Vec3b>(y);
       float* a = r.alpha.ptr<float>(y);
       for (int x = 0; x < g.cols; ++x) {
         if (in[x]) {
@@ -222,6 +284,8 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
           const float gs = gsr[x];
           const float gf = std::min(gForm(y - roi.y, x - roi.x), 0.5f * gs);
           a[x] = std::clamp((gs - gr[x]) / (gs - gf), 0.0f, 1.0f);
+          a[x] = std::max(
+              a[x], luminanceAlpha(luminance(p[x]), gs * lumPerGreen, formLuminanceAt(r, x, y)));
         }
       }
     }
@@ -255,6 +319,7 @@ cv::Mat1b foregroundInRegion(const cv::Mat3b& fullBgr, const KeyResult& workKey,
   const cv::Mat1f& gs = workKey.screenGreenness;
   if (gs.empty())
     throw std::invalid_argument("foregroundInRegion: the key holds no screen greenness");
+  const float lumPerGreen = screenLuminancePerGreenness(workKey.screenBgr);
   const double fx = static_cast<double>(gs.cols) / fullBgr.cols;
   const double fy = static_cast<double>(gs.rows) / fullBgr.rows;
   cv::Mat1b out = cv::Mat1b::zeros(fullBgr.size());
@@ -269,7 +334,10 @@ cv::Mat1b foregroundInRegion(const cv::Mat3b& fullBgr, const KeyResult& workKey,
           continue;
         const float g = static_cast<float>(p[x][1]) - std::max(p[x][0], p[x][2]);
         const float s = screen[std::min(gs.cols - 1, static_cast<int>(x * fx))];
-        o[x] = g < 0.5f * s ? 255 : 0;
+        const float lf =
+            formLuminanceAt(workKey, static_cast<int>(x * fx), static_cast<int>(y * fy));
+        o[x] =
+            g < 0.5f * s || luminanceAlpha(luminance(p[x]), s * lumPerGreen, lf) > 0.5f ? 255 : 0;
       }
     }
   });

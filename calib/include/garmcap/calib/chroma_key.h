@@ -26,6 +26,11 @@ struct KeyResult {
   double screenHueDeg = 0;  // its hue, 0..360
   cv::Mat1f
       screenGreenness;  // the screen's greenness G - max(R, B) per pixel, at this frame's size
+  // The foreground's own luminance near its edge (from pixels inside it), at half resolution over
+  // formLuminanceRoi (this frame's px): with the screen's luminance it unmixes edge pixels that
+  // spill has tinted green.
+  cv::Mat1f formLuminance;
+  cv::Rect formLuminanceRoi;
 };
 
 /// Keys `frameBgr` (8-bit BGR). Throws CalibError kNotGreenScreen when the border is not a
