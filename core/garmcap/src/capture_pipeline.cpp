@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <functional>
 #include <future>
+#include <memory>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -89,60 +90,76 @@ calib::KeyResult key(const cv::Mat& bgr, const std::string& what) {
   }
 }
 
-// The bare-form frame is the same for every garment captured after one bare-form capture, so
-// its key is kept, found again by a hash of the pixels (a few ms at 12 MP against seconds of
-// keying). Copies are returned so that no caller can change the cached masks.
-calib::KeyResult keyBareForm(const cv::Mat& empty) {
-  static std::mutex mutex;
-  static std::size_t cachedHash = 0;
-  static cv::Size cachedSize;
-  static std::optional<calib::KeyResult> cached;
-  const cv::Mat c = empty.isContinuous() ? empty : empty.clone();
-  const std::size_t h = std::hash<std::string_view>{}(
-      std::string_view(reinterpret_cast<const char*>(c.data), c.total() * c.elemSize()));
-  auto copy = [](const calib::KeyResult& k) {
-    calib::KeyResult out = k;
-    out.mask = k.mask.clone();
-    out.alpha = k.alpha.clone();
-    out.despilled = k.despilled.clone();
-    return out;
-  };
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (cached && cachedHash == h && cachedSize == empty.size())
-      return copy(*cached);
-  }
-  calib::KeyResult k = key(empty, "bare-form frame");
-  std::lock_guard<std::mutex> lock(mutex);
-  cachedHash = h;
-  cachedSize = empty.size();
-  cached = copy(k);
-  return k;
+// Edge image for the shift estimate below, at about 0.5 MP.
+double shiftScale(const cv::Mat& bgr) {
+  return std::min(1.0, std::sqrt(0.5e6 / static_cast<double>(bgr.total())));
+}
+
+cv::Mat shiftEdges(const cv::Mat& bgr) {
+  const double scale = shiftScale(bgr);
+  cv::Mat g, small, gx, gy, mag;
+  cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
+  cv::resize(g, small, cv::Size(), scale, scale, cv::INTER_AREA);
+  small.convertTo(small, CV_32F);
+  cv::GaussianBlur(small, small, cv::Size(3, 3), 0);
+  cv::Sobel(small, gx, CV_32F, 1, 0);
+  cv::Sobel(small, gy, CV_32F, 0, 1);
+  cv::magnitude(gx, gy, mag);
+  return mag;
 }
 
 // Shift of the dressed frame against the bare-form frame by phase correlation of the two
 // frames' edge images: the parts no garment changes (screen texture, head, arms, legs, the stand)
 // agree at the true shift, and phase correlation is robust to the garment, which changes only a
 // part of the picture. Computed at about 0.5 MP and scaled back.
-cv::Point2d estimateShift(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr) {
-  const double scale = std::min(1.0, std::sqrt(0.5e6 / static_cast<double>(emptyBgr.total())));
-  auto edges = [&](const cv::Mat& bgr) {
-    cv::Mat g, small, gx, gy, mag;
-    cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
-    cv::resize(g, small, cv::Size(), scale, scale, cv::INTER_AREA);
-    small.convertTo(small, CV_32F);
-    cv::GaussianBlur(small, small, cv::Size(3, 3), 0);
-    cv::Sobel(small, gx, CV_32F, 1, 0);
-    cv::Sobel(small, gy, CV_32F, 0, 1);
-    cv::magnitude(gx, gy, mag);
-    return mag;
-  };
-  const cv::Mat a = edges(emptyBgr), b = edges(dressedBgr);
+cv::Point2d estimateShift(const cv::Mat& emptyEdges, const cv::Mat& dressedBgr) {
+  const double scale = shiftScale(dressedBgr);
+  const cv::Mat b = shiftEdges(dressedBgr);
   cv::Mat window;
-  cv::createHanningWindow(window, a.size(), CV_32F);
+  cv::createHanningWindow(window, emptyEdges.size(), CV_32F);
   double response = 0;
-  const cv::Point2d shift = cv::phaseCorrelate(a, b, window, &response);
+  const cv::Point2d shift = cv::phaseCorrelate(emptyEdges, b, window, &response);
   return {shift.x / scale, shift.y / scale};
+}
+
+// The bare-form frame as segmentation uses it: the edge image of its de-rolled work frame, for
+// the shift, and its key.
+struct BareFrame {
+  cv::Mat edges;
+  calib::KeyResult key;
+};
+
+// The bare-form frame is the same for every garment captured after one bare-form capture, so it
+// is prepared once and found again by a hash of its pixels and the work geometry (a few ms at
+// 12 MP against ~100 ms of downscaling, de-rolling, edges and keying). Shared read-only.
+std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyFull, double ws,
+                                                  const Eigen::Vector2d& centreW, double rollRad) {
+  static std::mutex mutex;
+  static std::size_t cachedHash = 0;
+  static std::shared_ptr<const BareFrame> cached;
+  const cv::Mat c = emptyFull.isContinuous() ? emptyFull : emptyFull.clone();
+  std::size_t h = std::hash<std::string_view>{}(
+      std::string_view(reinterpret_cast<const char*>(c.data), c.total() * c.elemSize()));
+  for (const double v : {ws, centreW.x(), centreW.y(), rollRad, static_cast<double>(c.cols),
+                         static_cast<double>(c.rows)})
+    h ^= std::hash<double>{}(v) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (cached && cachedHash == h)
+      return cached;
+  }
+  cv::Mat work = emptyFull;
+  if (ws < 1.0)
+    cv::resize(emptyFull, work, cv::Size(), ws, ws, cv::INTER_AREA);
+  if (std::abs(rollRad) > 1e-6)
+    work = rotateAbout(work, centreW, rollRad, cv::INTER_LINEAR);
+  auto bare = std::make_shared<BareFrame>();
+  bare->edges = shiftEdges(work);
+  bare->key = key(work, "bare-form frame");
+  std::lock_guard<std::mutex> lock(mutex);
+  cachedHash = h;
+  cached = bare;
+  return bare;
 }
 
 // The garment mask at full resolution from the work-frame one. Where the garment meets the screen
@@ -299,17 +316,18 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   const Eigen::Vector2d centreW = cal.pose.offsetPx * ws;
 
   // 1. Remove the camera roll so that image rows are form heights (work frames here; the full
-  // dressed frame below, in one warp with any re-registration shift).
-  cv::Mat empty = toWork(emptyBgr), dressed = toWork(dressedBgr);
-  if (std::abs(cal.pose.rollRad) > 1e-6) {
-    empty = rotateAbout(empty, centreW, cal.pose.rollRad, cv::INTER_LINEAR);
+  // dressed frame below, in one warp with any re-registration shift). The bare frame's work
+  // copy, edges and key come from the cache when it is the same frame as last time.
+  const std::shared_ptr<const BareFrame> bare =
+      prepareBareFrame(emptyBgr, ws, centreW, cal.pose.rollRad);
+  cv::Mat dressed = toWork(dressedBgr);
+  if (std::abs(cal.pose.rollRad) > 1e-6)
     dressed = rotateAbout(dressed, centreW, cal.pose.rollRad, cv::INTER_LINEAR);
-  }
 
   // 2. Key both frames; check the camera and form have not moved.
   // The shift comes first: a moved camera can also push the form against the frame's edge, and
   // "the camera moved" is the reason staff can act on.
-  const cv::Point2d shiftW = estimateShift(empty, dressed);
+  const cv::Point2d shiftW = estimateShift(bare->edges, dressed);
   const cv::Point2d shift = shiftW / ws;  // full-frame px
   const double shiftPx = std::hypot(shift.x, shift.y);
   if (shiftPx > kMaxShiftCm * s)
@@ -340,7 +358,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   });
   // The two keys are independent: the dressed one runs beside the (usually cached) bare one.
   auto dressedKey = std::async(std::launch::async, [&] { return key(dressed, "dressed frame"); });
-  const calib::KeyResult keyE = keyBareForm(empty);
+  const calib::KeyResult& keyE = bare->key;
   const calib::KeyResult keyD = dressedKey.get();
   timer.done("registration");
 
