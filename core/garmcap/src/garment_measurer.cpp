@@ -13,13 +13,17 @@ namespace {
 
 using calib::RowSection;
 
-// Half-height of the band of rows averaged for a circumference: inside the ±1.5 cm the garment
-// keeps its circumference around a measured height (docs/measurement_model.md).
 // How far below a height hidden by sleeves a circumference may be read instead.
 constexpr double kHiddenSearchCm = 6.0;
 // Span of clear rows a hidden circumference is extrapolated from.
 constexpr double kFitSpanCm = 4.0;
+// Half-height of the band of rows averaged for a circumference: inside the ±1.5 cm the garment
+// keeps its circumference around a measured height (docs/measurement_model.md).
 constexpr double kBandCm = 1.0;
+// Between waist and armpit a bodice's side moves out by well under half a centimetre per
+// centimetre of height; a side this much further out than 1 cm lower is a sleeve hanging over
+// it (a short, wide sleeve droops below the armpit in an A-pose).
+constexpr double kSleeveStepCm = 0.6;
 // Hem circumference is read this far above the hem edge.
 constexpr double kAboveHemCm = 1.25;
 // Gaps in a mask run up to this many pixels are bridged (GrabCut specks, printed motifs).
@@ -135,6 +139,18 @@ std::optional<double> circumferenceReading(Context& c, double heightCm, const st
     if (!run)
       return std::nullopt;
     hidden = (limL >= 0 && run->first <= limL) || (limR >= 0 && run->second >= limR + 1);
+    if (!hidden && torsoHere && h < c.view.armpitCm() && h > c.view.waistCm()) {
+      const int below = row + static_cast<int>(std::lround(c.s));
+      const auto torsoBelow = c.view.torsoAtRow(below);
+      int bl = -1, br = -1;
+      if (torsoBelow)
+        std::tie(bl, br) = armLimits(c.view, below, *torsoBelow);
+      const auto runBelow =
+          runAt(c.mask, below, static_cast<int>(std::lround(section->centrePx())), bl, br);
+      const double step = kSleeveStepCm * c.s;
+      hidden = runBelow &&
+               (runBelow->first - run->first > step || run->second - runBelow->second > step);
+    }
     return RowValue{section->circCm * (run->second - run->first) / section->widthPx(),
                     {static_cast<double>(run->first), static_cast<double>(row)},
                     {static_cast<double>(run->second), static_cast<double>(row)}};
