@@ -44,15 +44,12 @@ pipeline::CaptureError::Reason reasonOf(const cv::Mat& e, const cv::Mat& d,
 }  // namespace
 
 // A regression guard at the accuracy reached so far on the bundled rig (6 cases, 864x1152 JPEG,
-// seed 2026), NOT the issue's targets (type 100 %, mean error <= 0.7 cm, max <= 1.5 cm at
-// 4 MP). Measured when the rig was made: 5 of 6 types right, mean error 0.49 cm over 26
-// measurements, largest 2.8 cm (a hem); with the noise-floor exposed test (9f7b472) 0.28 cm,
-// largest 1.08 cm (a bust). The one miss is case_001, a hard case (a dark green
-// printed A-line dress on the green screen: no type's silhouette matches what the key leaves of
-// it, best IoU 0.2), reported as "unknown" with a review warning rather than as a wrong type;
-// that is asserted as today's honest behaviour (the 480x640 PNG rig did the same). The known
-// gaps: sleeves touching the bodice at bust height, form-coloured and dark garments, and pants'
-// hip (see docs/measurement_model.md and the issue notes).
+// seed 2026), looser than the issue's targets (type 100 %, mean error <= 0.7 cm, max <= 1.5 cm at
+// 4 MP) by a margin for this rig's 1 MP. History: when the rig was made, 5 of 6 types, mean
+// 0.49 cm, largest 2.8 cm; with the noise-floor exposed test 0.28 cm, largest 1.08 cm, the miss
+// being case_001 (a dark green printed dress that keys as screen) reported as "unknown". With the
+// bare-frame comparison for screen-coloured garments all 6 are typed: mean 0.27 cm over 33
+// measurements, largest 0.84 cm (case_001's bust, read below its drooping sleeves).
 TEST(CapturePipelineRig, RegressionGuardOnTheBundledRig) {
   if (!fs::exists(kRig / "rig.json"))
     GTEST_SKIP() << "no rig at " << kRig;
@@ -76,7 +73,7 @@ TEST(CapturePipelineRig, RegressionGuardOnTheBundledRig) {
       if (it == r.measurements.end())
         continue;
       const double e = std::abs(it->second - v.get<double>());
-      EXPECT_LE(e, 6.0) << c.id << " " << k << " measured " << it->second << " truth " << v;
+      EXPECT_LE(e, 2.0) << c.id << " " << k << " measured " << it->second << " truth " << v;
       sumAbs += e;
       maxAbs = std::max(maxAbs, e);
       ++n;
@@ -84,9 +81,9 @@ TEST(CapturePipelineRig, RegressionGuardOnTheBundledRig) {
   }
   std::printf("bundled rig: %d of %zu types, mean |error| %.2f cm over %d measurements, max %.2f\n",
               typeOk, rig.cases.size(), n ? sumAbs / n : 0.0, n, maxAbs);
-  EXPECT_GE(typeOk, static_cast<int>(rig.cases.size()) - 1);
-  ASSERT_GT(n, 20);
-  EXPECT_LE(sumAbs / n, 1.2);
+  EXPECT_EQ(typeOk, static_cast<int>(rig.cases.size()));
+  ASSERT_GT(n, 30);
+  EXPECT_LE(sumAbs / n, 0.5);
 }
 
 TEST(CapturePipelineRig, IdenticalFramesHaveNoGarment) {

@@ -19,6 +19,7 @@
 #include "garmcap/calib/errors.h"
 #include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/draft_from_garment.h"
+#include "garmcap/pipeline/frame_motion.h"
 #include "garmcap/pipeline/grabcut_refine.h"
 #include "garmcap/pipeline/product_images.h"
 #include "garmcap/pipeline/texture.h"
@@ -32,14 +33,24 @@ using Reason = CaptureError::Reason;
 // Camera or form shifts below this are re-registered; above it the capture is refused.
 constexpr double kMaxShiftCm = 1.0;
 constexpr double kMinShiftPx = 1.0;
+// The work frames' denoising blur, in work-frame px.
+constexpr double kDenoiseSigmaPx = 0.7;
 // Below the hip, pants part into legs for at least this long (the shortest shorts' inseam).
 constexpr double kPartedLegsCm = 5.0;
 // Dressed foreground this far from the exposed form is garment without asking GrabCut.
 constexpr double kSettledCm = 2.0;
+// Exposed form whose difference is below this fraction of the noise thresholds is sure form from
+// this far from any garment evidence (a garment the colour of the form reads near the threshold,
+// and keeps the wider margin above for GrabCut to find it).
+constexpr double kClearlyExposed = 0.5;
+constexpr double kClearlySettledCm = 0.5;
 // The colour-difference noise floor is read on the form from this far above its side neck up.
 constexpr double kNoiseAboveNeckCm = 4.0;
 constexpr double kNoiseSigmas = 6.0;
 constexpr double kAveragedDifferenceCm = 0.5;
+// A garment is taken for screen-coloured when more than this much of it, over the form, keys as
+// screen (sensor noise leaves well under 1 cm2).
+constexpr double kScreenColouredCm2 = 1.0;
 
 class StageTimer {
  public:
@@ -90,42 +101,32 @@ calib::KeyResult key(const cv::Mat& bgr, const std::string& what) {
   }
 }
 
-// Edge image for the shift estimate below, at about 0.5 MP.
-double shiftScale(const cv::Mat& bgr) {
-  return std::min(1.0, std::sqrt(0.5e6 / static_cast<double>(bgr.total())));
+// The largest 8-connected piece of a mask; empty when the mask is.
+cv::Mat largestComponent(const cv::Mat& mask) {
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8);
+  int best = 0, bestArea = 0;
+  for (int i = 1; i < n; ++i)
+    if (stats.at<int>(i, cv::CC_STAT_AREA) > bestArea) {
+      bestArea = stats.at<int>(i, cv::CC_STAT_AREA);
+      best = i;
+    }
+  return bestArea == 0 ? cv::Mat() : cv::Mat(labels == best);
 }
 
-cv::Mat shiftEdges(const cv::Mat& bgr) {
-  const double scale = shiftScale(bgr);
-  cv::Mat g, small, gx, gy, mag;
-  cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
-  cv::resize(g, small, cv::Size(), scale, scale, cv::INTER_AREA);
-  small.convertTo(small, CV_32F);
-  cv::GaussianBlur(small, small, cv::Size(3, 3), 0);
-  cv::Sobel(small, gx, CV_32F, 1, 0);
-  cv::Sobel(small, gy, CV_32F, 0, 1);
-  cv::magnitude(gx, gy, mag);
-  return mag;
+// Both work frames get the same light blur before segmentation: GrabCut's colour models and
+// contrast term are fitted to pixel values, and sensor noise on a dark or finely shaded garment
+// spreads its model over the form's colours. Edges move by no more than the blur.
+cv::Mat denoised(const cv::Mat& bgr) {
+  cv::Mat out;
+  cv::GaussianBlur(bgr, out, cv::Size(3, 3), kDenoiseSigmaPx);
+  return out;
 }
 
-// Shift of the dressed frame against the bare-form frame by phase correlation of the two
-// frames' edge images: the parts no garment changes (screen texture, head, arms, legs, the stand)
-// agree at the true shift, and phase correlation is robust to the garment, which changes only a
-// part of the picture. Computed at about 0.5 MP and scaled back.
-cv::Point2d estimateShift(const cv::Mat& emptyEdges, const cv::Mat& dressedBgr) {
-  const double scale = shiftScale(dressedBgr);
-  const cv::Mat b = shiftEdges(dressedBgr);
-  cv::Mat window;
-  cv::createHanningWindow(window, emptyEdges.size(), CV_32F);
-  double response = 0;
-  const cv::Point2d shift = cv::phaseCorrelate(emptyEdges, b, window, &response);
-  return {shift.x / scale, shift.y / scale};
-}
-
-// The bare-form frame as segmentation uses it: the edge image of its de-rolled work frame, for
-// the shift, and its key.
+// The bare-form frame as segmentation uses it: its de-rolled work frame's side of the motion
+// estimate, and its key.
 struct BareFrame {
-  cv::Mat edges;
+  std::optional<MotionReference> motion;
   calib::KeyResult key;
 };
 
@@ -133,7 +134,8 @@ struct BareFrame {
 // is prepared once and found again by a hash of its pixels and the work geometry (a few ms at
 // 12 MP against ~100 ms of downscaling, de-rolling, edges and keying). Shared read-only.
 std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyFull, double ws,
-                                                  const Eigen::Vector2d& centreW, double rollRad) {
+                                                  const Eigen::Vector2d& centreW, double rollRad,
+                                                  int topBandEndRow, int bottomBandStartRow) {
   static std::mutex mutex;
   static std::size_t cachedHash = 0;
   static std::shared_ptr<const BareFrame> cached;
@@ -141,7 +143,8 @@ std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyFull, doub
   std::size_t h = std::hash<std::string_view>{}(
       std::string_view(reinterpret_cast<const char*>(c.data), c.total() * c.elemSize()));
   for (const double v : {ws, centreW.x(), centreW.y(), rollRad, static_cast<double>(c.cols),
-                         static_cast<double>(c.rows)})
+                         static_cast<double>(c.rows), static_cast<double>(topBandEndRow),
+                         static_cast<double>(bottomBandStartRow)})
     h ^= std::hash<double>{}(v) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
   {
     std::lock_guard<std::mutex> lock(mutex);
@@ -153,8 +156,9 @@ std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyFull, doub
     cv::resize(emptyFull, work, cv::Size(), ws, ws, cv::INTER_AREA);
   if (std::abs(rollRad) > 1e-6)
     work = rotateAbout(work, centreW, rollRad, cv::INTER_LINEAR);
+  work = denoised(work);
   auto bare = std::make_shared<BareFrame>();
-  bare->edges = shiftEdges(work);
+  bare->motion.emplace(work, topBandEndRow, bottomBandStartRow);
   bare->key = key(work, "bare-form frame");
   std::lock_guard<std::mutex> lock(mutex);
   cachedHash = h;
@@ -183,7 +187,18 @@ cv::Mat garmentAtFullResolution(const cv::Mat& dressedFull, const calib::KeyResu
   cv::Mat full;
   cv::resize(garmentW, full, dressedFull.size(), 0, 0, cv::INTER_NEAREST);
   const cv::Mat1b fg = calib::foregroundInRegion(dressedFull, keyW, band);
-  const cv::Mat inBand = (up >= 128) & fg;
+  // The full frame's key decides only where the work frame's key saw a foreground too: a garment
+  // close to the screen's colour was found against the bare frame, and the key would cut it
+  // back. There the work decision is upsampled smoothly instead.
+  cv::Mat keyed;
+  cv::dilate(keyW.mask | formW, keyed, cv::Mat(), cv::Point(-1, -1), 3);
+  cv::Mat inBand = (up >= 128) & fg;
+  if (cv::countNonZero(bandW & ~keyed) > 0) {
+    cv::Mat keyedUp, smooth;
+    cv::resize(keyed, keyedUp, dressedFull.size(), 0, 0, cv::INTER_NEAREST);
+    cv::resize(garmentW, smooth, dressedFull.size(), 0, 0, cv::INTER_LINEAR);
+    inBand = (inBand & keyedUp) | ((smooth >= 128) & ~keyedUp);
+  }
   inBand.copyTo(full, band);
   return full;
 }
@@ -191,18 +206,33 @@ cv::Mat garmentAtFullResolution(const cv::Mat& dressedFull, const calib::KeyResu
 // The Lab difference of the two frames averaged over about sigmaPx before taking its size
 // (a,b magnitude plus half of L, as the fine difference): sensor noise averages out, while a
 // garment the colour of the form keeps its small, steady offset and its folds. Each channel is
-// clipped at `clip` first, so that a strong garment edge spreads only a thin halo.
-cv::Mat1f averagedDifference(const cv::Mat& labE, const cv::Mat& labD, double sigmaPx, float clip) {
+// clipped at `clip` first, so that a strong garment edge spreads only a thin halo. Only pixels of
+// `over` (the form) are averaged: the garment's shadow changes the screen beside the form, and
+// that change must not reach the form's own edge pixels.
+cv::Mat1f averagedDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& over,
+                             double sigmaPx, float clip) {
   cv::Mat e, d;
   labE.convertTo(e, CV_32F);
   labD.convertTo(d, CV_32F);
   cv::Mat signedDiff = d - e;
   signedDiff = cv::min(cv::max(signedDiff, -clip), clip);
-  cv::Mat small;
-  cv::resize(signedDiff, small, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
-  cv::GaussianBlur(small, small, cv::Size(), std::max(1.0, sigmaPx / 2));
+  cv::Mat weight;
+  over.convertTo(weight, CV_32F, 1.0 / 255.0);
+  cv::Mat weighted;
+  cv::Mat weight3;
+  cv::merge(std::vector<cv::Mat>{weight, weight, weight}, weight3);
+  cv::multiply(signedDiff, weight3, weighted);
+  cv::Mat small, smallW;
+  cv::resize(weighted, small, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  cv::resize(weight, smallW, small.size(), 0, 0, cv::INTER_AREA);
+  const double sigma = std::max(1.0, sigmaPx / 2);
+  cv::GaussianBlur(small, small, cv::Size(), sigma);
+  cv::GaussianBlur(smallW, smallW, cv::Size(), sigma);
+  smallW = cv::max(smallW, 1e-3f);
   cv::Mat ch[3];
   cv::split(small, ch);
+  for (cv::Mat& c : ch)
+    cv::divide(c, smallW, c);
   cv::Mat1f size;
   cv::magnitude(ch[1], ch[2], size);
   size += 0.5f * cv::abs(ch[0]);
@@ -220,6 +250,91 @@ double noiseThreshold(std::vector<float> values, double k) {
     v = static_cast<float>(std::abs(v - median));
   std::nth_element(values.begin(), mid, values.end());
   return median + k * 1.4826 * *mid;
+}
+
+// Per-pixel size of the Lab difference (a,b magnitude plus half of L). On `tolerant` pixels (the
+// form's outline) it is the smallest over the bare frame's 3x3 neighbourhood: an edge that only
+// moved by a sub-pixel camera shake is unchanged, a garment over it is not.
+cv::Mat1f labDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& tolerant) {
+  cv::Mat de;
+  cv::absdiff(labE, labD, de);
+  de.convertTo(de, CV_32FC3);
+  cv::Mat ch[3];
+  cv::split(de, ch);
+  cv::Mat1f out;
+  cv::magnitude(ch[1], ch[2], out);
+  out += 0.5f * ch[0];
+  auto size = [](const cv::Vec3b& e, const cv::Vec3b& d) {
+    const float l = std::abs(static_cast<float>(e[0]) - d[0]);
+    const float a = static_cast<float>(e[1]) - d[1], b = static_cast<float>(e[2]) - d[2];
+    return std::sqrt(a * a + b * b) + 0.5f * l;
+  };
+  for (int y = 1; y + 1 < labE.rows; ++y) {
+    const uchar* t = tolerant.ptr(y);
+    const cv::Vec3b* d = labD.ptr<cv::Vec3b>(y);
+    float* o = out.ptr<float>(y);
+    for (int x = 1; x + 1 < labE.cols; ++x) {
+      if (!t[x])
+        continue;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          o[x] = std::min(o[x], size(labE.at<cv::Vec3b>(y + dy, x + dx), d[x]));
+    }
+  }
+  return out;
+}
+
+// Where both keys see the screen, how the dressed frame differs from the bare one beyond sensor
+// noise, from per-channel log ratios after a 0.15 cm blur: `changed` by the largest of them,
+// `recoloured` by their spread. A shadow dims all three channels alike, so only a garment
+// recolours the screen. Most of the screen is unchanged, so the noise floors are read over all
+// of `where`.
+struct ScreenChange {
+  cv::Mat changed, recoloured;
+};
+
+ScreenChange changedScreen(const cv::Mat& bareW, const cv::Mat& dressedW, const cv::Mat& where,
+                           double pxPerCm) {
+  const double sigma = std::max(0.7, 0.15 * pxPerCm);
+  cv::Mat e, d;
+  bareW.convertTo(e, CV_32FC3, 1.0, 1.0);
+  dressedW.convertTo(d, CV_32FC3, 1.0, 1.0);
+  cv::GaussianBlur(e, e, cv::Size(), sigma);
+  cv::GaussianBlur(d, d, cv::Size(), sigma);
+  cv::Mat1f change(e.size()), spread(e.size());
+  std::vector<float> changeSample, spreadSample;
+  for (int y = 0; y < e.rows; ++y) {
+    const cv::Vec3f* pe = e.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* pd = d.ptr<cv::Vec3f>(y);
+    const uchar* w = where.ptr(y);
+    float* c = change.ptr<float>(y);
+    float* sp = spread.ptr<float>(y);
+    for (int x = 0; x < e.cols; ++x) {
+      float lo = 0, hi = 0, m = 0;
+      for (int k = 0; k < 3; ++k) {
+        const float r = std::log(pd[x][k] / pe[x][k]);
+        lo = k == 0 ? r : std::min(lo, r);
+        hi = k == 0 ? r : std::max(hi, r);
+        m = std::max(m, std::abs(r));
+      }
+      c[x] = m;
+      sp[x] = hi - lo;
+      if (w[x] && (x + y) % 7 == 0) {
+        changeSample.push_back(m);
+        spreadSample.push_back(hi - lo);
+      }
+    }
+  }
+  ScreenChange out;
+  if (changeSample.size() < 1000) {
+    out.changed = out.recoloured = cv::Mat::zeros(e.size(), CV_8UC1);
+    return out;
+  }
+  const float tauChange = static_cast<float>(noiseThreshold(changeSample, kNoiseSigmas));
+  const float tauSpread = static_cast<float>(noiseThreshold(spreadSample, kNoiseSigmas));
+  out.changed = (change > tauChange) & where;
+  out.recoloured = (spread > tauSpread) & out.changed;
+  return out;
 }
 
 void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeasurement& m,
@@ -318,18 +433,22 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   // 1. Remove the camera roll so that image rows are form heights (work frames here; the full
   // dressed frame below, in one warp with any re-registration shift). The bare frame's work
   // copy, edges and key come from the cache when it is the same frame as last time.
-  const std::shared_ptr<const BareFrame> bare =
-      prepareBareFrame(emptyBgr, ws, centreW, cal.pose.rollRad);
+  // The motion's bands, where no garment reaches: the head above the neck and the feet.
+  const int topBandEndRow = static_cast<int>(view.rowOfHeight(view.neckSideCm() + 2.0) * ws);
   cv::Mat dressed = toWork(dressedBgr);
+  const int bottomBandStartRow = static_cast<int>(dressed.rows * 0.85);
+  const std::shared_ptr<const BareFrame> bare =
+      prepareBareFrame(emptyBgr, ws, centreW, cal.pose.rollRad, topBandEndRow, bottomBandStartRow);
   if (std::abs(cal.pose.rollRad) > 1e-6)
     dressed = rotateAbout(dressed, centreW, cal.pose.rollRad, cv::INTER_LINEAR);
+
+  dressed = denoised(dressed);
 
   // 2. Key both frames; check the camera and form have not moved.
   // The shift comes first: a moved camera can also push the form against the frame's edge, and
   // "the camera moved" is the reason staff can act on.
-  const cv::Point2d shiftW = estimateShift(bare->edges, dressed);
-  const cv::Point2d shift = shiftW / ws;  // full-frame px
-  const double shiftPx = std::hypot(shift.x, shift.y);
+  const FrameMotion motion = bare->motion->motionOf(dressed);
+  const double shiftPx = motion.largestPx(0.5 * dressed.rows) / ws;  // full-frame px
   if (shiftPx > kMaxShiftCm * s)
     throw CaptureError(Reason::kCameraMoved,
                        "the camera or the form moved by " + fmt1(shiftPx) + " px (" +
@@ -337,8 +456,9 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
                            " cm) since the bare-form frame; capture the bare form again");
   const bool reregister = shiftPx > kMinShiftPx;
   if (reregister) {
-    const cv::Mat back = (cv::Mat_<double>(2, 3) << 1, 0, -shiftW.x, 0, 1, -shiftW.y);
-    cv::warpAffine(dressed, dressed, back, dressed.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    const cv::Matx33d back = motion.registration(dressed.size(), 1.0);
+    cv::warpAffine(dressed, dressed, cv::Mat(back).rowRange(0, 2), dressed.size(), cv::INTER_LINEAR,
+                   cv::BORDER_REPLICATE);
     result.warnings.push_back("re-registered a camera shift of " + fmt1(shiftPx) + " px");
   }
   // The full dressed frame, upright and registered: one warp, and none when neither applies.
@@ -347,13 +467,14 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
       return dressedBgr;
     const cv::Point2f c(static_cast<float>(cal.pose.offsetPx.x()),
                         static_cast<float>(cal.pose.offsetPx.y()));
-    cv::Mat m = cv::getRotationMatrix2D(c, -cal.pose.rollRad * 180.0 / M_PI, 1.0);
-    if (reregister) {
-      m.at<double>(0, 2) -= shift.x;
-      m.at<double>(1, 2) -= shift.y;
-    }
+    const cv::Mat r = cv::getRotationMatrix2D(c, -cal.pose.rollRad * 180.0 / M_PI, 1.0);
+    cv::Matx33d m(r.at<double>(0, 0), r.at<double>(0, 1), r.at<double>(0, 2), r.at<double>(1, 0),
+                  r.at<double>(1, 1), r.at<double>(1, 2), 0, 0, 1);
+    if (reregister)
+      m = motion.registration(dressed.size(), 1.0 / ws) * m;
     cv::Mat out;
-    cv::warpAffine(dressedBgr, out, m, dressedBgr.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    cv::warpAffine(dressedBgr, out, cv::Mat(m).rowRange(0, 2), dressedBgr.size(), cv::INTER_LINEAR,
+                   cv::BORDER_REPLICATE);
     return out;
   });
   // The two keys are independent: the dressed one runs beside the (usually cached) bare one.
@@ -365,23 +486,43 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   // 3. Masks (seed §5.2.2): the form (bare frame), the form still exposed in the dressed frame
   // (looks as it did), and the base mask of the garment, turned into a GrabCut trimap.
   cv::Mat labE, labD;
-  cv::cvtColor(keyE.despilled, labE, cv::COLOR_BGR2Lab);
-  cv::cvtColor(keyD.despilled, labD, cv::COLOR_BGR2Lab);
-  cv::Mat diff;
   {
-    cv::Mat de;
-    cv::absdiff(labE, labD, de);
-    de.convertTo(de, CV_32FC3);
-    cv::Mat ch[3];
-    cv::split(de, ch);
-    cv::magnitude(ch[1], ch[2], diff);
-    diff = diff + 0.5f * ch[0];
-    // Sensor noise differs between the two shots; average it away before thresholding.
-    const int k = 2 * std::max(2, static_cast<int>(std::lround(0.3 * sw))) + 1;
-    cv::GaussianBlur(diff, diff, cv::Size(k, k), 0);
+    // Both frames despilled over the same pixels, or the despill itself reads as a difference
+    // where one key missed part of the form (a dark green garment can cut the arms off the dressed
+    // key's main piece).
+    cv::Mat1b both;
+    const int band = calib::KeyOptions{}.edgeBandPx;
+    cv::dilate(keyE.mask | keyD.mask, both,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * band + 1, 2 * band + 1)));
+    cv::Mat3b e = keyE.despilled.clone(), d = keyD.despilled.clone();
+    calib::despill(e, both);
+    calib::despill(d, both);
+    cv::cvtColor(e, labE, cv::COLOR_BGR2Lab);
+    cv::cvtColor(d, labD, cv::COLOR_BGR2Lab);
   }
   const cv::Mat formMask = keyE.mask;
-  const cv::Mat fgD = keyD.mask;
+  const int edgeR = std::max(1, static_cast<int>(std::lround(0.25 * sw)));
+  cv::Mat formInside;
+  cv::erode(formMask, formInside,
+            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * edgeR + 1, 2 * edgeR + 1)));
+  cv::Mat formOutline;
+  cv::dilate(formMask, formOutline, cv::Mat(), cv::Point(-1, -1), 2);
+  formOutline &= ~formInside;
+  cv::Mat1f diff = labDifference(labE, labD, formOutline);
+  {
+    // Sensor noise differs between the two shots; average it away before thresholding, over the
+    // form only (the garment's shadow changes the screen beside it).
+    const int k = 2 * std::max(2, static_cast<int>(std::lround(0.3 * sw))) + 1;
+    cv::Mat1f w, dw;
+    formMask.convertTo(w, CV_32F, 1.0 / 255.0);
+    cv::GaussianBlur(diff.mul(w), dw, cv::Size(k, k), 0);
+    cv::GaussianBlur(w, w, cv::Size(k, k), 0);
+    diff = dw / cv::max(w, 1e-3f);
+  }
+  // The form cannot vanish: inside it the dressed frame shows the form or the garment, whatever
+  // the key says (a dark green garment keys as screen by its greenness). Its outline is left to
+  // the key: mixed edge pixels differ between the shots by any sub-pixel shift.
+  const cv::Mat fgD = keyD.mask | formInside;
   // Where the form is still visible the difference is noise; where the garment covers it, it is
   // the garment's contrast. The noise floor is read where no garment goes: the form above its
   // neck (head or neck cap). A pixel is exposed when its difference is within that noise, so a
@@ -420,17 +561,24 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   const int r = std::max(2, static_cast<int>(std::lround(0.4 * sw)));
   const cv::Mat kernel =
       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
-  cv::Mat exposed = (diff < static_cast<float>(tau)) & formMask & fgD;
+  // The form's outline counts as form out to where either key may place it (the two keys' edges
+  // differ by a pixel with noise); there the difference is the shift-tolerant one.
+  const cv::Mat formOrOutline = formMask | formOutline;
+  cv::Mat exposed = (diff < static_cast<float>(tau)) & formOrOutline & fgD;
+  // Exposed well inside the noise (half the threshold, on both tests): the form for certain, up
+  // to the blur's reach from the garment.
+  cv::Mat clearlyExposed = (diff < static_cast<float>(kClearlyExposed * tau)) & exposed;
   if (noiseKnown) {
     // Of what looks exposed pixel by pixel, keep only what also matches over about a centimetre:
     // a garment the colour of the form differs there.
-    const cv::Mat1f averaged =
-        averagedDifference(labE, labD, kAveragedDifferenceCm * sw, static_cast<float>(tau));
+    const cv::Mat1f averaged = averagedDifference(
+        labE, labD, formInside, kAveragedDifferenceCm * sw, static_cast<float>(tau));
     const double tauAveraged = std::max(0.3, noiseThreshold(aboveNeck(averaged), kNoiseSigmas));
     exposed &= averaged < static_cast<float>(tauAveraged);
+    clearlyExposed &= averaged < static_cast<float>(kClearlyExposed * tauAveraged);
   }
   cv::morphologyEx(exposed, exposed, cv::MORPH_CLOSE, kernel);
-  exposed &= formMask & fgD;
+  exposed &= formOrOutline & fgD;
   cv::Mat base = fgD & ~exposed;
   cv::morphologyEx(base, base, cv::MORPH_OPEN, kernel);
   cv::Mat sure;
@@ -439,6 +587,29 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
     throw CaptureError(
         Reason::kNoGarment,
         "no garment found: the dressed frame shows the bare form (is the garment on the form?)");
+  // A garment close to the screen's colour (dark or olive green) keys as screen where it hangs
+  // over the screen, and over the form wherever it is lit well. Found over the form (above, the
+  // form cannot vanish), it makes every pixel where the dressed frame differs from the bare
+  // screen GrabCut's to decide: the garment, or its shadow. For other garments the key's edge
+  // stands, and those pixels stay screen.
+  // Counted after an opening: where the two keys place the form's outline a few pixels apart
+  // (the garment's shadow shifts the dressed key's screen estimate), a thin line is left.
+  cv::Mat insideKeyedScreen = formInside & ~keyD.mask;
+  cv::morphologyEx(insideKeyedScreen, insideKeyedScreen, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  const double keyedAsScreenCm2 = cv::countNonZero(insideKeyedScreen) / (sw * sw);
+  const bool screenColoured = keyedAsScreenCm2 > kScreenColouredCm2;
+  ScreenChange screenChange{cv::Mat::zeros(fgD.size(), CV_8UC1),
+                            cv::Mat::zeros(fgD.size(), CV_8UC1)};
+  if (screenColoured) {
+    screenChange = changedScreen(keyE.despilled, keyD.despilled, ~fgD, sw);
+    // The form's mixed outline pixels change colour with any sub-pixel shift: no evidence.
+    screenChange.recoloured &= ~formOutline;
+    result.warnings.push_back("the garment is close to the screen's colour (" +
+                              std::to_string(std::lround(keyedAsScreenCm2)) +
+                              " cm2 of it over the form keys as screen); its outline was found "
+                              "against the bare-form frame, check it");
+  }
   // GrabCut has a choice to make only near the exposed form: elsewhere the dressed foreground is
   // garment up to the key's edge against the screen (placed again at full resolution below).
   // Probable garment farther than kSettledCm from any exposed pixel is therefore sure, which
@@ -452,9 +623,13 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
     cv::distanceTransform(~exposed, distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
     settled = (distToExposed > static_cast<float>(kSettledCm * sw)) & fgD;
     cv::distanceTransform(~(fgD & ~exposed), distToGarment, cv::DIST_L2, cv::DIST_MASK_3);
-    settledForm = (distToGarment > static_cast<float>(kSettledCm * sw)) & exposed;
+    settledForm =
+        ((distToGarment > static_cast<float>(kSettledCm * sw)) & exposed) |
+        ((distToGarment > static_cast<float>(kClearlySettledCm * sw)) & clearlyExposed & exposed);
   }
   cv::Mat trimap(fgD.size(), CV_8UC1, cv::Scalar(cv::GC_BGD + 0));
+  trimap.setTo(cv::GC_PR_BGD + 0, screenChange.changed);
+  trimap.setTo(cv::GC_PR_FGD + 0, screenChange.recoloured);
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
   trimap.setTo(cv::GC_FGD + 0, settled);
   trimap.setTo(cv::GC_PR_BGD + 0, exposed);
@@ -462,27 +637,31 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   trimap.setTo(cv::GC_FGD + 0, sure);
   timer.done("masks");
   if (const char* dir = std::getenv("GARMCAP_DEBUG_DIR")) {
-    // Intermediate masks for diagnosing segmentation: trimap labels x 80, colour difference x 4.
+    // Intermediate masks for diagnosing segmentation: trimap labels x 80, colour difference x 4,
+    // the exposed form and the two keys' masks.
     cv::imwrite(std::string(dir) + "/trimap.png", trimap * 80);
     cv::Mat d8;
     diff.convertTo(d8, CV_8U, 4.0);
     cv::imwrite(std::string(dir) + "/diff.png", d8);
+    cv::imwrite(std::string(dir) + "/exposed.png", exposed);
+    cv::imwrite(std::string(dir) + "/key_bare.png", formMask);
+    cv::imwrite(std::string(dir) + "/key_dressed.png", keyD.mask);
   }
 
   cv::Mat garmentW = grabCutCoarseToFine(keyD.despilled, trimap);
+  if (screenColoured) {
+    // What GrabCut took from the changed screen must be a region, not the thin halo of blur
+    // and mixed pixels around an outline the key already placed.
+    const cv::Mat kernelHalo = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(3, 3));
+    cv::Mat beyondKey = garmentW & ~fgD;
+    cv::morphologyEx(beyondKey, beyondKey, cv::MORPH_OPEN, kernelHalo);
+    garmentW = (garmentW & fgD) | beyondKey;
+  }
   // Keep the garment's main piece and fill its holes (prints the colour of the form).
+  garmentW = largestComponent(garmentW);
+  if (garmentW.empty())
+    throw CaptureError(Reason::kNoGarment, "no garment found after segmentation");
   {
-    cv::Mat labels, stats, centroids;
-    const int n = cv::connectedComponentsWithStats(garmentW, labels, stats, centroids, 8);
-    int best = 0, bestArea = 0;
-    for (int i = 1; i < n; ++i)
-      if (stats.at<int>(i, cv::CC_STAT_AREA) > bestArea) {
-        bestArea = stats.at<int>(i, cv::CC_STAT_AREA);
-        best = i;
-      }
-    garmentW = labels == best;
-    if (bestArea == 0)
-      throw CaptureError(Reason::kNoGarment, "no garment found after segmentation");
     std::vector<std::vector<cv::Point>> contours;
     cv::findContours(garmentW.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
     garmentW.setTo(0);
