@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <string>
+#include <vector>
 
 #include "garmcap/calib/form_model.h"
 #include "garmcap/capture/scene.h"
@@ -149,6 +150,36 @@ TEST(WorkFrame, LegOpeningOnAFormWhoseLegsNearlyTouch) {
     ASSERT_TRUE(res.measurements.count("leg_opening_circ")) << "seed " << seed;
     const double truth = r.truth().at("measurements").at("leg_opening_circ").get<double>();
     EXPECT_NEAR(res.measurements.at("leg_opening_circ"), truth, 1.5) << "seed " << seed;
+  }
+}
+
+// On a form with broad shoulder caps (the generated korean_women_55) a sleeveless bodice covers
+// about 7 cm of the arm from the calibrated shoulder tip, and read as a short sleeve: 3-7 cm on
+// seeds 12, 23 and 27 here (and 2 of 12 tops on a 4 MP holdout rig). The sleeveless reference
+// tops rendered on the form tell how far a bodice reaches there; short sleeves (8 cm and longer
+// in the simulator) stay short.
+TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
+  const std::string path = std::string(GARMCAP_TEST_DATA_DIR) + "/forms/korean_women_55.json";
+  const calib::FormModel broad = calib::FormModel::load(path);
+  capture::RandomSceneOptions o;
+  o.size = {960, 1280};
+  o.hardFraction = 0;
+  o.type = "top";
+  std::vector<unsigned> seeds = {12, 23, 27};
+  for (unsigned seed = 1, shortSleeves = 0; shortSleeves < 2 && seed < 100; ++seed)
+    if (capture::randomScene(broad, path, seed, o).garment.attributes.at("sleeve") == "short") {
+      seeds.push_back(seed);
+      ++shortSleeves;
+    }
+  ASSERT_EQ(seeds.size(), 5u);
+  for (const unsigned seed : seeds) {
+    const capture::SceneRenderer r(broad, capture::randomScene(broad, path, seed, o));
+    const auto res =
+        pipeline::runCapture(r.renderEmpty(), r.renderDressed(), r.calibration(), measureOnly(2.0));
+    ASSERT_EQ(res.type, "top") << "seed " << seed;
+    EXPECT_EQ(res.attributes.at("sleeve"), r.truth().at("attributes").at("sleeve")) << seed;
+    const double length = r.truth().at("measurements").at("sleeve_length").get<double>();
+    EXPECT_NEAR(res.measurements.at("sleeve_length"), length, 1.5) << "seed " << seed;
   }
 }
 

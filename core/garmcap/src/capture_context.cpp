@@ -4,6 +4,7 @@
 #include <cmath>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "garmcap/calib/garment_model.h"
 #include "garmcap/drafts/recipes.h"
@@ -115,6 +116,21 @@ calib::GarmentSpec referenceGarment(const Variant& v, const drafts::Measurements
   return spec;
 }
 
+// How far along the arm, from the shoulder tip, the sleeveless reference tops reach on this form
+// (the largest of them): a bodice covers the shoulder's edge, and on a form with broad shoulder
+// caps that reads as several centimetres of "sleeve".
+double sleevelessReachCm(const std::vector<ReferenceSilhouette>& refs, const FormView& view) {
+  double reach = 0;
+  for (const auto& r : refs) {
+    if (r.type != "top" || !r.attributes.count("sleeve") || r.attributes.at("sleeve") != "none")
+      continue;
+    const auto m = measureGarment(r.mask, view, "top").measurements;
+    if (const auto it = m.find("sleeve_length"); it != m.end())
+      reach = std::max(reach, it->second);
+  }
+  return reach;
+}
+
 }  // namespace
 
 drafts::Measurements bodyForForm(const calib::FormModel& form) {
@@ -169,7 +185,8 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
   // the form seen at about that size, not at the camera's: at 12 MP drawing every reference
   // garment at full size took most of a minute per calibration on 2 cores.
   const double f = std::min(1.0, kReferenceHeightPx / ctx->calibration.imageSize.height);
-  std::vector<ReferenceSilhouette> refs;
+  const FormView* refView = ctx->view.get();
+  std::optional<FormView> smallView;
   if (f < 1.0) {
     calib::FormPose small = upright;
     small.pxPerCm *= f;
@@ -183,11 +200,11 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
     const cv::Size smallSize(
         std::max(1, static_cast<int>(std::lround(ctx->calibration.imageSize.width * f))),
         std::max(1, static_cast<int>(std::lround(ctx->calibration.imageSize.height * f))));
-    const FormView smallView(*ctx->form, small, smallSize);
-    refs = renderReferenceSilhouettes(smallView, ctx->body, &ctx->notes);
-  } else {
-    refs = renderReferenceSilhouettes(*ctx->view, ctx->body, &ctx->notes);
+    refView = &smallView.emplace(*ctx->form, small, smallSize);
   }
+  std::vector<ReferenceSilhouette> refs =
+      renderReferenceSilhouettes(*refView, ctx->body, &ctx->notes);
+  ctx->sleevelessReachCm = sleevelessReachCm(refs, *refView);
   ctx->classifier = std::make_shared<const GarmentClassifier>(std::move(refs));
   return ctx;
 }

@@ -44,6 +44,9 @@ constexpr double kSettledCm = 2.0;
 // and keeps the wider margin above for GrabCut to find it).
 constexpr double kClearlyExposed = 0.5;
 constexpr double kClearlySettledCm = 0.5;
+// A "sleeve" no longer than a sleeveless reference top reaches down this form's arm plus this is
+// the bodice's shoulder.
+constexpr double kSleevelessMarginCm = 0.75;
 // The colour-difference noise floor is read on the form from this far above its side neck up.
 constexpr double kNoiseAboveNeckCm = 4.0;
 constexpr double kNoiseSigmas = 6.0;
@@ -724,9 +727,12 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
     for (const auto& w : gm.warnings)
       result.warnings.push_back(w);
     if (gm.measurements.count("sleeve_length")) {
+      // Shorter than a sleeveless bodice reaches down the arm on this form (plus the reading's
+      // scatter) is no sleeve.
       const double sl = gm.measurements.at("sleeve_length");
-      result.attributes["sleeve"] = sl < 2.0 ? "none" : (sl < 35.0 ? "short" : "long");
-      if (sl < 2.0)
+      const bool sleeveless = sl < std::max(2.0, ctx->sleevelessReachCm + kSleevelessMarginCm);
+      result.attributes["sleeve"] = sleeveless ? "none" : (sl < 35.0 ? "short" : "long");
+      if (sleeveless)
         result.measurements["sleeve_length"] = 0.0;
     }
     if (gm.measurements.count("hem_circ") && gm.measurements.count("hip_circ") &&

@@ -24,6 +24,9 @@ struct CaptureContext {
   std::shared_ptr<const FormView> view;  // form seen with the calibrated pose, roll removed
   drafts::Measurements body;             // the form's measurements completed from a size chart
   std::shared_ptr<const GarmentClassifier> classifier;
+  // How far a sleeveless reference top covers the arm from the shoulder tip, in cm (0 on most
+  // forms; several cm on a form with broad shoulder caps): a shorter "sleeve" is the bodice.
+  double sleevelessReachCm = 0;
   std::vector<std::string> notes;  // what was assumed while building (for result.json)
 };
 
