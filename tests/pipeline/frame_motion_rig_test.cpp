@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/bundled_form.h"
 #include "garmcap/calib/form_model.h"
 #include "garmcap/capture/scene.h"
 #include "garmcap/capture/sim.h"
@@ -16,12 +17,10 @@ using namespace garmcap;
 
 namespace {
 
-const std::string kFormPath =
-    std::string(GARMCAP_SHARED_DIR) + "/data/forms/garmentcode_mean_female/form.json";
+const std::string& kFormPath = garmcap::testing::bundledFormPath();
 
 const calib::FormModel& form() {
-  static const calib::FormModel f = calib::FormModel::load(kFormPath);
-  return f;
+  return garmcap::testing::bundledForm();
 }
 
 struct Pair {

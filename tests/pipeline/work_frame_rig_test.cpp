@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/bundled_form.h"
 #include "garmcap/calib/form_model.h"
 #include "garmcap/capture/scene.h"
 #include "garmcap/capture/sim.h"
@@ -20,12 +21,10 @@ using namespace garmcap;
 
 namespace {
 
-const std::string kFormPath =
-    std::string(GARMCAP_SHARED_DIR) + "/data/forms/garmentcode_mean_female/form.json";
+const std::string& kFormPath = garmcap::testing::bundledFormPath();
 
 const calib::FormModel& form() {
-  static const calib::FormModel f = calib::FormModel::load(kFormPath);
-  return f;
+  return garmcap::testing::bundledForm();
 }
 
 capture::SceneRenderer scene(const std::string& type, unsigned seed, cv::Size size) {
