@@ -44,9 +44,9 @@ constexpr double kSettledCm = 2.0;
 // and keeps the wider margin above for GrabCut to find it).
 constexpr double kClearlyExposed = 0.5;
 constexpr double kClearlySettledCm = 0.5;
-// Notches up to about this deep in a screen-coloured garment's outline are filled where the screen
+// Notches up to twice this tall in a screen-coloured garment's sides are filled where the frame
 // changed (a check or stripe the colour of the screen at the edge).
-constexpr double kPatternNotchCm = 0.8;
+constexpr double kPatternNotchCm = 1.25;
 // A "sleeve" no longer than a sleeveless reference top reaches down this form's arm plus this is
 // the bodice's shoulder.
 constexpr double kSleevelessMarginCm = 0.75;
@@ -663,13 +663,14 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
     cv::morphologyEx(beyondKey, beyondKey, cv::MORPH_OPEN, kernelHalo);
     garmentW = (garmentW & fgD) | beyondKey;
     // A pattern's screen-coloured squares or stripes at the outline look like the garment's own
-    // shadow, and GrabCut cuts around them: notches a pattern repeat deep. The outline is closed
-    // over what changed since the bare frame only (changed screen, form that is not exposed).
+    // shadow, and GrabCut cuts around them: notches a pattern repeat deep in the garment's sides.
+    // They are closed along the vertical only (a horizontal closing would bridge the gap between
+    // the legs below the crotch) and over what changed since the bare frame only (changed
+    // screen, form that is not exposed).
     const int rc = std::max(2, static_cast<int>(std::lround(kPatternNotchCm * sw)));
     cv::Mat closed;
-    cv::morphologyEx(
-        garmentW, closed, cv::MORPH_CLOSE,
-        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rc + 1, 2 * rc + 1)));
+    cv::morphologyEx(garmentW, closed, cv::MORPH_CLOSE,
+                     cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, 2 * rc + 1)));
     garmentW |= closed & (screenChange.changed | (fgD & ~exposed));
   }
   // Keep the garment's main piece and fill its holes (prints the colour of the form).
