@@ -1,6 +1,7 @@
 // HTTP routes of the exports (issue 8): shop files of the approved catalog, pattern files of one
 // item, and the image files the shop CSVs link to. Catalog reads run on the station strand, file
-// building on the worker pool; the pure builders live in export_shop/export_pattern/export_zip.
+// building on the worker pool; the pure builders live in export_shop/export_zip and, for
+// pattern files, in drafts/ (export_dxf_aama, export_rul, export_garmentcode, export_pdf).
 //
 //   GET /api/export/shopify.csv?base_url=&legacy=1   GET /api/export/woocommerce.csv?base_url=
 //   GET /api/export/merchant.tsv?base_url=&store_url=   GET /api/export/catalog.zip?base_url=
@@ -20,15 +21,22 @@
 #include "garmcap/daemon/api_routes.h"
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/content_store.h"
-#include "garmcap/daemon/export_pattern.h"
 #include "garmcap/daemon/export_shop.h"
 #include "garmcap/daemon/export_zip.h"
 #include "garmcap/daemon/http_router.h"
+#include "garmcap/drafts/export_dxf_aama.h"
+#include "garmcap/drafts/export_garmentcode.h"
+#include "garmcap/drafts/export_pdf.h"
+#include "garmcap/drafts/export_rul.h"
+#include "garmcap/drafts/export_svg.h"
 #include "garmcap/drafts/measurements.h"
 #include "garmcap/drafts/pattern_io.h"
 
 namespace garmcap::daemon {
 namespace {
+
+using drafts::GradedRun;
+using drafts::PieceText;
 
 constexpr int kMaxExportItems = 2000;
 // Image kinds that go to shops, in the order shops show them.
@@ -382,6 +390,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
           try {
             reply(build(item, guide, pats, size));
           } catch (const ExportError& e) {
+            reply(jsonError(http::status::unprocessable_entity, e.what()));
+          } catch (const drafts::PatternExportError& e) {
             reply(jsonError(http::status::unprocessable_entity, e.what()));
           } catch (const std::exception& e) {
             reply(jsonError(http::status::internal_server_error, e.what()));

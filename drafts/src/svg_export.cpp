@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "export_util.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/geometry.h"
 #include "garmcap/drafts/svg.h"
@@ -45,48 +46,6 @@ struct Box {
   }
   bool empty() const { return x0 > x1; }
 };
-
-// Area centroid of a polygon (falls back to the vertex mean for degenerate input).
-Point2 centroid(const Polyline& poly) {
-  double a = 0;
-  Point2 c(0, 0);
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Point2& p = poly[i];
-    const Point2& q = poly[(i + 1) % poly.size()];
-    const double cross = p.x() * q.y() - q.x() * p.y();
-    a += cross;
-    c += (p + q) * cross;
-  }
-  if (std::abs(a) < 1e-9) {
-    Point2 m(0, 0);
-    for (const auto& p : poly)
-      m += p;
-    return m / static_cast<double>(std::max<std::size_t>(poly.size(), 1));
-  }
-  return c / (3 * a);
-}
-
-// Label position: the centroid when it lies inside the outline, else the inside point of the
-// horizontal line through it that is farthest from the outline crossings.
-Point2 labelPoint(const Polyline& outline) {
-  Point2 c = centroid(outline);
-  if (pointInPolygon(c, outline))
-    return c;
-  auto hits =
-      intersectPolylineLine(joined(outline, Polyline{outline.front()}), Line::horizontal(c.y()));
-  std::vector<double> xs;
-  for (const auto& h : hits)
-    xs.push_back(h.point.x());
-  std::sort(xs.begin(), xs.end());
-  double best = -1;
-  for (std::size_t i = 0; i + 1 < xs.size(); i += 2) {
-    if (xs[i + 1] - xs[i] > best) {
-      best = xs[i + 1] - xs[i];
-      c.x() = (xs[i] + xs[i + 1]) / 2;
-    }
-  }
-  return c;
-}
 
 }  // namespace
 
@@ -162,7 +121,7 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
         s << "<line x1=\"" << num(a.x()) << "\" y1=\"" << num(a.y()) << "\" x2=\"" << num(b.x())
           << "\" y2=\"" << num(b.y()) << "\" stroke=\"#c0392b\" stroke-width=\"0.08\"/>\n";
       }
-      const Point2 c = labelPoint(p.outline);
+      const Point2 c = detail::labelPoint(p.outline);
       const std::string cut = "cut " + std::to_string(p.cutCount) +
                               (p.cutOnFold ? " on fold" : "") + ", SA " +
                               num(p.seamAllowanceCm).substr(0, 4) + " cm";

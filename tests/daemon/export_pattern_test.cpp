@@ -1,7 +1,5 @@
 // Pattern exports: DXF structure, RUL deltas, GarmentCode curve fit and stitches, SVG at 1:1,
 // tiled PDF rasterised by pdftoppm at true scale.
-#include "garmcap/daemon/export_pattern.h"
-
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -12,11 +10,14 @@
 #include <sstream>
 
 #include "../exports/export_samples.h"
+#include "garmcap/drafts/export_dxf_aama.h"
+#include "garmcap/drafts/export_garmentcode.h"
+#include "garmcap/drafts/export_pdf.h"
+#include "garmcap/drafts/export_rul.h"
+#include "garmcap/drafts/export_svg.h"
 
-namespace garmcap::daemon {
+namespace garmcap::drafts {
 namespace {
-
-using drafts::Point2;
 
 std::vector<std::pair<int, std::string>> dxfPairs(const std::string& dxf) {
   std::vector<std::pair<int, std::string>> out;
@@ -101,10 +102,10 @@ TEST(GradeRules, SampleIsZeroAndDeltasMatchTheSizes) {
 TEST(GradedRun, RefusesSizesThatDoNotCorrespond) {
   auto run = exports_test::skirtRun();
   run.sampleSize = "XXL";
-  EXPECT_THROW(checkGradedRun(run), ExportError);
+  EXPECT_THROW(checkGradedRun(run), PatternExportError);
   run = exports_test::skirtRun();
   run.patterns[2].panels[0].outline.pop_back();
-  EXPECT_THROW(gradedDxf(run), ExportError);
+  EXPECT_THROW(gradedDxf(run), DxfExportError);
 }
 
 TEST(GradedDxf, EverySizeOfEveryPieceAndSampleMarked) {
@@ -288,4 +289,4 @@ TEST(PatternPdf, TiledA4AtTrueScale) {
 }
 
 }  // namespace
-}  // namespace garmcap::daemon
+}  // namespace garmcap::drafts

@@ -7,8 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "garmcap/daemon/export_pattern.h"
 #include "garmcap/daemon/export_shop.h"
+#include "garmcap/drafts/export_dxf_aama.h"
+#include "garmcap/drafts/export_rul.h"
 #include "garmcap/drafts/pattern.h"
 
 namespace garmcap::exports_test {
@@ -59,8 +60,8 @@ inline drafts::Pattern skirtPattern(double hipCm, double waistCm, double lengthC
   return pat;
 }
 
-inline daemon::GradedRun skirtRun() {
-  daemon::GradedRun run;
+inline drafts::GradedRun skirtRun() {
+  drafts::GradedRun run;
   run.style = "SK-1001";
   run.sizes = {"S", "M", "L", "XL"};
   run.sampleSize = "M";

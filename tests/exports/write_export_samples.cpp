@@ -58,9 +58,9 @@ int main(int argc, char** argv) {
     write(dir / "shopify_legacy.csv", daemon::shopifyCsv(items, o));
 
     const auto run = exports_test::skirtRun();
-    write(dir / "skirt_M.dxf", daemon::patternDxf(run.patterns[1], {run.style, "M"}));
-    write(dir / "graded.dxf", daemon::gradedDxf(run));
-    write(dir / "graded.rul", daemon::gradeRuleTable(run));
+    write(dir / "skirt_M.dxf", drafts::patternDxf(run.patterns[1], {run.style, "M"}));
+    write(dir / "graded.dxf", drafts::gradedDxf(run));
+    write(dir / "graded.rul", drafts::gradeRuleTable(run));
 
     nlohmann::json truth;
     truth["base_url"] = o.publicBaseUrl;

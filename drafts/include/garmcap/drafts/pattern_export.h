@@ -1,18 +1,27 @@
 #pragma once
-// Pattern exports: drafts::Pattern in, file bytes out. Pure functions, thread-safe.
+// What every pattern file writer shares (DXF-AAMA, RUL, GarmentCode, PDF, SVG: one header per
+// format beside this one): the error base, the text printed on pieces, the graded run, turn
+// points and the side-by-side layout. Pure functions, thread-safe.
 //
-// Coordinates: patterns are in cm with y DOWN (drafts/pattern.h). DXF files are written in mm
-// with y UP (DXF convention): x_dxf = 10 * x, y_dxf = -10 * y. SVG and PDF are 1:1 (1 cm on
-// the page is 1 cm of pattern). Outlines are the panel outlines as drafted (net, without seam
-// allowance); the allowance is stated in each piece's text. Formats: docs/exports.md.
+// Coordinates: patterns are in cm with y DOWN (pattern.h). DXF files are written in mm with y UP
+// (DXF convention): x_dxf = 10 * x, y_dxf = -10 * y. SVG and PDF are 1:1 (1 cm on the page is
+// 1 cm of pattern). Formats and the readers they were checked with: docs/exports.md.
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "garmcap/daemon/export_shop.h"
 #include "garmcap/drafts/pattern.h"
 
-namespace garmcap::daemon {
+namespace garmcap::drafts {
+
+/// A pattern that cannot be written (no panels, a degenerate outline, a seam that names a
+/// missing panel, sizes that do not correspond). Each format derives its own type from it, so
+/// a caller can tell which writer refused; the message names the panel or size.
+class PatternExportError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// What is printed on each piece besides the geometry.
 struct PieceText {
@@ -23,59 +32,31 @@ struct PieceText {
 
 /// Outline vertices that are turn points (corners, seam ends, dart legs, notches) rather than
 /// curve points. Same indices for every size of a DSW-graded run (decided on `panel` alone).
-std::vector<int> turnPointIndices(const drafts::Panel& panel, const drafts::Pattern& pattern);
-
-/// SVG at 1:1 (width/height in mm, viewBox in mm): every panel outline, darts, notches,
-/// grainline, internal lines and its name/size/cut text, panels side by side.
-std::string patternSvg(const drafts::Pattern& pattern, const PieceText& text);
-
-/// DXF-AAMA (ASTM D6673 conventions, DXF R12 / AC1009), one size: one BLOCK per piece named
-/// "<piece>_<size>" with layer 1 boundary (closed POLYLINE) and piece text (Piece Name, Size,
-/// Quantity, Material, Seam allowance), layer 2 turn points, layer 3 curve points, layer 4
-/// notches (LINE from the outline inwards), layer 7 grainline, layer 8 internal lines and dart
-/// legs, layer 13 drill holes at dart apexes; an INSERT of each block in ENTITIES.
-std::string patternDxf(const drafts::Pattern& pattern, const PieceText& text);
+/// Throws PatternExportError for an outline with fewer than 3 points or non-finite ones.
+std::vector<int> turnPointIndices(const Panel& panel, const Pattern& pattern);
 
 /// A graded size run: the same panels (same names, same vertex count and order) per size.
 struct GradedRun {
   std::string style;
-  std::vector<std::string> sizes;         // smallest first
-  std::string sampleSize;                 // one of `sizes`: the captured (base) size
-  std::vector<drafts::Pattern> patterns;  // one per size, same order as `sizes`
+  std::vector<std::string> sizes;  // smallest first
+  std::string sampleSize;          // one of `sizes`: the captured (base) size
+  std::vector<Pattern> patterns;   // one per size, same order as `sizes`
 };
 
-/// Throws ExportError when sizes and patterns differ in number, the sample size is not in the
-/// list, or a panel differs between sizes in name or vertex count.
+/// Throws PatternExportError when sizes and patterns differ in number, the sample size is not
+/// in the list, or a panel differs between sizes in name or vertex count.
 void checkGradedRun(const GradedRun& run);
-
-/// Every size of every piece in one ASTM DXF (blocks "<piece>_<size>", nested at the same
-/// origin), the sample size's blocks carrying "Sample Size" text and "# N" grade-rule numbers
-/// on layer 2 at their turn points, numbered as in gradeRuleTable().
-std::string gradedDxf(const GradedRun& run);
-
-/// ASTM D6673 grade-rule table (.RUL, ASCII): size list, sample size, and for every turn point
-/// of every piece (numbered from 1, pieces in pattern order, turn points in outline order) a
-/// rule "RULE: DELTA N" with one dx,dy pair (mm, y up) per size, the sample size's pair 0,0.
-std::string gradeRuleTable(const GradedRun& run);
-
-/// GarmentCode JSON pattern (pygarment spec: panels with vertices, edges with relative cubic
-/// curvature, stitches from the pattern's seam pairs; units_in_meter 100, y up, loops
-/// counter-clockwise). Draping tools can load it.
-std::string garmentCodeJson(const drafts::Pattern& pattern, const PieceText& text);
-
-/// Tiled PDF for printing on A4 portrait at 100 % (PDF 1.4, vector, uncompressed): pages in
-/// rows and columns over the panel layout, 10 mm margins, tile marks and row/column labels
-/// on every page, a 10 cm x 10 cm test square on the first page.
-std::string patternPdfA4(const drafts::Pattern& pattern, const PieceText& text);
+/// Index of the sample size in run.sizes (call checkGradedRun first).
+size_t sampleIndex(const GradedRun& run);
 
 /// Panels laid out side by side (left to right in rows no wider than `maxRowWidthCm`), each
 /// panel's outline bounding box moved to its slot: the offset to add to that panel's points.
 /// Also the total sheet size in cm.
 struct Layout {
-  std::vector<drafts::Point2> offsets;  // one per panel
+  std::vector<Point2> offsets;  // one per panel
   double widthCm = 0;
   double heightCm = 0;
 };
-Layout layoutPanels(const drafts::Pattern& pattern, double gapCm, double maxRowWidthCm);
+Layout layoutPanels(const Pattern& pattern, double gapCm, double maxRowWidthCm);
 
-}  // namespace garmcap::daemon
+}  // namespace garmcap::drafts

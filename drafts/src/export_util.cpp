@@ -1,0 +1,157 @@
+// Shared by the pattern file writers; see export_util.h.
+#include "export_util.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+
+#include "garmcap/drafts/export_dxf_aama.h"
+#include "garmcap/drafts/export_garmentcode.h"
+#include "garmcap/drafts/export_pdf.h"
+#include "garmcap/drafts/export_rul.h"
+#include "garmcap/drafts/export_svg.h"
+#include "garmcap/drafts/geometry.h"
+
+namespace garmcap::drafts::detail {
+namespace {
+
+constexpr double kOnVertexCm = 0.02;  // a dart leg or notch this close to a vertex is on it
+
+// Area centroid of a polygon (falls back to the vertex mean for degenerate input).
+Point2 centroid(const Polyline& poly) {
+  double a = 0;
+  Point2 c(0, 0);
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Point2& p = poly[i];
+    const Point2& q = poly[(i + 1) % poly.size()];
+    const double cross = p.x() * q.y() - q.x() * p.y();
+    a += cross;
+    c += (p + q) * cross;
+  }
+  if (std::abs(a) < 1e-9) {
+    Point2 m(0, 0);
+    for (const auto& p : poly)
+      m += p;
+    return m / static_cast<double>(std::max<std::size_t>(poly.size(), 1));
+  }
+  return c / (3 * a);
+}
+
+}  // namespace
+
+Point2 labelPoint(const Polyline& outline) {
+  Point2 c = centroid(outline);
+  if (pointInPolygon(c, outline))
+    return c;
+  auto hits =
+      intersectPolylineLine(joined(outline, Polyline{outline.front()}), Line::horizontal(c.y()));
+  std::vector<double> xs;
+  for (const auto& h : hits)
+    xs.push_back(h.point.x());
+  std::sort(xs.begin(), xs.end());
+  double best = -1;
+  for (std::size_t i = 0; i + 1 < xs.size(); i += 2) {
+    if (xs[i + 1] - xs[i] > best) {
+      best = xs[i + 1] - xs[i];
+      c.x() = (xs[i] + xs[i + 1]) / 2;
+    }
+  }
+  return c;
+}
+
+std::string fixed(double v, int decimals) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string s = buf;
+  if (s.size() > 1 && s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos)
+    s.erase(0, 1);
+  return s;
+}
+
+std::string asciiText(const std::string& s) {
+  std::string out;
+  for (unsigned char c : s)
+    out += (c >= 32 && c < 127) ? static_cast<char>(c) : '_';
+  return out;
+}
+
+std::string blockName(const std::string& piece, const std::string& size) {
+  std::string out;
+  for (unsigned char c : piece + "_" + size)
+    out += (std::isalnum(c) || c == '_' || c == '-') ? static_cast<char>(c) : '-';
+  return out;
+}
+
+Box panelBox(const Panel& p) {
+  Box b;
+  b.add(p.outline);
+  return b;
+}
+
+int nearestVertex(const Polyline& outline, const Point2& p) {
+  int best = -1;
+  double bestD = kOnVertexCm;
+  for (size_t i = 0; i < outline.size(); ++i) {
+    double d = (outline[i] - p).norm();
+    if (d <= bestD) {
+      bestD = d;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
+Point2 inwardNormal(const Polyline& outline, const Point2& p) {
+  size_t bestI = 0;
+  double bestD = 1e300;
+  for (size_t i = 0; i < outline.size(); ++i) {
+    const auto& a = outline[i];
+    const auto& b = outline[(i + 1) % outline.size()];
+    Point2 ab = b - a;
+    double t = ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0;
+    double d = (a + t * ab - p).norm();
+    if (d < bestD) {
+      bestD = d;
+      bestI = i;
+    }
+  }
+  Point2 e = outline[(bestI + 1) % outline.size()] - outline[bestI];
+  if (e.norm() == 0)
+    return Point2(0, 0);
+  e.normalize();
+  // With positive shoelace area the interior lies to the left of each edge: (-ey, ex).
+  Point2 left(-e.y(), e.x());
+  return signedArea(outline) >= 0 ? left : Point2(-left);
+}
+
+template <class E>
+void checkPanel(const Panel& p) {
+  if (p.outline.size() < 3)
+    throw E("panel '" + p.name + "': outline has " + std::to_string(p.outline.size()) +
+            " points; a piece needs at least 3");
+  for (const auto& q : p.outline)
+    if (!std::isfinite(q.x()) || !std::isfinite(q.y()))
+      throw E("panel '" + p.name + "': outline has a non-finite coordinate");
+}
+
+template <class E>
+void checkPattern(const Pattern& p) {
+  if (p.panels.empty())
+    throw E("pattern '" + p.type + "' has no panels");
+  for (const auto& panel : p.panels)
+    checkPanel<E>(panel);
+}
+
+#define GARMCAP_EXPORT_CHECKS(E)               \
+  template void checkPanel<E>(const Panel& p); \
+  template void checkPattern<E>(const Pattern& p);
+GARMCAP_EXPORT_CHECKS(PatternExportError)
+GARMCAP_EXPORT_CHECKS(DxfExportError)
+GARMCAP_EXPORT_CHECKS(RulExportError)
+GARMCAP_EXPORT_CHECKS(GarmentCodeExportError)
+GARMCAP_EXPORT_CHECKS(PdfExportError)
+GARMCAP_EXPORT_CHECKS(SvgExportError)
+#undef GARMCAP_EXPORT_CHECKS
+
+}  // namespace garmcap::drafts::detail
