@@ -216,6 +216,10 @@ SkirtDraft draftSkirt(DraftBuilder& b, const SkirtOptions& o, bool addSideSeam) 
   pf.notches.push_back(Notch{"hip_front", hipF});
   addPanelWithRegion(p, pb);
   addPanelWithRegion(p, pf);
+  // The back is cut twice: its two halves are sewn together at the centre back.
+  const Point2 cbTop = isHigh ? b.at(px + "_top_cb") : cbw;
+  p.seams.push_back(
+      SeamPair{px + "_centre_back", shortEdge(pb, cbTop, cbh), shortEdge(pb, cbTop, cbh), 0});
   if (addSideSeam) {
     addSeam(p, px + "_side", px + "_back", isHigh ? sideTopB : swb, hsb, px + "_front",
             isHigh ? sideTopF : swf, hsf);

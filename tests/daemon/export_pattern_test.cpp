@@ -123,19 +123,12 @@ TEST(GradedDxf, EverySizeOfEveryPieceAndSampleMarked) {
   EXPECT_NE(std::find(texts.begin(), texts.end(), "# 1"), texts.end());
 }
 
-// Evaluates a GarmentCode edge (relative cubic) at t.
-Point2 evalEdge(const Point2& a, const Point2& b, const nlohmann::json& e, double t) {
-  if (!e.contains("curvature"))
-    return a + t * (b - a);
-  const auto& prm = e["curvature"]["params"];
-  Point2 d = b - a, perp(-d.y(), d.x());
-  Point2 c1 = a + prm[0][0].get<double>() * d + prm[0][1].get<double>() * perp;
-  Point2 c2 = a + prm[1][0].get<double>() * d + prm[1][1].get<double>() * perp;
-  double s = 1 - t;
-  return s * s * s * a + 3 * s * s * t * c1 + 3 * s * t * t * c2 + t * t * t * b;
-}
-
-TEST(GarmentCode, CounterClockwiseLoopsCurvesAndStitches) {
+// The hand-built skirt is drawn clockwise on paper (against the drafts convention) and both
+// pieces are cut on the fold: GarmentCode still gets counter-clockwise, unfolded loops, the side
+// seam stitched on both halves. Its dart's apex is not an outline vertex (a marked dart, not
+// cut out), so nothing is stitched within a piece.
+// (tests/drafts/export_garmentcode_test.cpp rebuilds every drafted type from the JSON.)
+TEST(GarmentCode, ClockwiseFoldPiecesUnfoldedWithDartsAndBothSideSeams) {
   const auto pat = exports_test::skirtPattern(96, 72, 61);
   const auto spec = nlohmann::json::parse(garmentCodeJson(pat, {"SK-1001", "M"}));
   EXPECT_EQ(spec["properties"]["units_in_meter"], 100);
@@ -144,48 +137,24 @@ TEST(GarmentCode, CounterClockwiseLoopsCurvesAndStitches) {
   ASSERT_EQ(panels.size(), 2u);
   for (const auto& [name, p] : panels.items()) {
     const auto& v = p["vertices"];
-    double area = 0;
+    double area = 0, minX = 1e9, maxX = -1e9;
     for (size_t i = 0; i < v.size(); ++i) {
       const auto& a = v[i];
       const auto& b = v[(i + 1) % v.size()];
       area += a[0].get<double>() * b[1].get<double>() - b[0].get<double>() * a[1].get<double>();
+      minX = std::min(minX, a[0].get<double>());
+      maxX = std::max(maxX, a[0].get<double>());
     }
     EXPECT_GT(area, 0) << name << " must be counter-clockwise";
     EXPECT_EQ(p["edges"].size(), v.size());
-    // Every original outline point lies within 3 mm of the fitted edges.
-    const auto& src = pat.panel(name).outline;
-    double maxErr = 0, minX = 1e9, maxY = -1e9;
-    for (const auto& q : src) {
-      minX = std::min(minX, q.x());
-      maxY = std::max(maxY, -q.y());
-    }
-    for (const auto& q : src) {
-      Point2 up(q.x() - minX, -q.y() - maxY);
-      double best = 1e9;
-      for (const auto& e : p["edges"]) {
-        Point2 a(v[e["endpoints"][0].get<size_t>()][0], v[e["endpoints"][0].get<size_t>()][1]);
-        Point2 b(v[e["endpoints"][1].get<size_t>()][0], v[e["endpoints"][1].get<size_t>()][1]);
-        for (int k = 0; k <= 200; ++k)
-          best = std::min(best, (evalEdge(a, b, e, k / 200.0) - up).norm());
-      }
-      maxErr = std::max(maxErr, best);
-    }
-    EXPECT_LT(maxErr, 0.3) << name;
+    // Unfolded: twice the half width (hip/4 + 1 + 2 cm flare at the hem).
+    EXPECT_NEAR(maxX - minX, 2 * (96 / 4.0 + 1 + 2), 1e-6) << name;
   }
-  const auto& st = spec["pattern"]["stitches"];
-  ASSERT_EQ(st.size(), 1u);
-  // The stitched edges are the side seams: same length on both panels (same shape here).
-  for (int side = 0; side < 2; ++side) {
-    const auto& ref = st[0][side];
-    const auto& p = panels[ref["panel"].get<std::string>()];
-    const auto& e = p["edges"][ref["edge"].get<size_t>()];
-    const auto& a = p["vertices"][e["endpoints"][0].get<size_t>()];
-    const auto& b = p["vertices"][e["endpoints"][1].get<size_t>()];
-    const Point2 chord(b[0].get<double>() - a[0].get<double>(),
-                       b[1].get<double>() - a[1].get<double>());
-    const Point2 want = pat.panels[0].outline[17] - pat.panels[0].outline[8];
-    EXPECT_NEAR(chord.norm(), want.norm(), 1e-6);
-  }
+  int between = 0, within = 0;
+  for (const auto& st : spec["pattern"]["stitches"])
+    (st[0]["panel"] == st[1]["panel"] ? within : between) += 1;
+  EXPECT_GE(between, 2) << "side seam on both halves";
+  EXPECT_EQ(within, 0);
 }
 
 TEST(PatternSvg, OneToOneInMillimetres) {
