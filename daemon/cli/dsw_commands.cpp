@@ -9,12 +9,14 @@
 #include "commands.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/measurements.h"
+#include "garmcap/drafts/panel_measure.h"
 #include "garmcap/drafts/pattern_io.h"
 #include "garmcap/drafts/size_charts.h"
 #include "garmcap/drafts/svg.h"
 #include "garmcap/dsw/coordinates.h"
 #include "garmcap/dsw/grading.h"
 #include "garmcap/dsw/points_io.h"
+#include "garmcap/dsw/size_guide.h"
 #include "garmcap/dsw/size_run.h"
 
 namespace garmcap::cli {
@@ -99,8 +101,19 @@ void runSizeRun(const GradeCliOptions& o) {
     gd::writePatternJson(dir / (base + ".json"), run->patterns[i]);
     gd::writePatternSvg(dir / (base + ".svg"), run->patterns[i]);
   }
-  gd::writeFileAtomic(dir / "size_guide.json", dsw::sizeGuideJson(*run, source.type, chart.name));
-  gd::writeFileAtomic(dir / "size_guide.csv", dsw::sizeGuideCsv(*run));
+  // The source pattern is the item: its own measurements are the guide's row for the chart size
+  // nearest to the body it was drafted for.
+  const auto nearest = dsw::nearestChartSize(chart, source.measurements.values());
+  if (!nearest)
+    throw std::runtime_error("sizerun: " + o.pattern +
+                             ": the pattern's body shares no measurement with chart " + chart.name);
+  const std::string type = dsw::garmentTypeOfRecipe(source.type).value_or(source.type);
+  auto guide = dsw::buildSizeGuide(
+      *run, chart, type, dsw::shopperMeasurements(type, gd::measurePattern(source)), *nearest);
+  if (!guide)
+    throw std::runtime_error("sizerun: " + o.pattern + ": " + guide.error().message);
+  gd::writeFileAtomic(dir / "size_guide.json", dsw::sizeGuideJson(*guide));
+  gd::writeFileAtomic(dir / "size_guide.csv", dsw::sizeGuideCsv(*guide));
 }
 
 void addGradingOptions(CLI::App* cmd, GradeCliOptions& o) {

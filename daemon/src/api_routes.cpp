@@ -14,6 +14,7 @@
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/drafts/pattern_io.h"
 #include "garmcap/drafts/svg.h"
+#include "garmcap/dsw/size_guide.h"
 
 namespace garmcap::daemon {
 
@@ -137,15 +138,6 @@ Response accepted(const SubmitResult& r) {
   return res;
 }
 
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos)
-    return s;
-  std::string out = "\"";
-  for (char c : s)
-    out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
 }  // namespace
 
 std::string patternSizeParam(const RouteMatch& m) {
@@ -167,27 +159,7 @@ Response noPatternForSize(const Item& item, const std::string& size) {
 }
 
 std::string sizeGuideCsv(const nlohmann::json& guide) {
-  // {"units": "cm", "sizes": [...], "measurements": {name: {size: cm}}}
-  std::ostringstream out;
-  const auto& sizes = guide.at("sizes");
-  out << "measurement";
-  for (const auto& s : sizes)
-    out << ',' << csvField(s.get<std::string>());
-  out << '\n';
-  for (const auto& [name, values] : guide.at("measurements").items()) {
-    out << csvField(name);
-    for (const auto& s : sizes) {
-      out << ',';
-      auto it = values.find(s.get<std::string>());
-      if (it != values.end() && it->is_number()) {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, "%.1f", it->get<double>());
-        out << buf;
-      }
-    }
-    out << '\n';
-  }
-  return out.str();
+  return dsw::sizeGuideCsv(dsw::sizeGuideFromJson(guide.dump(), "stored size guide"));
 }
 
 void addApiRoutes(Router& router, Station& station) {

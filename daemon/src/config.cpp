@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -79,6 +80,43 @@ Setter oneOf(std::string Config::*member, std::vector<std::string> allowed) {
   };
 }
 
+Setter shopString(std::string ShopConfig::*member, std::size_t maxLen) {
+  return [member, maxLen](const toml::value& v, Config& c, const std::string& key) {
+    if (!v.is_string())
+      bad(key, "must be a string");
+    const std::string s = v.as_string().str;
+    if (s.size() > maxLen)
+      bad(key, "must be at most " + std::to_string(maxLen) + " bytes");
+    for (unsigned char ch : s)
+      if (ch < 32 || ch == 127)
+        bad(key, "must not hold control characters");
+    c.shop.*member = s;
+  };
+}
+
+// A URL a shop fetches: http(s), printable ASCII without spaces or quotes ("" = not set).
+Setter shopUrl(std::string ShopConfig::*member) {
+  return [member](const toml::value& v, Config& c, const std::string& key) {
+    if (!v.is_string())
+      bad(key, "must be a string");
+    const std::string s = v.as_string().str;
+    if (!s.empty() && s.rfind("http://", 0) != 0 && s.rfind("https://", 0) != 0)
+      bad(key, "must start with http:// or https://, got '" + s + "'");
+    for (unsigned char ch : s)
+      if (ch <= 32 || ch >= 127 || ch == '"' || ch == '\'' || ch == '<' || ch == '>' || ch == '\\')
+        bad(key, "holds a character not allowed in a URL");
+    c.shop.*member = s;
+  };
+}
+
+Setter shopBool(bool ShopConfig::*member) {
+  return [member](const toml::value& v, Config& c, const std::string& key) {
+    if (!v.is_boolean())
+      bad(key, "must be true or false");
+    c.shop.*member = v.as_boolean();
+  };
+}
+
 const std::map<std::string, std::map<std::string, Setter>>& schema() {
   static const std::map<std::string, std::map<std::string, Setter>> kSchema = {
       {"camera",
@@ -119,6 +157,50 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
         {"queue_limit", intKey(&Config::queueLimit, 1, 10000)},
         {"resume_queued_s", intKey(&Config::resumeQueuedS, 0, 7 * 86400)}}},
       {"naming", {{"template", stringKey(&Config::namingTemplate)}}},
+      {"shop",
+       {{"brand", shopString(&ShopConfig::brand, 150)},
+        {"store_url", shopUrl(&ShopConfig::storeUrl)},
+        {"public_base_url", shopUrl(&ShopConfig::publicBaseUrl)},
+        {"store_platform",
+         [](const toml::value& v, Config& c, const std::string& key) {
+           if (!v.is_string() ||
+               (v.as_string().str != "shopify" && v.as_string().str != "woocommerce"))
+             bad(key, "must be \"shopify\" or \"woocommerce\"");
+           c.shop.storePlatform = v.as_string().str;
+         }},
+        {"currency",
+         [](const toml::value& v, Config& c, const std::string& key) {
+           const std::string s = v.is_string() ? v.as_string().str : "";
+           if (s.size() != 3 ||
+               !std::all_of(s.begin(), s.end(), [](char ch) { return ch >= 'A' && ch <= 'Z'; }))
+             bad(key, "must be an ISO 4217 code of three capital letters, like \"EUR\"");
+           c.shop.currency = s;
+         }},
+        {"size_system",
+         [](const toml::value& v, Config& c, const std::string& key) {
+           // Merchant Center's list; a chart that is none of them (Korean 44-88) sets none.
+           static const std::vector<std::string> kSystems = {"",   "AU", "BR", "CN",  "DE", "EU",
+                                                             "FR", "IT", "JP", "MEX", "UK", "US"};
+           const std::string s = v.is_string() ? v.as_string().str : "?";
+           if (std::find(kSystems.begin(), kSystems.end(), s) == kSystems.end())
+             bad(key, "must be one of AU, BR, CN, DE, EU, FR, IT, JP, MEX, UK, US or \"\" (none)");
+           c.shop.sizeSystem = s;
+         }},
+        {"size_labels",
+         [](const toml::value& v, Config& c, const std::string& key) {
+           if (!v.is_table())
+             bad(key, "must be a table of chart size = \"label\", e.g. { \"55\" = \"S\" }");
+           std::map<std::string, std::string> labels;
+           for (const auto& [size, label] : v.as_table()) {
+             if (!label.is_string() || label.as_string().str.empty() ||
+                 label.as_string().str.size() > 32)
+               bad(key + "." + size, "must be a label of 1..32 characters");
+             labels[size] = label.as_string().str;
+           }
+           c.shop.sizeLabels = labels;
+         }},
+        {"made_to_order", shopBool(&ShopConfig::madeToOrder)},
+        {"allow_loopback", shopBool(&ShopConfig::allowLoopback)}}},
   };
   return kSchema;
 }

@@ -31,6 +31,7 @@
 #include "garmcap/drafts/export_svg.h"
 #include "garmcap/drafts/measurements.h"
 #include "garmcap/drafts/pattern_io.h"
+#include "garmcap/dsw/size_guide.h"
 
 namespace garmcap::daemon {
 namespace {
@@ -83,7 +84,10 @@ std::string shortOption(const RouteMatch& m, const std::string& key, const std::
   return *v;
 }
 
-ShopOptions shopOptions(const Request& req, const RouteMatch& m) {
+// The shop's settings come from the config ([shop]); a query value overrides one for this
+// export. Without a configured or given URL the station's own address is used, which the
+// export refuses when it is a loopback one (unless [shop] allow_loopback).
+ShopOptions shopOptions(const Request& req, const RouteMatch& m, const ShopConfig& shop) {
   ShopOptions o;
   std::string host(req[http::field::host]);
   bool hostOk =
@@ -92,14 +96,35 @@ ShopOptions shopOptions(const Request& req, const RouteMatch& m) {
         return std::isalnum(c) || c == '.' || c == ':' || c == '-' || c == '[' || c == ']';
       });
   const std::string self = hostOk ? "http://" + host : "http://127.0.0.1";
-  o.publicBaseUrl = urlOption(m, "base_url", self + "/api/export/files");
-  o.storeUrl = urlOption(m, "store_url", self);
-  o.vendor = shortOption(m, "vendor", o.vendor, 100);
-  o.currency = shortOption(m, "currency", o.currency, 3);
-  o.sizeSystem = shortOption(m, "size_system", o.sizeSystem, 4);
+  o.publicBaseUrl = urlOption(
+      m, "base_url", shop.publicBaseUrl.empty() ? self + "/api/export/files" : shop.publicBaseUrl);
+  o.storeUrl = urlOption(m, "store_url", shop.storeUrl.empty() ? self : shop.storeUrl);
+  o.storePlatform = shortOption(m, "store_platform", shop.storePlatform, 16);
+  o.brand = shortOption(m, "brand", shortOption(m, "vendor", shop.brand, 150), 150);
+  o.currency = shortOption(m, "currency", shop.currency, 3);
+  o.sizeSystem = shortOption(m, "size_system", shop.sizeSystem, 4);
+  o.sizeLabels = shop.sizeLabels;
+  o.madeToOrder = m.queryValue("made_to_order").value_or(shop.madeToOrder ? "1" : "0") == "1";
+  o.allowLoopback = shop.allowLoopback;
   o.gender = shortOption(m, "gender", o.gender, 10);
   o.legacyShopifyHeader = m.queryValue("legacy").value_or("0") == "1";
   return o;
+}
+
+// Warnings as one header line: printable ASCII, bounded (the full text is in the ZIP's README).
+void setWarnings(Response& r, const std::vector<std::string>& warnings) {
+  r.set("X-Export-Warnings", std::to_string(warnings.size()));
+  if (warnings.empty())
+    return;
+  std::string text;
+  for (const auto& w : warnings)
+    text += (text.empty() ? "" : " | ") + w;
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) >= 127)
+      c = '?';
+  if (text.size() > 2000)
+    text = text.substr(0, 1997) + "...";
+  r.set("X-Export-Warning-Text", text);
 }
 
 // What the export needs from the catalog, copied on the strand.
@@ -134,37 +159,61 @@ CatalogSnapshot snapshot(Catalog& c, bool withPatterns) {
   return s;
 }
 
-// Catalog item -> shop item. The size guide ({"units", "sizes", "measurements": {name: {size:
-// cm}}}) gives the graded run; without one the item sells as one size.
+// The stored size guide (dsw::sizeGuideJson); a malformed one is an error naming the item.
+std::optional<dsw::SizeGuide> storedGuide(const Item& it, const std::optional<nlohmann::json>& j) {
+  if (!j || j->is_null())
+    return std::nullopt;
+  return dsw::sizeGuideFromJson(j->dump(), "item " + std::to_string(it.id) + " size guide");
+}
+
+// Catalog item -> shop item: the piece, its size guide, its colours ("navy/white": Merchant
+// names, dominant first) and whether it is a print. No SKU is invented: such an item is left
+// out by shopItems with a warning.
 ExportItem toExportItem(const Item& it, const std::optional<nlohmann::json>& guide) {
   ExportItem e;
   e.id = std::to_string(it.id);
-  e.sku = it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
-  e.title = it.title.empty() ? "Item " + std::to_string(it.id) : it.title;
+  e.sku = it.sku;
   e.description = it.notes;
   e.type = it.type;
   e.attributes = it.attributes;
+  if (const auto c = it.attributes.find("color"); c != it.attributes.end()) {
+    std::string rest = c->second;
+    for (std::size_t at; !rest.empty(); rest = at == std::string::npos ? "" : rest.substr(at + 1)) {
+      at = rest.find('/');
+      if (at != 0)
+        e.colors.push_back(rest.substr(0, at));
+    }
+  }
+  if (const auto p = it.attributes.find("pattern"); p != it.attributes.end())
+    e.printed = p->second == "print";
+  e.title = it.title.empty() ? defaultProductTitle(e) : it.title;
   if (it.priceCents)
     e.price = static_cast<double>(*it.priceCents) / 100.0;
   e.tags = it.tags;
   e.published = true;
   e.measurementsCm = it.measurementsCm;
-  e.sampleSize = it.baseSize;
-  if (guide && guide->is_object() && guide->contains("sizes") && guide->contains("measurements")) {
-    for (const auto& sz : guide->at("sizes")) {
-      ExportSize s;
-      s.label = sz.get<std::string>();
-      for (const auto& [name, values] : guide->at("measurements").items())
-        if (values.contains(s.label) && values[s.label].is_number())
-          s.measurementsCm[name] = values[s.label].get<double>();
-      e.sizes.push_back(std::move(s));
-    }
-  }
+  e.sizeGuide = storedGuide(it, guide);
   for (const auto& kind : kShopImageKinds)
     for (const auto& im : it.images)
       if (im.kind == kind && !extensionOf(im.mediaType).empty())
         e.images.push_back({imagePath(it.id, im.kind, im.mediaType), ""});
   return e;
+}
+
+// The approved items a shop can take; one without a SKU is left out with a warning saying
+// what to do, never exported under a made-up SKU.
+std::vector<ExportItem> shopItems(const CatalogSnapshot& snap, std::vector<std::string>& warnings) {
+  std::vector<ExportItem> items;
+  for (std::size_t i = 0; i < snap.items.size(); ++i) {
+    const Item& it = snap.items[i];
+    if (it.sku.empty()) {
+      warnings.push_back("item " + std::to_string(it.id) +
+                         " has no SKU; left out of the shop files (give it a SKU on its page)");
+      continue;
+    }
+    items.push_back(toExportItem(it, snap.sizeGuides[i]));
+  }
+  return items;
 }
 
 Response fileResponse(const std::string& type, std::string body, const std::string& name) {
@@ -183,9 +232,9 @@ std::string sizeLabel(const Item& it, const std::string& size) {
 std::optional<GradedRun> gradedRun(const Item& it, const std::optional<nlohmann::json>& guide,
                                    const std::map<std::string, nlohmann::json>& patterns) {
   std::vector<std::string> sizes;
-  if (guide && guide->is_object() && guide->contains("sizes"))
-    for (const auto& s : guide->at("sizes"))
-      sizes.push_back(s.get<std::string>());
+  if (const auto g = storedGuide(it, guide))
+    for (const auto& row : g->rows)
+      sizes.push_back(row.size);
   if (sizes.empty())
     for (const auto& s : it.sizes)
       if (s != "base")
@@ -230,17 +279,20 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
   // Shop files: snapshot on the strand, build on the pool.
   auto shopRoute =
       [c](std::string name, std::string type,
-          std::function<std::string(const std::vector<ExportItem>&, const ShopOptions&)> build) {
+          std::function<ShopFile(const std::vector<ExportItem>&, const ShopOptions&)> build) {
         return [c, name, type, build](const Request& req, const RouteMatch& m, Reply reply) {
-          const ShopOptions o = shopOptions(req, m);
+          const ShopOptions o = shopOptions(req, m, c->shopConfig());
           c->withCatalog([c, reply, o, name, type, build](Catalog& cat) {
             auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, false));
             c->offload([reply, o, name, type, build, snap] {
               try {
-                std::vector<ExportItem> items;
-                for (size_t i = 0; i < snap->items.size(); ++i)
-                  items.push_back(toExportItem(snap->items[i], snap->sizeGuides[i]));
-                reply(fileResponse(type, build(items, o), name));
+                std::vector<std::string> warnings;
+                const auto items = shopItems(*snap, warnings);
+                ShopFile f = build(items, o);
+                warnings.insert(warnings.end(), f.warnings.begin(), f.warnings.end());
+                Response r = fileResponse(type, std::move(f.bytes), name);
+                setWarnings(r, warnings);
+                reply(std::move(r));
               } catch (const ExportError& e) {
                 reply(jsonError(http::status::unprocessable_entity, e.what()));
               } catch (const std::exception& e) {
@@ -259,17 +311,17 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
 
   router.add(
       V::get, "/api/export/catalog.zip", [c](const Request& req, const RouteMatch& m, Reply reply) {
-        const ShopOptions o = shopOptions(req, m);
+        const ShopOptions o = shopOptions(req, m, c->shopConfig());
         c->withCatalog([c, reply, o](Catalog& cat) {
           auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, true));
           c->offload([c, reply, o, snap] {
             try {
-              std::vector<ExportItem> items;
-              std::vector<ZipEntry> files;
               std::vector<std::string> notes;
+              const std::vector<ExportItem> items = shopItems(*snap, notes);
+              std::vector<ZipEntry> files;
               for (size_t i = 0; i < snap->items.size(); ++i) {
                 const Item& it = snap->items[i];
-                items.push_back(toExportItem(it, snap->sizeGuides[i]));
+                const std::string style = it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
                 for (const auto& im : it.images) {
                   const std::string ext = extensionOf(im.mediaType);
                   if (ext.empty() || std::find(kShopImageKinds.begin(), kShopImageKinds.end(),
@@ -285,7 +337,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                 for (const auto& [size, json] : pats) {
                   try {
                     auto p = drafts::patternFromJsonValue(json, "item " + std::to_string(it.id));
-                    const PieceText t{items.back().sku, sizeLabel(it, size)};
+                    const PieceText t{style, sizeLabel(it, size)};
                     files.push_back({dir + size + ".dxf", patternDxf(p, t)});
                     files.push_back({dir + size + ".svg", patternSvg(p, t)});
                     if (size == "base")
@@ -309,9 +361,14 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                   notes.push_back("item " + std::to_string(it.id) + ": " + e.what());
                 }
               }
-              files.push_back({"shopify.csv", shopifyCsv(items, o)});
-              files.push_back({"woocommerce.csv", wooCommerceCsv(items, o)});
-              files.push_back({"merchant.tsv", merchantTsv(items, o)});
+              for (auto [file, build] : {std::pair{"shopify.csv", &shopifyCsv},
+                                         std::pair{"woocommerce.csv", &wooCommerceCsv},
+                                         std::pair{"merchant.tsv", &merchantTsv}}) {
+                ShopFile f = build(items, o);
+                for (const auto& w : f.warnings)
+                  notes.push_back(std::string(file) + ": " + w);
+                files.push_back({file, std::move(f.bytes)});
+              }
               std::string readme =
                   "GarmCap Station catalog export: " + std::to_string(items.size()) +
                   " approved items.\nUpload the folder so that images/ is reachable at " +
@@ -319,7 +376,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                   "/images/ before importing the CSVs.\nPatterns: patterns/<item id>/ (DXF in mm, "
                   "SVG 1:1, GarmentCode JSON, Valentina .vit, graded DXF + RUL when graded).\n";
               for (const auto& n : notes)
-                readme += "Not exported: " + n + "\n";
+                readme += "Note: " + n + "\n";
               files.push_back({"README.txt", readme});
               reply(fileResponse("application/zip", storeZip(files), "catalog.zip"));
             } catch (const ExportError& e) {

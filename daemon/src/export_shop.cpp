@@ -8,14 +8,13 @@
 #include <sstream>
 
 #include "garmcap/drafts/xml_escape.h"
+#include "garmcap/dsw/csv.h"
 
 namespace garmcap::daemon {
 namespace {
 
-// Measurement display order in size guides: the ones shoppers look for first.
-const std::vector<std::string> kMeasurementOrder = {
-    "bust_circ",    "waist_circ",    "hip_circ", "hem_circ", "garment_length",
-    "skirt_length", "sleeve_length", "outseam",  "inseam",   "leg_opening_circ"};
+using dsw::csvField;
+using dsw::measurementLabel;
 
 // One decimal, halves rounded away from zero (58.25 -> 58.3) as people and spreadsheets do;
 // printf alone rounds exact binary halves to even.
@@ -41,74 +40,158 @@ std::string join(const std::vector<std::string>& parts, const std::string& sep) 
   return out;
 }
 
-// A size run always has at least one row: an item without a graded run sells as "One size"
-// with its own measurements.
-std::vector<ExportSize> sizeRows(const ExportItem& item) {
-  if (!item.sizes.empty())
-    return item.sizes;
-  return {ExportSize{"One size", item.measurementsCm}};
+std::string who(const ExportItem& item) {
+  return "item " + (item.id.empty() ? std::string("(no id)") : item.id) +
+         (item.sku.empty() ? std::string() : " (" + item.sku + ")");
 }
 
-// Measurement names present in any size, in display order (known ones first, then the rest
-// alphabetically) so that every row of the guide has the same columns.
-std::vector<std::string> measurementColumns(const ExportItem& item) {
-  std::set<std::string> present;
-  for (const auto& s : sizeRows(item))
-    for (const auto& [name, v] : s.measurementsCm)
-      present.insert(name);
-  std::vector<std::string> cols;
-  for (const auto& n : kMeasurementOrder)
-    if (present.count(n))
-      cols.push_back(n);
-  for (const auto& n : present)
-    if (std::find(kMeasurementOrder.begin(), kMeasurementOrder.end(), n) == kMeasurementOrder.end())
-      cols.push_back(n);
-  return cols;
+// The host of an http(s) URL, lowercased, without port or brackets.
+std::string urlHost(const std::string& url) {
+  const auto scheme = url.find("://");
+  std::string rest = scheme == std::string::npos ? url : url.substr(scheme + 3);
+  rest = rest.substr(0, rest.find_first_of("/?#"));
+  if (const auto at = rest.rfind('@'); at != std::string::npos)
+    rest = rest.substr(at + 1);
+  std::string host;
+  if (!rest.empty() && rest.front() == '[')
+    host = rest.substr(1, rest.find(']') - 1);
+  else
+    host = rest.substr(0, rest.find(':'));
+  for (char& c : host)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return host;
+}
+
+// Loopback and unspecified addresses: a link there works on this machine only, so a shop that
+// imports it shows broken images and dead product links.
+bool isLoopbackHost(const std::string& host) {
+  const auto dottedDigits = [](const std::string& h) {
+    return !h.empty() && std::all_of(h.begin(), h.end(),
+                                     [](unsigned char c) { return std::isdigit(c) || c == '.'; });
+  };
+  const std::string v4 = host.rfind("::ffff:", 0) == 0 ? host.substr(7) : host;
+  return host == "localhost" || host.ends_with(".localhost") || host == "::1" || host == "::" ||
+         (dottedDigits(v4) && (v4.rfind("127.", 0) == 0 || v4 == "0.0.0.0"));
+}
+
+void checkPublicUrl(const std::string& url, const std::string& option, const ShopOptions& options) {
+  if (url.empty())
+    throw ExportError("export option '" + option + "' is empty; set it in the [shop] section");
+  if (url.rfind("http://", 0) != 0 && url.rfind("https://", 0) != 0)
+    throw ExportError("export option '" + option + "' must start with http:// or https://, got '" +
+                      url + "'");
+  if (!options.allowLoopback && isLoopbackHost(urlHost(url)))
+    throw ExportError("export option '" + option + "' is '" + url +
+                      "', an address of this machine that no shop can reach; set the shop's "
+                      "public address, or [shop] allow_loopback = true for a shop on this host");
+}
+
+void checkOptions(const ShopOptions& options) {
+  if (!options.sizeSystem.empty()) {
+    const auto& ok = merchantSizeSystems();
+    if (std::find(ok.begin(), ok.end(), options.sizeSystem) == ok.end())
+      throw ExportError("export option 'size_system' is '" + options.sizeSystem +
+                        "'; Merchant Center accepts " + join(ok, ", ") +
+                        " (or none for a chart that is none of them)");
+  }
+  if (options.storePlatform != "shopify" && options.storePlatform != "woocommerce")
+    throw ExportError("export option 'store_platform' must be shopify or woocommerce, got '" +
+                      options.storePlatform + "'");
 }
 
 void checkItem(const ExportItem& item, const ShopOptions& options) {
-  const std::string who = "item " + (item.id.empty() ? std::string("(no id)") : item.id);
   if (item.sku.empty())
-    throw ExportError(who + ": field 'sku' is empty; a shop needs a SKU");
+    throw ExportError(who(item) + ": field 'sku' is empty; a shop needs a SKU");
   if (item.title.empty())
-    throw ExportError(who + ": field 'title' is empty");
-  if (!item.images.empty() && options.publicBaseUrl.empty())
-    throw ExportError(who +
-                      ": has images but the export option 'public_base_url' is empty; shops "
-                      "fetch images from public URLs");
-  for (const auto& s : item.sizes)
-    if (s.label.empty())
-      throw ExportError(who + ": a size of the graded run has no label");
-}
-
-std::string imageUrl(const ShopOptions& options, const ExportImage& image) {
-  std::string base = options.publicBaseUrl;
-  while (!base.empty() && base.back() == '/')
-    base.pop_back();
-  std::string path = image.path;
-  while (!path.empty() && path.front() == '/')
-    path.erase(path.begin());
-  // Percent-encode what is not safe in a URL path (spaces, non-ASCII bytes of UTF-8 names).
-  std::string enc;
-  for (unsigned char c : path) {
-    if (std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == '~' || c == '/') {
-      enc += static_cast<char>(c);
-    } else {
-      char buf[4];
-      std::snprintf(buf, sizeof buf, "%%%02X", c);
-      enc += buf;
+    throw ExportError(who(item) + ": field 'title' is empty");
+  if (!item.images.empty()) {
+    try {
+      checkPublicUrl(options.publicBaseUrl, "public_base_url", options);
+    } catch (const ExportError& e) {
+      throw ExportError(who(item) +
+                        " has images, and shops fetch them from public URLs: " + e.what());
     }
   }
-  return base + "/" + enc;
 }
 
-std::string variantSku(const ExportItem& item, const ExportSize& size) {
-  if (item.sizes.empty())
-    return item.sku;
+// What a shop sells of an item: the piece itself, and with made-to-order the graded run's
+// other sizes.
+struct Variant {
   std::string label;
-  for (unsigned char c : size.label)
-    label += std::isalnum(c) ? static_cast<char>(c) : '-';
-  return item.sku + "-" + label;
+  std::string sku;
+  bool piece = false;  // the one garment on hand (stock 1); else made to order
+  std::map<std::string, double> measurementsCm;
+};
+
+std::string shopLabel(const ShopOptions& options, const std::string& chartSize) {
+  const auto it = options.sizeLabels.find(chartSize);
+  return it == options.sizeLabels.end() ? chartSize : it->second;
+}
+
+std::string skuSuffix(const std::string& label) {
+  std::string out;
+  for (unsigned char c : label)
+    out += std::isalnum(c) ? static_cast<char>(c) : '-';
+  return out;
+}
+
+std::vector<Variant> variants(const ExportItem& item, const ShopOptions& options) {
+  std::vector<Variant> out;
+  if (!item.sizeGuide) {
+    out.push_back({"One size", item.sku, true, item.measurementsCm});
+    return out;
+  }
+  const dsw::SizeGuide& g = *item.sizeGuide;
+  out.push_back({shopLabel(options, g.itemSize()), item.sku, true, g.item().garmentCm});
+  if (!options.madeToOrder)
+    return out;
+  std::set<std::string> labels = {out.front().label};
+  for (std::size_t i = 0; i < g.rows.size(); ++i) {
+    if (i == g.itemRow)
+      continue;
+    const std::string label = shopLabel(options, g.rows[i].size);
+    if (!labels.insert(label).second)
+      throw ExportError(who(item) + ": two sizes of chart " + g.chart + " get the shop label '" +
+                        label + "'; give each size its own label in [shop] size_labels");
+    out.push_back({label, item.sku + "-" + skuSuffix(label), false, g.rows[i].garmentCm});
+  }
+  std::stable_sort(out.begin(), out.end(), [&](const Variant& a, const Variant& b) {
+    auto rank = [&](const Variant& v) {
+      for (std::size_t i = 0; i < g.rows.size(); ++i)
+        if (shopLabel(options, g.rows[i].size) == v.label)
+          return i;
+      return g.rows.size();
+    };
+    return rank(a) < rank(b);
+  });
+  return out;
+}
+
+// A product without a price cannot be sold: it goes to the shop as a draft for a person to
+// price, never as an active listing.
+bool sellable(const ExportItem& item) {
+  return item.published && item.price.has_value();
+}
+
+void noteDraft(const ExportItem& item, std::vector<std::string>& warnings) {
+  if (!item.price)
+    warnings.push_back(who(item) + ": no price; exported as a draft, set a price in the shop");
+  else if (!item.published)
+    warnings.push_back(who(item) + ": held back by staff; exported as a draft");
+}
+
+// Merchant's `color`: up to three names joined by '/', dominant first.
+std::string colorText(const ExportItem& item) {
+  std::vector<std::string> names;
+  for (const auto& c : item.colors)
+    if (!c.empty() && names.size() < 3)
+      names.push_back(c);
+  if (names.empty()) {
+    const auto it = item.attributes.find("color");
+    if (it != item.attributes.end())
+      names.push_back(it->second);
+  }
+  return join(names, "/");
 }
 
 class CsvWriter {
@@ -283,49 +366,96 @@ std::string productTypeName(const std::string& type) {
   return type;
 }
 
-std::string attribute(const ExportItem& item, const std::string& key) {
-  auto it = item.attributes.find(key);
-  return it == item.attributes.end() ? std::string() : it->second;
+std::string imageUrl(const ShopOptions& options, const ExportImage& image) {
+  std::string base = options.publicBaseUrl;
+  while (!base.empty() && base.back() == '/')
+    base.pop_back();
+  std::string path = image.path;
+  while (!path.empty() && path.front() == '/')
+    path.erase(path.begin());
+  // Percent-encode what is not safe in a URL path (spaces, non-ASCII bytes of UTF-8 names).
+  std::string enc;
+  for (unsigned char c : path) {
+    if (std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == '~' || c == '/') {
+      enc += static_cast<char>(c);
+    } else {
+      char buf[4];
+      std::snprintf(buf, sizeof buf, "%%%02X", c);
+      enc += buf;
+    }
+  }
+  return base + "/" + enc;
+}
+
+// Latin letters with accents as WordPress's remove_accents() turns them into ASCII (the common
+// ones of Western and Central European names; others become a dash).
+std::string asciiFold(std::string_view utf8) {
+  static const std::map<std::string, std::string> kFold = {
+      {"à", "a"}, {"á", "a"},  {"â", "a"}, {"ã", "a"}, {"ä", "a"}, {"å", "a"}, {"æ", "ae"},
+      {"ç", "c"}, {"è", "e"},  {"é", "e"}, {"ê", "e"}, {"ë", "e"}, {"ì", "i"}, {"í", "i"},
+      {"î", "i"}, {"ï", "i"},  {"ñ", "n"}, {"ò", "o"}, {"ó", "o"}, {"ô", "o"}, {"õ", "o"},
+      {"ö", "o"}, {"ø", "o"},  {"ù", "u"}, {"ú", "u"}, {"û", "u"}, {"ü", "u"}, {"ý", "y"},
+      {"ÿ", "y"}, {"ß", "ss"}, {"À", "a"}, {"Á", "a"}, {"Â", "a"}, {"Ä", "a"}, {"Ç", "c"},
+      {"È", "e"}, {"É", "e"},  {"Ê", "e"}, {"Ö", "o"}, {"Ü", "u"}, {"Ñ", "n"}, {"œ", "oe"}};
+  std::string out;
+  for (std::size_t i = 0; i < utf8.size();) {
+    const unsigned char c = static_cast<unsigned char>(utf8[i]);
+    const std::size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : 4;
+    const std::string ch(utf8.substr(i, n));
+    if (n == 1) {
+      out += ch;
+    } else if (const auto it = kFold.find(ch); it != kFold.end()) {
+      out += it->second;
+    } else {
+      out += ' ';
+    }
+    i += n;
+  }
+  return out;
+}
+
+std::string sizeGuideTable(const ExportItem& item, const ShopOptions& options) {
+  std::vector<std::string> cols;
+  std::vector<std::pair<std::string, const std::map<std::string, double>*>> rows;
+  std::string pieceLabel;
+  if (item.sizeGuide) {
+    const auto& g = *item.sizeGuide;
+    cols = g.measurements;
+    pieceLabel = shopLabel(options, g.itemSize());
+    for (std::size_t i = 0; i < g.rows.size(); ++i)
+      if (options.madeToOrder || i == g.itemRow)
+        rows.emplace_back(shopLabel(options, g.rows[i].size), &g.rows[i].garmentCm);
+  } else {
+    for (const auto& name : dsw::sizeGuideMeasurementNames())
+      if (const auto it = item.measurementsCm.find(name);
+          it != item.measurementsCm.end() && it->second > 0)
+        cols.push_back(name);
+    pieceLabel = "One size";
+    rows.emplace_back(pieceLabel, &item.measurementsCm);
+  }
+  std::ostringstream os;
+  os << "<table class=\"size-guide\"><thead><tr><th>Size</th>";
+  for (const auto& c : cols)
+    os << "<th>" << drafts::xmlEscape(measurementLabel(c)) << " (cm)</th>";
+  os << "</tr></thead><tbody>";
+  for (const auto& [label, cm] : rows) {
+    os << "<tr><td>" << drafts::xmlEscape(label) << "</td>";
+    for (const auto& c : cols) {
+      auto it = cm->find(c);
+      os << "<td>" << (it == cm->end() ? std::string("&ndash;") : formatCm(it->second)) << "</td>";
+    }
+    os << "</tr>";
+  }
+  os << "</tbody></table>";
+  return os.str();
 }
 
 }  // namespace
 
-std::string csvField(const std::string& value) {
-  bool quote = value.find_first_of(",\"\r\n") != std::string::npos ||
-               (!value.empty() && (value.front() == ' ' || value.back() == ' '));
-  if (!quote)
-    return value;
-  std::string out = "\"";
-  for (char c : value) {
-    if (c == '"')
-      out += '"';
-    out += c;
-  }
-  out += '"';
-  return out;
-}
-
-std::string measurementLabel(const std::string& name) {
-  static const std::map<std::string, std::string> kLabels = {{"bust_circ", "Bust"},
-                                                             {"waist_circ", "Waist"},
-                                                             {"hip_circ", "Hip"},
-                                                             {"hem_circ", "Hem"},
-                                                             {"garment_length", "Length"},
-                                                             {"skirt_length", "Skirt length"},
-                                                             {"sleeve_length", "Sleeve length"},
-                                                             {"outseam", "Outseam"},
-                                                             {"inseam", "Inseam"},
-                                                             {"leg_opening_circ", "Leg opening"}};
-  auto it = kLabels.find(name);
-  if (it != kLabels.end())
-    return it->second;
-  std::string out = name;
-  for (char& c : out)
-    if (c == '_')
-      c = ' ';
-  if (!out.empty())
-    out[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(out[0])));
-  return out;
+const std::vector<std::string>& merchantSizeSystems() {
+  static const std::vector<std::string> kSystems = {"AU", "BR", "CN",  "DE", "EU", "FR",
+                                                    "IT", "JP", "MEX", "UK", "US"};
+  return kSystems;
 }
 
 std::string shopifyHandle(const ExportItem& item) {
@@ -344,27 +474,63 @@ std::string shopifyHandle(const ExportItem& item) {
   return out;
 }
 
-std::string sizeGuideHtml(const ExportItem& item) {
-  const auto cols = measurementColumns(item);
-  std::ostringstream os;
-  os << "<table class=\"size-guide\"><thead><tr><th>Size</th>";
-  for (const auto& c : cols)
-    os << "<th>" << drafts::xmlEscape(measurementLabel(c)) << " (cm)</th>";
-  os << "</tr></thead><tbody>";
-  for (const auto& s : sizeRows(item)) {
-    os << "<tr><td>" << drafts::xmlEscape(s.label) << "</td>";
-    for (const auto& c : cols) {
-      auto it = s.measurementsCm.find(c);
-      os << "<td>" << (it == s.measurementsCm.end() ? std::string("&ndash;") : formatCm(it->second))
-         << "</td>";
-    }
-    os << "</tr>";
-  }
-  os << "</tbody></table>";
-  return os.str();
+std::string defaultProductTitle(const ExportItem& item) {
+  auto attr = [&](const std::string& k) {
+    const auto it = item.attributes.find(k);
+    return it == item.attributes.end() ? std::string() : it->second;
+  };
+  const std::string sleeve = attr("sleeve");
+  const std::string sleeveWords = sleeve == "none"    ? "sleeveless "
+                                  : sleeve == "short" ? "short-sleeve "
+                                  : sleeve == "long"  ? "long-sleeve "
+                                                      : "";
+  std::string noun;
+  if (item.type == "skirt")
+    noun = attr("skirt") == "a_line"   ? "A-line skirt"
+           : attr("skirt") == "h_line" ? "straight skirt"
+                                       : "skirt";
+  else if (item.type == "pants")
+    noun = "trousers";
+  else if (item.type == "top" || item.type == "dress")
+    noun = sleeveWords + item.type;
+  else
+    noun = "garment";
+  std::string colour = item.printed ? "Printed" : (item.colors.empty() ? "" : item.colors.front());
+  std::string title = colour.empty() ? noun : colour + " " + noun;
+  if (!title.empty() && colour.empty() && noun[0] != 'A')
+    title[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(title[0])));
+  return title;
 }
 
-std::string descriptionHtml(const ExportItem& item) {
+std::string wooCommerceSlug(const ExportItem& item) {
+  std::string out;
+  for (unsigned char c : asciiFold(item.title)) {
+    if (std::isalnum(c) || c == '_') {
+      out += static_cast<char>(std::tolower(c));
+    } else if (!out.empty() && out.back() != '-') {
+      out += '-';
+    }
+  }
+  while (!out.empty() && out.back() == '-')
+    out.pop_back();
+  return out.empty() ? shopifyHandle(item) : out;
+}
+
+std::string productLink(const ExportItem& item, const ShopOptions& options) {
+  checkPublicUrl(options.storeUrl, "store_url", options);
+  std::string store = options.storeUrl;
+  while (!store.empty() && store.back() == '/')
+    store.pop_back();
+  if (options.storePlatform == "woocommerce")
+    return store + "/product/" + wooCommerceSlug(item) + "/";
+  return store + "/products/" + shopifyHandle(item);
+}
+
+std::string sizeGuideHtml(const ExportItem& item, const ShopOptions& options) {
+  return sizeGuideTable(item, options);
+}
+
+std::string descriptionHtml(const ExportItem& item, const ShopOptions& options) {
   std::string out;
   if (!item.description.empty()) {
     out += "<p>";
@@ -376,51 +542,66 @@ std::string descriptionHtml(const ExportItem& item) {
     }
     out += "</p>";
   }
-  out += "<h3>Size guide</h3>" + sizeGuideHtml(item) +
-         "<p>Garment measurements in cm, taken flat on the garment, not body sizes.</p>";
+  out += "<h3>Size guide</h3>" + sizeGuideHtml(item, options) +
+         "<p>Measurements of the garment in cm, not body sizes: widths all the way round "
+         "(bust, waist, hip, hem), lengths from the top edge down.";
+  if (options.madeToOrder && item.sizeGuide && item.sizeGuide->rows.size() > 1)
+    out += " Sizes other than " +
+           drafts::xmlEscape(shopLabel(options, item.sizeGuide->itemSize())) +
+           " are made to order to the same design.";
+  out += "</p>";
   return out;
 }
 
-std::string shopifyCsv(const std::vector<ExportItem>& items, const ShopOptions& options) {
+ShopFile shopifyCsv(const std::vector<ExportItem>& items, const ShopOptions& options) {
+  checkOptions(options);
   const bool legacy = options.legacyShopifyHeader;
   const auto& header = legacy ? kShopifyLegacyHeader : kShopifyHeader;
+  ShopFile file;
   CsvWriter w(',', true);
   w.row(header);
   for (const auto& item : items) {
     checkItem(item, options);
     const std::string handle = shopifyHandle(item);
-    const auto sizes = sizeRows(item);
+    const auto vars = variants(item, options);
     const std::string price = item.price ? formatPrice(*item.price) : "";
-    const std::string status = item.published ? "active" : "draft";
-    size_t rows = std::max(sizes.size(), item.images.size());
+    const bool active = sellable(item);
+    if (!active)
+      noteDraft(item, file.warnings);
+    size_t rows = std::max(vars.size(), item.images.size());
     for (size_t i = 0; i < rows; ++i) {
       Row r;
       r[legacy ? "Handle" : "URL handle"] = handle;
       if (i == 0) {
         r["Title"] = item.title;
-        r[legacy ? "Body (HTML)" : "Description"] = descriptionHtml(item);
-        r["Vendor"] = options.vendor;
+        r[legacy ? "Body (HTML)" : "Description"] = descriptionHtml(item, options);
+        r["Vendor"] = options.brand;
         r["Type"] = productTypeName(item.type);
         r["Tags"] = join(item.tags, ", ");
-        r[legacy ? "Published" : "Published on online store"] = item.published ? "TRUE" : "FALSE";
-        r["Status"] = status;
+        r[legacy ? "Published" : "Published on online store"] = active ? "TRUE" : "FALSE";
+        r["Status"] = active ? "active" : "draft";
         r["Google Shopping / Gender"] = options.gender;
         r[legacy ? "Google Shopping / Age Group" : "Google Shopping / Age group"] =
             options.ageGroup;
         r["Google Shopping / Condition"] = "new";
         if (!legacy) {
           r["Google Shopping / Google product category"] = googleCategory(item.type);
-          r["Color (product.metafields.shopify.color-pattern)"] = attribute(item, "color");
+          r["Color (product.metafields.shopify.color-pattern)"] =
+              item.printed ? "print" : (item.colors.empty() ? colorText(item) : item.colors[0]);
         }
       }
-      if (i < sizes.size()) {
-        const auto& s = sizes[i];
+      if (i < vars.size()) {
+        const auto& v = vars[i];
         r[legacy ? "Option1 Name" : "Option1 name"] = "Size";
-        r[legacy ? "Option1 Value" : "Option1 value"] = s.label;
-        r[legacy ? "Variant SKU" : "SKU"] = variantSku(item, s);
+        r[legacy ? "Option1 Value" : "Option1 value"] = v.label;
+        r[legacy ? "Variant SKU" : "SKU"] = v.sku;
         r[legacy ? "Variant Price" : "Price"] = price;
+        // The piece is one garment: tracked, stock 1, not sold twice. Made-to-order sizes
+        // are not stocked.
+        r[legacy ? "Variant Inventory Tracker" : "Inventory tracker"] = v.piece ? "shopify" : "";
+        r[legacy ? "Variant Inventory Qty" : "Inventory quantity"] = v.piece ? "1" : "";
         r[legacy ? "Variant Inventory Policy" : "Continue selling when out of stock"] =
-            legacy ? "deny" : "DENY";
+            v.piece ? (legacy ? "deny" : "DENY") : (legacy ? "continue" : "CONTINUE");
         r[legacy ? "Variant Fulfillment Service" : "Fulfillment service"] = "manual";
         r[legacy ? "Variant Requires Shipping" : "Requires shipping"] = "TRUE";
         r[legacy ? "Variant Taxable" : "Charge tax"] = "TRUE";
@@ -441,15 +622,17 @@ std::string shopifyCsv(const std::vector<ExportItem>& items, const ShopOptions& 
       w.row(ordered(header, r));
     }
   }
-  return std::move(w).str();
+  file.bytes = std::move(w).str();
+  return file;
 }
 
-std::string wooCommerceCsv(const std::vector<ExportItem>& items, const ShopOptions& options) {
+ShopFile wooCommerceCsv(const std::vector<ExportItem>& items, const ShopOptions& options) {
+  checkOptions(options);
   // Measurement meta columns: the union over all items, so every row has the same columns.
   std::set<std::string> metaNames;
   for (const auto& item : items)
-    for (const auto& s : sizeRows(item))
-      for (const auto& [n, v] : s.measurementsCm)
+    for (const auto& v : variants(item, options))
+      for (const auto& [n, cm] : v.measurementsCm)
         metaNames.insert(n);
   std::vector<std::string> header = {"ID",
                                      "Type",
@@ -463,6 +646,7 @@ std::string wooCommerceCsv(const std::vector<ExportItem>& items, const ShopOptio
                                      "Tax status",
                                      "In stock?",
                                      "Stock",
+                                     "Backorders allowed?",
                                      "Regular price",
                                      "Categories",
                                      "Tags",
@@ -481,28 +665,35 @@ std::string wooCommerceCsv(const std::vector<ExportItem>& items, const ShopOptio
   for (const auto& n : metaNames)
     header.push_back("Meta: " + n + "_cm");
 
+  ShopFile file;
   CsvWriter w(',', true);
   w.row(header);
   for (const auto& item : items) {
     checkItem(item, options);
-    const auto sizes = sizeRows(item);
+    const auto vars = variants(item, options);
     std::vector<std::string> labels;
-    for (const auto& s : sizes)
-      labels.push_back(s.label);
+    for (const auto& v : vars)
+      labels.push_back(v.label);
     std::vector<std::string> urls;
     for (const auto& img : item.images)
       urls.push_back(imageUrl(options, img));
-    const std::string color = attribute(item, "color");
+    const std::string color = item.printed ? "Print" : colorText(item);
+    const bool active = sellable(item);
+    if (!active)
+      noteDraft(item, file.warnings);
+    const bool simple = vars.size() == 1;
+    const auto& piece =
+        *std::find_if(vars.begin(), vars.end(), [](const Variant& v) { return v.piece; });
 
     Row parent;
-    parent["Type"] = "variable";
+    parent["Type"] = simple ? "simple" : "variable";
     parent["SKU"] = item.sku;
     parent["Name"] = item.title;
-    parent["Published"] = item.published ? "1" : "-1";
+    parent["Published"] = active ? "1" : "-1";  // -1: draft
     parent["Is featured?"] = "0";
     parent["Visibility in catalog"] = "visible";
     parent["Short description"] = item.description;
-    parent["Description"] = descriptionHtml(item);
+    parent["Description"] = descriptionHtml(item, options);
     parent["Tax status"] = "taxable";
     parent["In stock?"] = "1";
     parent["Categories"] = productTypeName(item.type);
@@ -512,7 +703,15 @@ std::string wooCommerceCsv(const std::vector<ExportItem>& items, const ShopOptio
     parent["Attribute 1 value(s)"] = join(labels, ", ");
     parent["Attribute 1 visible"] = "1";
     parent["Attribute 1 global"] = "1";
-    parent["Attribute 1 default"] = item.sampleSize.empty() ? labels.front() : item.sampleSize;
+    if (simple) {
+      parent["Stock"] = "1";
+      parent["Backorders allowed?"] = "0";
+      parent["Regular price"] = item.price ? formatPrice(*item.price) : "";
+      for (const auto& [n, cm] : piece.measurementsCm)
+        parent["Meta: " + n + "_cm"] = formatCm(cm);
+    } else {
+      parent["Attribute 1 default"] = piece.label;
+    }
     if (!color.empty()) {
       parent["Attribute 2 name"] = "Color";
       parent["Attribute 2 value(s)"] = color;
@@ -520,31 +719,38 @@ std::string wooCommerceCsv(const std::vector<ExportItem>& items, const ShopOptio
       parent["Attribute 2 global"] = "1";
     }
     w.row(ordered(header, parent));
+    if (simple)
+      continue;
 
-    for (size_t i = 0; i < sizes.size(); ++i) {
-      const auto& s = sizes[i];
-      Row v;
-      v["Type"] = "variation";
-      v["SKU"] = item.sizes.empty() ? item.sku + "-ONE" : variantSku(item, s);
-      v["Name"] = item.title + " - " + s.label;
-      v["Published"] = item.published ? "1" : "-1";
-      v["Tax status"] = "taxable";
-      v["In stock?"] = "1";
-      v["Regular price"] = item.price ? formatPrice(*item.price) : "";
-      v["Parent"] = item.sku;
-      v["Position"] = std::to_string(i + 1);
-      v["Attribute 1 name"] = "Size";
-      v["Attribute 1 value(s)"] = s.label;
-      v["Attribute 1 global"] = "1";
-      for (const auto& [n, cm] : s.measurementsCm)
-        v["Meta: " + n + "_cm"] = formatCm(cm);
-      w.row(ordered(header, v));
+    for (size_t i = 0; i < vars.size(); ++i) {
+      const auto& v = vars[i];
+      Row r;
+      r["Type"] = "variation";
+      r["SKU"] = v.sku == item.sku ? item.sku + "-" + skuSuffix(v.label) : v.sku;
+      r["Name"] = item.title + " - " + v.label;
+      r["Published"] = active ? "1" : "-1";
+      r["Tax status"] = "taxable";
+      r["In stock?"] = "1";
+      // The piece: stock 1; a made-to-order size: no stock kept, orders taken.
+      r["Stock"] = v.piece ? "1" : "";
+      r["Backorders allowed?"] = v.piece ? "0" : "1";
+      r["Regular price"] = item.price ? formatPrice(*item.price) : "";
+      r["Parent"] = item.sku;
+      r["Position"] = std::to_string(i + 1);
+      r["Attribute 1 name"] = "Size";
+      r["Attribute 1 value(s)"] = v.label;
+      r["Attribute 1 global"] = "1";
+      for (const auto& [n, cm] : v.measurementsCm)
+        r["Meta: " + n + "_cm"] = formatCm(cm);
+      w.row(ordered(header, r));
     }
   }
-  return std::move(w).str();
+  file.bytes = std::move(w).str();
+  return file;
 }
 
-std::string merchantTsv(const std::vector<ExportItem>& items, const ShopOptions& options) {
+ShopFile merchantTsv(const std::vector<ExportItem>& items, const ShopOptions& options) {
+  checkOptions(options);
   const std::vector<std::string> header = {"id",
                                            "item_group_id",
                                            "title",
@@ -562,28 +768,39 @@ std::string merchantTsv(const std::vector<ExportItem>& items, const ShopOptions&
                                            "gender",
                                            "age_group",
                                            "color",
+                                           "pattern",
                                            "size",
                                            "size_system",
                                            "size_type",
                                            "product_detail"};
-  if (!items.empty() && options.storeUrl.empty())
+  if (!items.empty() && options.brand.empty())
     throw ExportError(
-        "merchant feed: export option 'store_url' is empty; every product needs a "
-        "link to its page");
+        "merchant feed: export option 'brand' is empty; Merchant Center requires a brand for "
+        "apparel (set [shop] brand to the shop's or the label's name)");
+  ShopFile file;
   CsvWriter w('\t', false);
   w.row(header);
   for (const auto& item : items) {
     checkItem(item, options);
-    std::string store = options.storeUrl;
-    while (!store.empty() && store.back() == '/')
-      store.pop_back();
-    const std::string link = store + "/products/" + shopifyHandle(item);
+    if (!sellable(item)) {
+      file.warnings.push_back(who(item) + (item.price ? ": held back by staff" : ": no price") +
+                              "; left out of the Merchant feed, which refuses unpriced or "
+                              "unpublished products");
+      continue;
+    }
+    const std::string link = productLink(item, options);
+    const std::string color = colorText(item);
+    if (color.empty())
+      file.warnings.push_back(who(item) +
+                              ": no colour; Merchant Center requires one for apparel in most "
+                              "countries");
     std::vector<std::string> extra;
     for (size_t i = 1; i < item.images.size() && i <= 10; ++i)
       extra.push_back(imageUrl(options, item.images[i]));
-    for (const auto& s : sizeRows(item)) {
+    const auto vars = variants(item, options);
+    for (const auto& v : vars) {
       std::vector<std::string> details;
-      for (const auto& [n, cm] : s.measurementsCm) {
+      for (const auto& [n, cm] : v.measurementsCm) {
         // product_detail is "section:attribute:value"; multiple entries are comma-separated,
         // so no label may contain ':' or ','.
         std::string label = measurementLabel(n);
@@ -593,34 +810,36 @@ std::string merchantTsv(const std::vector<ExportItem>& items, const ShopOptions&
         details.push_back("Measurements:" + label + ":" + formatCm(cm) + " cm");
       }
       Row r;
-      r["id"] = variantSku(item, s);
-      r["item_group_id"] = item.sku;
-      r["title"] = item.title + (item.sizes.empty() ? "" : " - " + s.label);
-      std::string desc = item.description.empty() ? item.title : item.description;
-      r["description"] = desc;
+      r["id"] = v.sku;
+      if (vars.size() > 1)
+        r["item_group_id"] = item.sku;
+      r["title"] = item.title + (vars.size() > 1 ? " - " + v.label : "");
+      r["description"] = item.description.empty() ? item.title : item.description;
       r["link"] = link;
       if (!item.images.empty())
         r["image_link"] = imageUrl(options, item.images.front());
       r["additional_image_link"] = join(extra, ",");
       r["availability"] = "in_stock";
-      if (item.price)
-        r["price"] = formatPrice(*item.price) + " " + options.currency;
-      r["brand"] = options.vendor;
-      r["mpn"] = variantSku(item, s);
+      r["price"] = formatPrice(*item.price) + " " + options.currency;
+      r["brand"] = options.brand;
+      r["mpn"] = v.sku;
       r["condition"] = "new";
       r["google_product_category"] = googleCategory(item.type);
       r["product_type"] = "Apparel & Accessories > Clothing > " + productTypeName(item.type);
       r["gender"] = options.gender;
       r["age_group"] = options.ageGroup;
-      r["color"] = attribute(item, "color");
-      r["size"] = s.label;
+      r["color"] = color;
+      if (item.printed)
+        r["pattern"] = "print";
+      r["size"] = v.label;
       r["size_system"] = options.sizeSystem;
       r["size_type"] = "regular";
       r["product_detail"] = join(details, ",");
       w.row(ordered(header, r));
     }
   }
-  return std::move(w).str();
+  file.bytes = std::move(w).str();
+  return file;
 }
 
 }  // namespace garmcap::daemon

@@ -5,7 +5,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
+#include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/objdetect.hpp>
@@ -13,10 +14,13 @@
 #include "garmcap/calib/registration.h"
 #include "garmcap/daemon/capture_processor.h"
 #include "garmcap/daemon/config.h"
+#include "garmcap/daemon/garment_colour.h"
 #include "garmcap/drafts/panel_measure.h"
 #include "garmcap/drafts/pattern_io.h"
 #include "garmcap/drafts/size_charts.h"
 #include "garmcap/dsw/grading.h"
+#include "garmcap/dsw/size_guide.h"
+#include "garmcap/dsw/size_run.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 
 #ifdef GARMCAP_HAVE_ZBAR
@@ -85,6 +89,7 @@ class PipelineProcessor : public CaptureProcessor {
     addImage("silhouette", r.silhouette);
     addImage("overlay", r.overlay);
     addImage("texture", r.texture);
+    nameColours(dressedBgr, r, out);
     grade(r, out, progress);
     progress("grading", 0.95);
     return out;
@@ -102,10 +107,49 @@ class PipelineProcessor : public CaptureProcessor {
     return *form_;
   }
 
+  // The colours a shop lists: from the cut-out's opaque pixels (the garment alone), else from
+  // the frame under the silhouette. A garment too small to name is a warning, not a failure.
+  static void nameColours(const cv::Mat& dressedBgr, const pipeline::CaptureResult& r,
+                          ProcessedCapture& out) {
+    GarmentColours colours;
+    try {
+      if (!r.cutout.empty() && r.cutout.type() == CV_8UC4) {
+        cv::Mat bgr, alpha;
+        cv::cvtColor(r.cutout, bgr, cv::COLOR_BGRA2BGR);
+        cv::extractChannel(r.cutout, alpha, 3);
+        colours = garmentColours(bgr, alpha > 200);
+      } else if (!r.silhouette.empty() && dressedBgr.type() == CV_8UC3 &&
+                 r.silhouette.size() == dressedBgr.size()) {
+        colours = garmentColours(dressedBgr, r.silhouette);
+      } else {
+        return;
+      }
+    } catch (const std::exception& e) {
+      out.warnings.push_back(std::string("colour not named: ") + e.what());
+      return;
+    }
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& c : colours.colours) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.meanBgr[2], c.meanBgr[1], c.meanBgr[0]);
+      list.push_back(
+          {{"name", c.name}, {"share", std::round(c.share * 1000) / 1000}, {"rgb", hex}});
+    }
+    out.result["colors"] = list;
+    out.result["pattern"] = colours.printed ? "print" : "solid";
+    if (!colours.colours.empty())
+      out.attributes["color"] = colours.label();
+    out.attributes["pattern"] = colours.printed ? "print" : "solid";
+    out.result["attributes"] = out.attributes;
+  }
+
   // The size run: the measured pattern graded by DSW to every body of the configured chart, and
-  // a size guide of the graded garments' own measurements. A size that cannot be graded is
-  // left out with a warning naming it; nothing is made up.
+  // the shopper's size guide (core/dsw). The item's size is the chart body the garment fits
+  // (its circumferences minus the recipe's ease), not the garment's own circumference. A size
+  // that cannot be graded is left out with a warning naming it; nothing is made up.
   void grade(const pipeline::CaptureResult& r, ProcessedCapture& out, const ProgressFn& progress) {
+    if (r.pattern.panels.empty())
+      return;  // runCapture has said why there is no pattern
     const drafts::SizeChart* chart = nullptr;
     try {
       chart = &drafts::sizeChart(sizeChart_);
@@ -113,48 +157,38 @@ class PipelineProcessor : public CaptureProcessor {
       out.warnings.push_back(std::string("size run not graded: ") + e.what());
       return;
     }
-    // The base size: the chart body nearest to the measured one on the names both carry.
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < chart->sizes.size(); ++i) {
-      double d2 = 0;
-      int n = 0;
-      for (const auto& [name, cm] : r.measurements)
-        if (chart->bodies[i].has(name)) {
-          const double d = chart->bodies[i].values().at(name) - cm;
-          d2 += d * d;
-          ++n;
-        }
-      if (n > 0 && d2 / n < best) {
-        best = d2 / n;
-        out.baseSize = chart->sizes[i];
-      }
-    }
-    nlohmann::json guide{{"chart", chart->name}, {"units", "cm"}, {"base_size", out.baseSize}};
-    nlohmann::json sizes = nlohmann::json::array();
-    nlohmann::json table = nlohmann::json::object();
-    for (std::size_t i = 0; i < chart->sizes.size(); ++i) {
-      const std::string& size = chart->sizes[i];
-      progress("grading " + size,
-               0.8 + 0.15 * static_cast<double>(i) / static_cast<double>(chart->sizes.size()));
-      auto graded = dsw::gradePattern(r.pattern, chart->bodies[i], dsw::GradeOptions{});
-      if (!graded.ok()) {
-        out.warnings.push_back("size " + size + " not graded: " + graded.error().message);
-        continue;
-      }
-      try {
-        out.patterns[size] = drafts::patternToJsonValue(graded.value());
-        for (const auto& [name, cm] : drafts::measurePattern(graded.value()))
-          table[name][size] = cm;
-        sizes.push_back(size);
-      } catch (const std::exception& e) {
-        out.warnings.push_back("size " + size + " not measured: " + e.what());
-      }
-    }
-    if (sizes.empty())
+    const auto body = dsw::bodyFittedBy(r.pattern.type, r.measurements);
+    const auto nearest = body ? dsw::nearestChartSize(*chart, *body) : std::nullopt;
+    if (!nearest) {
+      out.warnings.push_back("no size guide: the garment has no bust, waist or hip to size it by");
       return;
-    guide["sizes"] = sizes;
-    guide["measurements"] = table;
-    out.sizeGuide = guide;
+    }
+    out.baseSize = chart->sizes[*nearest];
+    progress("grading sizes", 0.85);
+    auto run = dsw::gradeSizeRun(r.pattern, *chart, dsw::GradeOptions{},
+                                 dsw::SizeRunPolicy::skipUngradable);
+    std::optional<dsw::SizeGuide> guide;
+    if (!run) {
+      out.warnings.push_back("size run not graded: " + run.error().message);
+    } else {
+      for (const auto& why : run->skipped)
+        out.warnings.push_back("size run: " + why);
+      for (std::size_t i = 0; i < run->sizes.size(); ++i)
+        out.patterns[run->sizes[i]] = drafts::patternToJsonValue(run->patterns[i]);
+      const auto at = std::find(run->sizes.begin(), run->sizes.end(), out.baseSize);
+      if (at != run->sizes.end()) {
+        auto built = dsw::buildSizeGuide(*run, *chart, r.type, r.measurements,
+                                         static_cast<std::size_t>(at - run->sizes.begin()));
+        if (built)
+          guide = std::move(built).value();
+        else
+          out.warnings.push_back("no size guide: " + built.error().message);
+      }
+    }
+    if (!guide)  // the item's own size alone, so shoppers still see what was measured
+      guide = dsw::singleSizeGuide(r.type, chart->name, out.baseSize, r.measurements);
+    if (!guide->measurements.empty())
+      out.sizeGuide = nlohmann::json::parse(dsw::sizeGuideJson(*guide));
   }
 
   pipeline::CaptureOptions options_;

@@ -972,6 +972,7 @@ void Station::reload(const Config& c) {
   postToStrand([this, c] {
     config_.reviewBelowConfidence = c.reviewBelowConfidence;
     config_.namingTemplate = c.namingTemplate;
+    config_.shop = c.shop;
     config_.queueLimit = c.queueLimit;
     config_.makeProductImages = c.makeProductImages;
     config_.makeTexture = c.makeTexture;

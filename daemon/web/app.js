@@ -22,8 +22,63 @@ const STAGE_NAMES = {
   queued: 'Waiting', capture: 'Taking the photo', registration: 'Checking the camera',
   masks: 'Finding the garment', grabcut: 'Cutting out', type: 'Recognising the type',
   landmarks: 'Finding landmarks', measure: 'Measuring', garmcap: 'Measuring', pattern: 'Drafting the pattern',
-  grading: 'Grading sizes', images: 'Making product photos', store: 'Saving', calibration: 'Calibrating',
+  grading: 'Grading sizes', 'grading sizes': 'Grading sizes', images: 'Making product photos', store: 'Saving',
+  calibration: 'Calibrating', 'form model': 'Loading the form', capturing: 'Taking the photo', processing: 'Measuring',
 };
+// The palette the station names colours with (daemon garment_colour.cpp), for the colour field.
+const COLOUR_NAMES = ['Black', 'White', 'Grey', 'Beige', 'Cream', 'Brown', 'Red', 'Burgundy', 'Pink', 'Orange',
+  'Yellow', 'Green', 'Olive', 'Turquoise', 'Light blue', 'Blue', 'Navy', 'Purple'];
+function stageName(stage) {
+  if (!stage) return 'Working';
+  if (STAGE_NAMES[stage]) return STAGE_NAMES[stage];
+  const s = String(stage).replace(/_/g, ' ');
+  return s.charAt(0).toUpperCase() + s.slice(1);
+}
+
+// A failed capture in plain words with what to do next; the raw message goes to "details".
+function plainFailure(error) {
+  const e = String(error || '');
+  if (/camera|disconnect|timed out|timeout|no frame|device/i.test(e))
+    return { what: 'The camera did not deliver a photo.', next: 'Check the camera cable and power, then press Capture garment again.' };
+  if (/not calibrated|calibrat|bare.form|registration|shift/i.test(e))
+    return { what: 'The station could not find the form in the photo.', next: 'Take the garment off, press Capture bare form, dress the form again and capture.' };
+  if (/no garment|garment.*(not|no) |nothing|empty|silhouette|mask|too small/i.test(e))
+    return { what: 'No garment was found on the form.', next: 'Put the garment on the form facing the camera, smooth it, and press Capture garment again.' };
+  return { what: 'The garment could not be measured.', next: 'Check that the garment sits straight on the form and nothing stands in front of the camera, then press Capture garment again.' };
+}
+
+// Warnings that need a person say what to check; the rest are notes that do not block.
+const NOTE_PATTERNS = [/^draft: /, /re-registered/, /^size run: /, /recipe's range/, /^colour not named/];
+function splitWarnings(list) {
+  const checks = [], notes = [];
+  for (const w of list || []) (NOTE_PATTERNS.some((r) => r.test(w)) ? notes : checks).push(w);
+  return { checks, notes };
+}
+function checkText(w) {
+  if (/type|silhouette|IoU/i.test(w)) return 'Check the garment type: ' + w;
+  if (/hem|waist|centre front|crotch|leg/i.test(w)) return 'Check the measurements on the garment: ' + w;
+  if (/size guide|graded/i.test(w)) return 'Check the sizes: ' + w;
+  return 'Check: ' + w;
+}
+function showWarnings(listEl, notesEl, warnings) {
+  const { checks, notes } = splitWarnings(warnings);
+  listEl.replaceChildren(...checks.map((w) => el('li', { text: checkText(w) })));
+  notesEl.replaceChildren(...notes.map((w) => el('li', { text: 'Note: ' + w })));
+}
+
+// The title a shop gets when staff leave it empty: colour, cut, type ("Navy A-line skirt"). The
+// shop exports use the same rule (export_shop.cpp defaultProductTitle).
+function defaultTitle(it) {
+  const a = it.attributes || {};
+  const sleeve = { none: 'sleeveless ', short: 'short-sleeve ', long: 'long-sleeve ' }[a.sleeve] || '';
+  let noun = 'garment';
+  if (it.type === 'skirt') noun = a.skirt === 'a_line' ? 'A-line skirt' : a.skirt === 'h_line' ? 'straight skirt' : 'skirt';
+  else if (it.type === 'pants') noun = 'trousers';
+  else if (it.type === 'top' || it.type === 'dress') noun = sleeve + it.type;
+  const colour = a.pattern === 'print' ? 'Printed' : (a.color || '').split('/')[0];
+  const t = colour ? colour + ' ' + noun : noun;
+  return t.charAt(0).toUpperCase() + t.slice(1);
+}
 
 const ui = {
   status: null,
@@ -106,7 +161,7 @@ function imageUrl(item, kinds) {
   for (const k of kinds) if (item.images && item.images[k]) return item.images[k].url;
   return null;
 }
-function itemTitle(it) { return it.title || it.sku || 'Item ' + it.id; }
+function itemTitle(it) { return it.title || (it.type ? defaultTitle(it) : '') || it.sku || 'Item ' + it.id; }
 // Why an item is not exported yet, or null when it is approved. Shop exports take approved items
 // only (the daemon enforces it); staff must see that before they look for the item in a CSV.
 function reviewNote(it) {
@@ -149,7 +204,8 @@ function applyStatus(s) {
   const busy = state === 'capturing' || state === 'processing';
   $('#btn-capture').disabled = !st.calibrated || cam.open === false || state === 'error' || state === 'stopping';
   $('#btn-empty').disabled = cam.open === false || state === 'stopping';
-  $('#btn-capture').textContent = busy ? 'Capture garment (queued)' : 'Capture garment';
+  $('#btn-capture').textContent = busy ? 'Capturing…' : 'Capture garment';
+  $('#btn-capture').classList.toggle('busy', busy);
   if (cam.open === false) {
     showBanner('Camera not found.', (cam.error ? cam.error + ' — ' : '') +
       'Check the camera cable and power, then wait: the station retries by itself.');
@@ -170,21 +226,32 @@ function applyJob(job) {
   ui.job = Object.assign({}, ui.job && ui.job.id === job.id ? ui.job : {}, job);
   const j = ui.job;
   const box = $('#job');
-  box.hidden = false;
+  // A finished garment capture is shown by its result card; the job card is for progress and failures.
+  box.hidden = j.state === 'done' && j.kind === 'dressed';
+  $('.capture-grid').classList.add('has-result');
   box.classList.toggle('failed', j.state === 'failed');
   box.classList.toggle('done', j.state === 'done');
   const kind = j.kind === 'empty' ? 'Bare-form capture' : j.kind === 'rerun' ? 'Re-run' : 'Garment capture';
   $('#job-title').textContent = kind + ' #' + j.id;
   const stage = j.state === 'done' ? 'Done' : j.state === 'failed' ? 'Failed'
-    : j.state === 'queued' ? 'Waiting' : (STAGE_NAMES[j.stage] || j.stage || 'Working');
+    : j.state === 'queued' ? 'Waiting' : stageName(j.stage);
   $('#job-stage').textContent = stage;
   const p = j.state === 'done' ? 1 : Math.max(0, Math.min(1, j.progress || 0));
   $('#job-bar').style.width = Math.round(p * 100) + '%';
+  $('#job-bar').parentElement.setAttribute('aria-valuenow', String(Math.round(p * 100)));
   const err = $('#job-error');
   err.hidden = j.state !== 'failed';
-  err.textContent = j.error || '';
+  if (j.state === 'failed') {
+    const f = plainFailure(j.error);
+    $('#job-error-what').textContent = f.what;
+    $('#job-error-next').textContent = 'What to do: ' + f.next;
+    $('#job-error-detail').textContent = j.error || '';
+    if (!j.toasted) { j.toasted = true; toast('Capture failed. ' + f.what, true); }
+    $('#last').hidden = true;  // the last result is not this garment's
+  }
   if (j.state === 'done' && j.item_id && j.item_id !== ui.lastItemId) {
     ui.lastItemId = j.item_id;
+    if (j.kind !== 'rerun') $('#sku').value = '';  // the SKU belonged to this garment
     showLastResult(j.item_id);
     if (currentView() === 'catalog') loadCatalog(true);
   }
@@ -224,18 +291,35 @@ setInterval(async () => {
 }, 1500);
 
 // --- capture --------------------------------------------------------------------------------
+// One tap, one capture: a second tap while the photo is being taken (or within a moment of the
+// first) would capture the same garment twice.
+let captureInFlight = false, lastCaptureAt = 0;
+function photoPending() {
+  const j = ui.job;
+  return !!j && j.kind === 'dressed' && (j.state === 'queued' || (j.state === 'running' && (j.stage === 'capture' || j.stage === 'capturing')));
+}
 async function captureGarment() {
+  if (captureInFlight || Date.now() - lastCaptureAt < 2000 || photoPending()) {
+    toast('Already capturing this garment: wait for the result.');
+    return;
+  }
   const sku = $('#sku').value.trim();
   if (sku && !/^[A-Za-z0-9._-]{1,64}$/.test(sku)) {
     toast('A SKU may hold only letters, digits, dot, dash and underscore.', true);
     return;
   }
+  captureInFlight = true;
+  lastCaptureAt = Date.now();
+  $('#btn-capture').disabled = true;
   try {
     const r = await api('POST', '/api/capture', sku ? { sku } : {});
+    $('#last').hidden = true;
     applyJob({ id: r.job, state: 'queued', kind: 'dressed', progress: 0 });
-    $('#sku').value = '';
   } catch (e) {
-    toast(e.status === 409 ? 'Form not calibrated: capture the bare form first.' : e.message, true);
+    toast(e.status === 409 ? 'Form not calibrated: capture the bare form first.' : 'Capture not started: ' + e.message, true);
+  } finally {
+    captureInFlight = false;
+    if (ui.status) applyStatus({});
   }
 }
 async function captureEmpty() {
@@ -251,12 +335,11 @@ async function showLastResult(id) {
     const it = await api('GET', '/api/items/' + id);
     $('#last').hidden = false;
     $('#last-img').src = imageUrl(it, ['cutout', 'product']) || '';
-    const attrs = Object.entries(it.attributes || {}).filter(([k]) => k !== 'color').map(([k, v]) => v.replace(/_/g, '-') + ' ' + k);
-    $('#last-type').textContent = (TYPE_NAMES[it.type] || it.type) + (attrs.length ? ' · ' + attrs.join(', ') : '') +
-      (it.confidence ? ' · ' + Math.round(it.confidence * 100) + '%' : '');
-    $('#last-sku').textContent = (it.sku ? 'SKU ' + it.sku + ' · ' : '') + (STATUS_NAMES[it.status] || it.status);
+    $('#last-type').textContent = itemTitle(it);
+    $('#last-sku').textContent = (it.sku ? 'SKU ' + it.sku + ' · ' : 'No SKU · ') + (STATUS_NAMES[it.status] || it.status) +
+      (it.base_size ? ' · fits size ' + it.base_size : '');
     measTable($('#last-meas'), it.measurements);
-    $('#last-warn').replaceChildren(...(it.warnings || []).map((w) => el('li', { text: w })));
+    showWarnings($('#last-warn'), $('#last-notes'), it.warnings);
     const note = reviewNote(it);
     $('#last-review').hidden = !note;
     $('#last-review').textContent = note ? note.title + ' Approve it to export it.' : '';
@@ -265,6 +348,8 @@ async function showLastResult(id) {
       try { await api('PATCH', '/api/items/' + id, { status: 'approved' }); toast('Approved'); showLastResult(id); } catch (e) { toast(e.message, true); }
     };
     $('#last-open').onclick = () => { location.hash = '#/item/' + id; };
+    // Result and Approve in view, whatever the screen: staff should not have to scroll for them.
+    requestAnimationFrame(() => $('#last').scrollIntoView({ block: 'nearest' }));
   } catch (e) { toast(e.message, true); }
 }
 
@@ -289,8 +374,32 @@ async function loadCatalog(reset) {
     $('#more').hidden = c.offset >= r.total;
   } catch (e) { toast(e.message, true); }
 }
+const picked = new Set();
+function updateBulk() {
+  const b = $('#bulk-approve');
+  b.hidden = picked.size === 0;
+  b.textContent = 'Approve selected (' + picked.size + ')';
+}
+async function approvePicked() {
+  const ids = Array.from(picked);
+  try {
+    const r = await api('POST', '/api/items/review', { ids, status: 'approved' });
+    toast('Approved ' + r.updated.length + (r.updated.length === 1 ? ' item' : ' items'));
+    picked.clear();
+    updateBulk();
+    loadCatalog(true);
+  } catch (e) { toast('Not approved: ' + e.message, true); }
+}
 function tile(it) {
   const src = imageUrl(it, ['product', 'cutout', 'dressed']);
+  const pick = it.status === 'approved' ? null : el('label', { class: 'pick', title: 'Select to approve', onclick: (e) => e.stopPropagation() },
+    el('input', { type: 'checkbox', 'data-id': it.id, checked: picked.has(it.id), onchange: (e) => {
+      if (e.target.checked) picked.add(it.id); else picked.delete(it.id);
+      updateBulk();
+    } }));
+  return el('div', { class: 'tile-wrap' }, pick, tileLink(it, src));
+}
+function tileLink(it, src) {
   return el('a', { class: 'tile', href: '#/item/' + it.id, 'data-id': it.id },
     el('div', { class: 'img' }, src ? el('img', { src, alt: itemTitle(it), loading: 'lazy' }) : el('span', { class: 'muted', text: 'No photo' })),
     el('div', { class: 'txt' },
@@ -317,7 +426,18 @@ async function loadItem(id) {
   $('#f-price').value = it.price_cents == null ? '' : (it.price_cents / 100).toFixed(2);
   $('#f-tags').value = (it.tags || []).join(', ');
   $('#f-notes').value = it.notes || '';
+  $('#f-title').placeholder = defaultTitle(it);
+  const a = it.attributes || {};
+  $('#f-type').value = it.type || 'top';
+  $('#f-color').value = a.color || '';
+  $('#f-sleeve').value = a.sleeve || '';
+  $('#f-skirt').value = a.skirt || '';
+  $('#f-print').checked = a.pattern === 'print';
+  $('#f-sleeve-field').hidden = !(it.type === 'top' || it.type === 'dress');
+  $('#f-skirt-field').hidden = !(it.type === 'skirt' || it.type === 'dress');
+  loadMeasurementEditor(it);
   $('#f-approve').hidden = it.status === 'approved';
+  $('#f-reject').hidden = it.status === 'rejected';
   const note = reviewNote(it);
   $('#item-review').hidden = !note;
   $('#item-review').classList.toggle('rejected', !!(note && note.rejected));
@@ -327,9 +447,10 @@ async function loadItem(id) {
   $('#item-meta').textContent = [TYPE_NAMES[it.type] || it.type,
     ...Object.entries(it.attributes || {}).map(([k, v]) => k + ': ' + v),
     it.confidence ? 'confidence ' + Math.round(it.confidence * 100) + '%' : null,
-    it.base_size ? 'measured as size ' + it.base_size : null,
+    it.base_size ? 'fits size ' + it.base_size : null,
+    (it.attributes || {}).color ? 'colour ' + it.attributes.color : null,
     'captured ' + (it.created_at || '').replace('T', ' ').replace('Z', ' UTC')].filter(Boolean).join(' · ');
-  $('#item-warn').replaceChildren(...(it.warnings || []).map((w) => el('li', { text: w })));
+  showWarnings($('#item-warn'), $('#item-notes'), it.warnings);
   // Photos
   const kinds = ['product', 'cutout', 'dressed', 'overlay', 'texture'].filter((k) => it.images && it.images[k]);
   ui.photoKind = kinds[0] || null;
@@ -378,13 +499,15 @@ async function loadSizeGuide(it) {
   const box = $('#sizeguide');
   let g = null;
   try { g = await api('GET', '/api/items/' + it.id + '/sizeguide.json'); } catch (e) { g = null; }
-  if (g && g.sizes && g.measurements) {
-    const names = sortedMeas(g.measurements);
-    box.replaceChildren(el('table', { class: 'guide' },
-      el('thead', {}, el('tr', {}, el('th', { text: 'Size' }), ...names.map((n) => el('th', { text: measName(n) })))),
-      el('tbody', {}, ...g.sizes.map((s) => el('tr', { class: s === it.base_size ? 'base' : '' },
-        el('td', { text: s + (s === it.base_size ? ' (this one)' : '') }),
-        ...names.map((n) => el('td', { text: g.measurements[n][s] == null ? '–' : cm(g.measurements[n][s]) })))))));
+  if (g && g.rows && g.measurements) {
+    // The guide's own column order (core/dsw); the item's row is the piece itself.
+    box.replaceChildren(
+      el('p', { class: 'muted', text: 'Garment measurements in cm, all the way round for widths. The marked row is this piece; the others are the same design graded to the ' + g.chart.replace(/_/g, ' ') + ' chart.' }),
+      el('div', { class: 'guide-scroll' }, el('table', { class: 'guide' },
+        el('thead', {}, el('tr', {}, el('th', { text: 'Size' }), ...g.measurements.map((n) => el('th', { text: measName(n) })))),
+        el('tbody', {}, ...g.rows.map((r) => el('tr', { class: r.size === g.base_size ? 'base' : '' },
+          el('td', { text: r.size + (r.size === g.base_size ? ' (this piece)' : '') }),
+          ...g.measurements.map((n) => el('td', { text: r.garment[n] == null ? '–' : cm(r.garment[n]) }))))))));
   } else {
     const m = it.measurements || {};
     const names = sortedMeas(m);
@@ -396,6 +519,35 @@ async function loadSizeGuide(it) {
   }
 }
 
+// Measurements as inputs; the value measured by the station (result.json) is shown beside a
+// corrected one, and stays in result.json for the record.
+async function loadMeasurementEditor(it) {
+  const box = $('#f-meas');
+  let measured = {};
+  try { measured = ((await api('GET', '/api/items/' + it.id + '/result.json')) || {}).measurements || {}; } catch (e) { measured = {}; }
+  const m = it.measurements || {};
+  box.replaceChildren(...sortedMeas(Object.assign({}, measured, m)).map((n) => {
+    const orig = measured[n];
+    const now = m[n];
+    const changed = orig != null && now != null && Math.abs(orig - now) >= 0.05;
+    return el('label', { class: 'meas-row' + (changed ? ' changed' : '') },
+      el('span', { text: measName(n) }),
+      el('input', { 'data-name': n, inputmode: 'decimal', value: now == null ? '' : cm(now), 'aria-label': measName(n) + ' in cm' }),
+      el('small', { class: 'muted', text: orig == null ? '' : (changed ? 'measured ' + cm(orig) : 'as measured') }));
+  }));
+}
+function attributePatch(it) {
+  const a = Object.assign({}, it.attributes || {});
+  const set = (k, v) => { if (v) a[k] = v; else delete a[k]; };
+  set('color', $('#f-color').value.trim());
+  if (!$('#f-sleeve-field').hidden) set('sleeve', $('#f-sleeve').value);
+  if (!$('#f-skirt-field').hidden) set('skirt', $('#f-skirt').value);
+  a.pattern = $('#f-print').checked ? 'print' : 'solid';
+  return JSON.stringify(a) === JSON.stringify(it.attributes || {}) ? null : a;
+}
+async function setStatus(status, done) {
+  try { await api('PATCH', '/api/items/' + ui.item.id, { status }); toast(done); loadItem(ui.item.id); } catch (e) { toast(e.message, true); }
+}
 async function saveItem(ev) {
   ev.preventDefault();
   const it = ui.item;
@@ -404,6 +556,23 @@ async function saveItem(ev) {
     notes: $('#f-notes').value,
     tags: $('#f-tags').value.split(',').map((t) => t.trim()).filter(Boolean),
   };
+  if ($('#f-type').value !== it.type) body.type = $('#f-type').value;
+  const attrs = attributePatch(it);
+  if (attrs) body.attributes = attrs;
+  const meas = {};
+  for (const input of $$('#f-meas input')) {
+    const v = input.value.trim().replace(',', '.');
+    if (v === '') continue;
+    if (!/^\d+(\.\d+)?$/.test(v) || !(parseFloat(v) > 0 && parseFloat(v) < 1000)) {
+      toast(measName(input.dataset.name) + ': a length in cm like 72.5', true);
+      input.focus();
+      return;
+    }
+    const old = (it.measurements || {})[input.dataset.name];
+    if (old == null || Math.abs(old - parseFloat(v)) >= 0.05) meas[input.dataset.name] = parseFloat(v);
+  }
+  if (Object.keys(meas).length) body.measurements = meas;
+  if (!body.title) body.title = defaultTitle(Object.assign({}, it, { type: body.type || it.type, attributes: attrs || it.attributes }));
   const sku = $('#f-sku').value.trim();
   if (sku !== (it.sku || '')) {
     if (sku && !/^[A-Za-z0-9._-]{1,64}$/.test(sku)) { toast('A SKU may hold only letters, digits, dot, dash and underscore.', true); return; }
@@ -422,13 +591,14 @@ async function saveItem(ev) {
 }
 
 // --- export ---------------------------------------------------------------------------------
-const SETTINGS = ['base', 'store', 'currency', 'vendor'];
+const SETTINGS = ['base', 'store', 'currency', 'brand'];
 function loadSettings() {
   for (const k of SETTINGS) {
     const v = localStorage.getItem('garmcap.export.' + k);
     if (v !== null) $('#s-' + k).value = v;
   }
   $('#s-legacy').checked = localStorage.getItem('garmcap.export.legacy') === '1';
+  $('#s-mto').checked = localStorage.getItem('garmcap.export.mto') === '1';
 }
 function exportQuery(extra = {}) {
   const p = new URLSearchParams();
@@ -437,8 +607,9 @@ function exportQuery(extra = {}) {
   if (store) p.set('store_url', store);
   const cur = $('#s-currency').value.trim().toUpperCase();
   if (cur) p.set('currency', cur);
-  const vendor = $('#s-vendor').value.trim();
-  if (vendor) p.set('vendor', vendor);
+  const brand = $('#s-brand').value.trim();
+  if (brand) p.set('brand', brand);
+  if ($('#s-mto').checked) p.set('made_to_order', '1');
   for (const [k, v] of Object.entries(extra)) p.set(k, v);
   const s = p.toString();
   return s ? '?' + s : '';
@@ -446,6 +617,7 @@ function exportQuery(extra = {}) {
 function updateExportLinks() {
   for (const k of SETTINGS) localStorage.setItem('garmcap.export.' + k, $('#s-' + k).value.trim());
   localStorage.setItem('garmcap.export.legacy', $('#s-legacy').checked ? '1' : '0');
+  localStorage.setItem('garmcap.export.mto', $('#s-mto').checked ? '1' : '0');
   $('#x-shopify').href = '/api/export/shopify.csv' + exportQuery($('#s-legacy').checked ? { legacy: '1' } : {});
   $('#x-woo').href = '/api/export/woocommerce.csv' + exportQuery();
   $('#x-merchant').href = '/api/export/merchant.tsv' + exportQuery();
@@ -480,7 +652,8 @@ async function download(ev) {
     link.click();
     link.remove();
     setTimeout(() => URL.revokeObjectURL(url), 10000);
-    toast('Downloaded ' + (m ? m[1] : 'file'));
+    const warned = Number(res.headers.get('X-Export-Warnings') || 0);
+    toast('Downloaded ' + (m ? m[1] : 'file') + (warned ? ' — ' + warned + (warned === 1 ? ' note: ' : ' notes: ') + (res.headers.get('X-Export-Warning-Text') || '') : ''), warned > 0);
   } catch (e) { toast('Export failed: ' + e.message, true); }
 }
 
@@ -520,9 +693,10 @@ function init() {
   $('#status-filter').addEventListener('change', (e) => { ui.catalog.status = e.target.value; loadCatalog(true); });
   $('#more').addEventListener('click', () => loadCatalog(false));
   $('#item-form').addEventListener('submit', saveItem);
-  $('#f-approve').addEventListener('click', async () => {
-    try { await api('PATCH', '/api/items/' + ui.item.id, { status: 'approved' }); toast('Approved'); loadItem(ui.item.id); } catch (e) { toast(e.message, true); }
-  });
+  $('#f-approve').addEventListener('click', () => setStatus('approved', 'Approved'));
+  $('#f-reject').addEventListener('click', () => setStatus('rejected', 'Rejected: it will not be exported'));
+  $('#bulk-approve').addEventListener('click', approvePicked);
+  $('#colour-names').replaceChildren(...COLOUR_NAMES.map((c) => el('option', { value: c })));
   $('#size-select').addEventListener('change', (e) => { ui.itemSize = e.target.value; showPattern(); });
   $('#btn-rerun').addEventListener('click', async () => {
     try {

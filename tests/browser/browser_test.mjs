@@ -6,9 +6,12 @@
 // tests/data/rig/case_002)
 // that garmcapd replays (--camera replay), so every run sees the same garment; without it the
 // daemon's synthetic camera renders random scenes.
-// Steps: calibrate (bare form), capture a garment, see it in the last result and the catalog,
-// open it, edit the title, see that an item waiting for review is left out of the export, approve
-// it, export the Shopify CSV and read the title back from it.
+// Steps, on a portrait tablet (768x1024): calibrate (bare form), capture a garment with a double
+// tap (one job), see the result with Approve in view, a failed capture in red with what to do and
+// the SKU kept, the catalog, the item page: edit the title and price, correct a measurement (the
+// measured value kept in result.json), the review gate of the export, approve, export the Shopify
+// CSV and read it back. Then on a 1024x1366 tablet: capture again, Approve in view, approve from
+// the catalog with the bulk action.
 // Prints one line per step and "N passed, N failed"; exits 1 on the first failure.
 import { spawn } from 'node:child_process';
 import { copyFileSync, existsSync, mkdtempSync, readFileSync, rmSync, mkdirSync, writeFileSync } from 'node:fs';
@@ -91,7 +94,7 @@ async function main() {
     headless: true,
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
       '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-    viewport: { width: 1280, height: 800 },
+    viewport: { width: 768, height: 1024 },
     acceptDownloads: true,
   });
   const page = context.pages()[0] || await context.newPage();
@@ -101,7 +104,29 @@ async function main() {
     if (!shotDir) return;
     // A toast is transient: keep it out of the documentation screenshots.
     await page.evaluate(() => { document.querySelector('#toast').hidden = true; });
-    await page.screenshot({ path: join(shotDir, name + '.png') });
+    const vp = page.viewportSize();
+    await page.screenshot({ path: join(shotDir, `${name}-${vp.width}x${vp.height}.png`) });
+  };
+  // "In view": the whole element inside the viewport, as the page stands (no scrolling by the test).
+  const inView = (sel) => page.evaluate((q) => {
+    const r = document.querySelector(q).getBoundingClientRect();
+    return r.width > 0 && r.top >= 0 && r.bottom <= window.innerHeight && r.left >= 0 && r.right <= window.innerWidth;
+  }, sel);
+  const captureAndSeeResult = async (sku, what) => {
+    await page.fill('#sku', sku);
+    await page.dblclick('#btn-capture');  // a double tap must make one job
+    await page.waitForSelector('#job:not([hidden])');
+    await waitFor(async () => {
+      const failed = await page.$('#job.failed');
+      if (failed) throw new Error('the capture job failed: ' + await page.textContent('#job-error'));
+      return await page.isVisible('#last') && (await page.textContent('#last-sku')).includes(sku);
+    }, JOB_TIMEOUT_MS, 'the capture to finish');
+    await page.waitForTimeout(500);
+    if (!(await inView('#last-approve')) || !(await inView('#last-type')))
+      throw new Error(`${what}: the result and Approve are not in view (scrollY ${await page.evaluate(() => window.scrollY)})`);
+    const scrolled = await page.evaluate(() => window.scrollY);
+    if (scrolled !== 0) throw new Error(`${what}: the page had to scroll ${scrolled} px to show the result`);
+    step(`${what}: result "${(await page.textContent('#last-type')).trim()}" and Approve in view at ${page.viewportSize().width}x${page.viewportSize().height} (page scrolled by ${scrolled} px)`);
   };
 
   await page.goto(base + '/#/capture');
@@ -123,18 +148,26 @@ async function main() {
   await waitFor(async () => !(await page.isDisabled('#btn-capture')), JOB_TIMEOUT_MS, 'calibration (bare-form job)');
   step('bare-form capture calibrates the station');
 
-  await page.fill('#sku', 'BRW-001');
-  await page.click('#btn-capture');
-  await page.waitForSelector('#job:not([hidden])');
-  await waitFor(async () => {
-    const failed = await page.$('#job.failed');
-    if (failed) throw new Error('the capture job failed: ' + await page.textContent('#job-error'));
-    return await page.isVisible('#last');
-  }, JOB_TIMEOUT_MS, 'the capture to finish');
-  const type = await page.textContent('#last-type');
-  step('capture finished; last result shows: ' + type.trim());
-  await page.waitForTimeout(500);
+  await captureAndSeeResult('BRW-001', 'capture (double tap)');
   await shot('capture-result');
+
+  // A failed capture: red, a toast, plain words and the next step, and the SKU stays.
+  if (!stub) await fetch(base + '/api/sim/camera', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: '{"still_delay_ms": 9000}' });
+  const failSku = stub ? 'FAIL-7' : 'BRW-FAIL';
+  await page.fill('#sku', failSku);
+  await page.click('#btn-capture');
+  await waitFor(async () => page.isVisible('#job.failed'), JOB_TIMEOUT_MS, 'the capture to fail');
+  if (!stub) await fetch(base + '/api/sim/camera', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: '{"still_delay_ms": 0}' });
+  const failure = { what: await page.textContent('#job-error-what'), next: await page.textContent('#job-error-next'),
+    toastBad: await page.evaluate(() => { const t = document.querySelector('#toast'); return !t.hidden && t.classList.contains('bad'); }),
+    sku: await page.inputValue('#sku'),
+    color: await page.evaluate(() => getComputedStyle(document.querySelector('#job')).borderColor) };
+  if (!failure.what || !/^What to do: /.test(failure.next) || !failure.toastBad || failure.sku !== failSku || !/rgb\(198, 40, 40\)/.test(failure.color))
+    throw new Error('a failed capture shows ' + JSON.stringify(failure));
+  if (!(await inView('#job-error-next'))) throw new Error('the failure and the next step are not in view');
+  step(`failed capture: red, toast, "${failure.what}" ${failure.next}; SKU ${failure.sku} kept`);
+  await shot('capture-failed');
+  await page.fill('#sku', '');
 
   await page.click('a[data-tab="catalog"]');
   await page.waitForSelector('.tile');
@@ -164,6 +197,18 @@ async function main() {
   const item = await (await fetch(`${base}/api/items/${id}`)).json();
   if (item.title !== newTitle || item.price_cents !== 5990) throw new Error('the API has ' + JSON.stringify([item.title, item.price_cents]));
   step('title and price edited through the form and stored');
+  // Correct a measurement: the corrected value is the item's, the measured one stays in result.json.
+  await page.waitForSelector('#f-meas input');
+  const measName = await page.getAttribute('#f-meas input', 'data-name');
+  const measured = (await (await fetch(`${base}/api/items/${id}/result.json`)).json()).measurements[measName];
+  const corrected = Math.round((measured + 1.5) * 10) / 10;
+  await page.fill(`#f-meas input[data-name="${measName}"]`, String(corrected));
+  await page.click('#f-save');
+  await waitFor(async () => (await (await fetch(`${base}/api/items/${id}`)).json()).measurements[measName] === corrected, 10000, 'the corrected measurement');
+  const after = (await (await fetch(`${base}/api/items/${id}/result.json`)).json()).measurements[measName];
+  if (Math.abs(after - measured) > 1e-9) throw new Error(`result.json's ${measName} changed from ${measured} to ${after}`);
+  await page.waitForSelector(`.meas-row.changed input[data-name="${measName}"]`);
+  step(`${measName} corrected to ${corrected} cm; the measured ${measured} cm is kept for the record`);
   // Panels and size guide: the pattern SVG of the item draws, and a graded item lists its sizes.
   const svgDrawn = () => page.evaluate(() => {
     const i = document.querySelector('#panels img');
@@ -203,6 +248,10 @@ async function main() {
   };
   await page.click('a[data-tab="export"]');
   await page.waitForSelector('#view-export:not([hidden])');
+  // Links to this station are refused by the export: give the shop's public addresses.
+  await page.fill('#s-base', 'https://shop.example/files');
+  await page.fill('#s-store', 'https://shop.example');
+  await page.fill('#s-brand', 'Atelier Browser');
   await waitFor(async () => /^0 approved items .*1 waiting for review/.test(await page.textContent('#export-count')), 5000, 'the export count before approval');
   if ((await downloadCsv('#x-shopify', 'shopify-before.csv')).length) throw new Error('the Shopify CSV exports an item waiting for review');
   step('export page says the item waiting for review is left out, and the Shopify CSV holds no product');
@@ -236,17 +285,39 @@ async function main() {
   if (!rows.every((r) => r['URL handle'] === 'brw-001')) throw new Error('unexpected handles ' + rows.map((r) => r['URL handle']));
   const variants = rows.filter((r) => r['Option1 value']).map((r) => r['Option1 value']);
   if (!stub) {
-    const graded = ((await (await fetch(`${base}/api/items/${id}/sizeguide.json`)).json()).sizes || []);
-    if (variants.join() !== graded.join()) throw new Error(`Shopify variants ${variants} but graded sizes ${graded}`);
+    const piece = (await (await fetch(`${base}/api/items/${id}/sizeguide.json`)).json()).base_size;
+    if (variants.join() !== piece) throw new Error(`Shopify variants ${variants} but the piece is size ${piece}`);
   }
   step(`Shopify CSV downloaded (${rows.length} rows, variants ${variants.join(', ')}) and its title reads back exactly`);
 
   if (!stub) {
-  const zipRes = await fetch(`${base}/api/export/catalog.zip`);
+  const zipRes = await fetch(`${base}/api/export/catalog.zip?base_url=https://shop.example/files&store_url=https://shop.example&brand=Atelier`);
   const zip = Buffer.from(await zipRes.arrayBuffer());
   if (!zipRes.ok || zip.readUInt32LE(0) !== 0x04034b50) throw new Error('catalog.zip: HTTP ' + zipRes.status + ' ' + zip.subarray(0, 200));
   step(`catalog.zip served (${zip.length} bytes)`);
   }
+
+  // The taller tablet, portrait 1024x1366: capture again; then approve from the catalog at once.
+  await page.setViewportSize({ width: 1024, height: 1366 });
+  await page.evaluate(() => { location.hash = '#/capture'; });
+  await page.waitForSelector('#view-capture:not([hidden])');
+  await captureAndSeeResult('BRW-002', 'second capture');
+  await shot('capture-result');
+  await page.click('a[data-tab="catalog"]');
+  await page.waitForSelector('.tile');
+  const second = (await (await fetch(`${base}/api/items?q=BRW-002`)).json()).items[0];
+  if (second.status !== 'approved') {
+    await page.check(`.pick input[data-id="${second.id}"]`);
+    await page.waitForSelector('#bulk-approve:not([hidden])');
+    await shot('catalog-select');
+    await page.click('#bulk-approve');
+    await waitFor(async () => (await (await fetch(`${base}/api/items/${second.id}`)).json()).status === 'approved', 10000, 'the bulk approval');
+    step('approved from the catalog with "Approve selected"');
+  }
+  await page.evaluate((h) => { location.hash = h; }, '#/item/' + second.id);
+  await page.waitForSelector('#view-item:not([hidden]) #f-meas input');
+  await page.waitForTimeout(500);
+  await shot('item');
 
   if (pageErrors.length) throw new Error('JavaScript errors on the page: ' + pageErrors.join('; '));
   step('no JavaScript errors');

@@ -25,10 +25,20 @@ const PRODUCT_SVG = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 160 20
 function runJob(kind, sku) {
   const job = { id: jobs.length + 1, kind, state: 'queued', stage: 'queued', progress: 0, item_id: null, error: '' };
   jobs.push(job);
-  const stages = kind === 'empty' ? ['capture', 'calibration'] : ['capture', 'masks', 'measure', 'pattern', 'store'];
+  const stages = kind === 'empty' ? ['capture', 'calibration'] : ['capture', 'masks', 'measure', 'pattern', 'grading sizes', 'store'];
+  // A SKU starting with FAIL makes the capture fail the way a real one does: at a stage, with the
+  // pipeline's (developer's) message.
+  const failAt = kind === 'dressed' && /^FAIL/.test(sku || '') ? 2 : -1;
   let i = 0;
   state.state = 'capturing';
   const tick = () => {
+    if (i === failAt) {
+      Object.assign(job, { state: 'failed', stage: stages[i], error: 'garment mask: 0.3 % of the form differs from the bare frame (border median BGR(12,32,9)); no garment found' });
+      state.state = 'ready';
+      event('job', job);
+      event('state', { state: state.state, last_error: '' });
+      return;
+    }
     if (i < stages.length) {
       Object.assign(job, { state: 'running', stage: stages[i], progress: i / stages.length });
       state.state = i === 0 ? 'capturing' : 'processing';
@@ -41,10 +51,12 @@ function runJob(kind, sku) {
       state.calibrated = true;
     } else {
       const id = items.length + 1;
-      items.push({ id, sku: sku || 'GC-' + id, title: '', status: 'needs_review', type: 'dress', notes: '', tags: [],
-        attributes: { sleeve: 'short', skirt: 'a_line' }, confidence: 0.93, warnings: [], price_cents: null,
-        measurements: { bust_circ: 92.4, waist_circ: 76.1, hip_circ: 99.0, garment_length: 98.5 }, units: 'cm',
-        images: { product: { url: '/stub/product.svg' }, cutout: { url: '/stub/product.svg' } }, sizes: ['base'], base_size: 'M',
+      const measurements = { bust_circ: 92.4, waist_circ: 76.1, hip_circ: 99.0, hem_circ: 128.2, garment_length: 98.5, sleeve_length: 21.0 };
+      items.push({ id, sku: sku || '', title: '', status: 'needs_review', type: 'dress', notes: '', tags: [],
+        attributes: { sleeve: 'short', skirt: 'a_line', color: 'Navy', pattern: 'solid' }, confidence: 0.93,
+        warnings: ['draft: ease_bust 7.5 is outside the dress recipe\'s range [8.0, 40.0]; drafted with 8.0', 'the garment does not cover the centre front at the waist'],
+        price_cents: null, measurements: { ...measurements }, original: { ...measurements }, units: 'cm',
+        images: { product: { url: '/stub/product.svg' }, cutout: { url: '/stub/product.svg' } }, sizes: ['base', '55', '66', '77'], base_size: '66',
         created_at: new Date().toISOString() });
       job.item_id = id;
     }
@@ -92,16 +104,41 @@ createServer((req, res) => {
     }
     if (m && !item) return send(res, 404, { error: 'no item ' + m[1] });
     if (m && !m[2]) {
-      if (req.method === 'PATCH') { Object.assign(item, JSON.parse(body)); return send(res, 200, item); }
+      if (req.method === 'PATCH') {
+        const patch = JSON.parse(body);
+        // As the daemon does: measurements replace the names given; the rest replace the field.
+        if (patch.measurements) { Object.assign(item.measurements, patch.measurements); delete patch.measurements; }
+        Object.assign(item, patch);
+        return send(res, 200, item);
+      }
       if (req.method === 'DELETE') { item.deleted = true; return send(res, 200, { deleted: item.id }); }
       return send(res, 200, item);
     }
     if (m && m[2] === '/pattern.svg') return send(res, 200, PRODUCT_SVG, 'image/svg+xml');
+    if (m && m[2] === '/result.json') return send(res, 200, { type: item.type, measurements: item.original });
+    if (m && m[2] === '/sizeguide.json') {
+      // The shape of docs/formats.md: the base row is the item's own measurements.
+      const names = ['bust_circ', 'waist_circ', 'hip_circ', 'hem_circ', 'garment_length', 'sleeve_length'];
+      const rows = ['55', '66', '77'].map((size, k) => ({ size, body: {},
+        garment: Object.fromEntries(names.map((n) => [n, item.original[n] + (k - 1) * (n.endsWith('_circ') ? 5 : 1)])) }));
+      return send(res, 200, { units: 'cm', type: item.type, chart: 'korean_women', base_size: '66', measurements: names, rows });
+    }
     if (m) return send(res, 404, { error: 'not in the stub' });
+    if (p === '/api/items/review' && req.method === 'POST') {
+      const r = JSON.parse(body);
+      const updated = [], missing = [];
+      for (const id of r.ids) {
+        const x = items.find((i) => i.id === id && !i.deleted);
+        if (x) { x.status = r.status; updated.push(id); } else missing.push(id);
+      }
+      return send(res, 200, { updated, missing });
+    }
     if (p === '/api/export/shopify.csv') {
+      const baseUrl = url.searchParams.get('base_url') || '';
+      if (!baseUrl || /\/\/(localhost|127\.)/.test(baseUrl)) return send(res, 422, { error: "export option 'public_base_url' is empty or this machine; set the shop's public address" });
       const rows = [['Title', 'URL handle', 'SKU', 'Option1 name', 'Option1 value']];
       for (const x of items.filter((i) => i.status === 'approved' && !i.deleted))
-        rows.push([x.title, x.sku.toLowerCase(), x.sku, 'Size', 'One size']);
+        rows.push([x.title, x.sku.toLowerCase(), x.sku, 'Size', x.base_size]);
       res.writeHead(200, { 'Content-Type': 'text/csv', 'Content-Disposition': 'attachment; filename="shopify.csv"' });
       return res.end(rows.map((r) => r.map(csv).join(',')).join('\r\n') + '\r\n');
     }

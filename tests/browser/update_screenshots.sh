@@ -1,6 +1,7 @@
 #!/bin/sh
 # Retakes docs/screenshots/*.png from the real garmcapd on the simulated rig: the browser test's
-# run against the daemon (rig case_002, a skirt), 1280x800 like a 10-inch tablet in landscape.
+# run against the daemon (rig case_002, a skirt), on portrait tablets of 768x1024 and 1024x1366
+# (each file name ends in its viewport).
 # Writes into the source tree, so CI never runs it; run it by hand after a UI change:
 #   tests/browser/update_screenshots.sh [BUILD_DIR]        (default: ./build, already built)
 # The PNGs are shrunk with pngquant (Debian package pngquant) when it is installed.

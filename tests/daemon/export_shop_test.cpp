@@ -23,6 +23,8 @@ ShopOptions options() {
   ShopOptions o;
   o.publicBaseUrl = "https://cdn.shop.test/catalog/";
   o.storeUrl = "https://shop.test";
+  o.brand = "Atelier Test";
+  o.sizeLabels = {{"M", "38"}, {"S", "36"}, {"L", "40"}};
   return o;
 }
 
@@ -32,93 +34,8 @@ size_t col(const std::vector<std::string>& header, const std::string& name) {
   return static_cast<size_t>(it - header.begin());
 }
 
-TEST(CsvField, QuotesOnlyWhenNeeded) {
-  EXPECT_EQ(csvField("plain"), "plain");
-  EXPECT_EQ(csvField("a,b"), "\"a,b\"");
-  EXPECT_EQ(csvField("say \"hi\""), "\"say \"\"hi\"\"\"");
-  EXPECT_EQ(csvField("two\nlines"), "\"two\nlines\"");
-  EXPECT_EQ(csvField(" padded"), "\" padded\"");
-  EXPECT_EQ(csvField("Été ★"), "Été ★");
-}
-
-TEST(ShopifyCsv, OneProductPerItemOneVariantPerSize) {
-  const auto items = exports_test::sampleItems();
-  const auto rows = parseCsv(shopifyCsv(items, options()));
-  const auto& h = rows[0];
-  for (const auto& r : rows)
-    ASSERT_EQ(r.size(), h.size());
-  // Item a: 3 sizes (2 images fit in the variant rows); item b: one size, one image.
-  ASSERT_EQ(rows.size(), 1u + 3u + 1u);
-  EXPECT_EQ(rows[1][col(h, "Title")], items[0].title);
-  EXPECT_EQ(rows[1][col(h, "URL handle")], "sk-1001");
-  EXPECT_EQ(rows[2][col(h, "URL handle")], "sk-1001");
-  EXPECT_EQ(rows[2][col(h, "Title")], "");
-  EXPECT_EQ(rows[1][col(h, "Option1 name")], "Size");
-  EXPECT_EQ(rows[1][col(h, "Option1 value")], "S");
-  EXPECT_EQ(rows[3][col(h, "SKU")], "SK-1001-L");
-  EXPECT_EQ(rows[1][col(h, "Price")], "59.90");
-  EXPECT_EQ(rows[1][col(h, "Tags")], "linen, summer, 2026");
-  EXPECT_EQ(rows[1][col(h, "Product image URL")],
-            "https://cdn.shop.test/catalog/images/SK-1001-product.jpg");
-  EXPECT_EQ(rows[2][col(h, "Image position")], "2");
-  EXPECT_EQ(rows[3][col(h, "Product image URL")], "");
-  const std::string desc = rows[1][col(h, "Description")];
-  EXPECT_NE(desc.find("<th>Hip (cm)</th>"), std::string::npos) << desc;
-  EXPECT_NE(desc.find("<td>101.5</td>"), std::string::npos);
-  EXPECT_NE(desc.find("Lined, with pockets"), std::string::npos);
-  // Item b: non-ASCII SKU gives an ASCII handle, a space in the image name is encoded.
-  EXPECT_EQ(rows[4][col(h, "URL handle")], "tp-2002");
-  EXPECT_EQ(rows[4][col(h, "Title")], "Bluse 'Grün' ★");
-  EXPECT_EQ(rows[4][col(h, "Option1 value")], "One size");
-  EXPECT_EQ(rows[4][col(h, "SKU")], "TP 2002/ü");
-  EXPECT_EQ(rows[4][col(h, "Status")], "draft");
-  EXPECT_EQ(rows[4][col(h, "Product image URL")],
-            "https://cdn.shop.test/catalog/images/TP%202002-product.jpg");
-}
-
-TEST(ShopifyCsv, LegacyHeader) {
-  auto o = options();
-  o.legacyShopifyHeader = true;
-  const auto rows = parseCsv(shopifyCsv(exports_test::sampleItems(), o));
-  const auto& h = rows[0];
-  EXPECT_EQ(h[0], "Handle");
-  EXPECT_EQ(rows[2][col(h, "Variant SKU")], "SK-1001-M");
-  EXPECT_EQ(rows[1][col(h, "Image Src")],
-            "https://cdn.shop.test/catalog/images/SK-1001-product.jpg");
-  EXPECT_NE(rows[1][col(h, "Body (HTML)")].find("size-guide"), std::string::npos);
-}
-
-TEST(ShopifyCsv, RefusesItemsShopsCannotTake) {
-  auto items = exports_test::sampleItems();
-  items[0].sku.clear();
-  EXPECT_THROW(shopifyCsv(items, options()), ExportError);
-  auto o = options();
-  o.publicBaseUrl.clear();
-  EXPECT_THROW(shopifyCsv(exports_test::sampleItems(), o), ExportError);
-}
-
-TEST(WooCommerceCsv, VariableParentAndVariations) {
-  const auto rows = parseCsv(wooCommerceCsv(exports_test::sampleItems(), options()));
-  const auto& h = rows[0];
-  ASSERT_EQ(rows.size(), 1u + (1 + 3) + (1 + 1));
-  EXPECT_EQ(rows[1][col(h, "Type")], "variable");
-  EXPECT_EQ(rows[1][col(h, "Attribute 1 name")], "Size");
-  EXPECT_EQ(rows[1][col(h, "Attribute 1 value(s)")], "S, M, L");
-  EXPECT_EQ(rows[1][col(h, "Attribute 1 default")], "M");
-  EXPECT_EQ(rows[1][col(h, "Images")],
-            "https://cdn.shop.test/catalog/images/SK-1001-product.jpg, "
-            "https://cdn.shop.test/catalog/images/SK-1001-cutout.png");
-  EXPECT_EQ(rows[2][col(h, "Type")], "variation");
-  EXPECT_EQ(rows[2][col(h, "Parent")], "SK-1001");
-  EXPECT_EQ(rows[4][col(h, "SKU")], "SK-1001-L");
-  EXPECT_EQ(rows[4][col(h, "Meta: hip_circ_cm")], "101.5");
-  EXPECT_EQ(rows[4][col(h, "Meta: bust_circ_cm")], "");
-  EXPECT_EQ(rows[6][col(h, "Meta: bust_circ_cm")], "94.0");
-  EXPECT_EQ(rows[5][col(h, "Published")], "-1");
-}
-
-TEST(MerchantTsv, OneRowPerSizeWithApparelFields) {
-  const std::string tsv = merchantTsv(exports_test::sampleItems(), options());
+std::vector<std::vector<std::string>> parseTsv(const std::string& tsv) {
+  // Merchant's TSV has no quoting: split on tabs and LF only.
   std::vector<std::vector<std::string>> rows;
   size_t start = 0;
   while (start < tsv.size()) {
@@ -136,24 +53,191 @@ TEST(MerchantTsv, OneRowPerSizeWithApparelFields) {
     rows.push_back(f);
     start = end + 1;
   }
+  return rows;
+}
+
+TEST(ShopifyCsv, ByDefaultOneVariantThePieceInItsOwnSizeWithStockOne) {
+  const auto items = exports_test::sampleItems();
+  const auto file = shopifyCsv(items, options());
+  const auto rows = parseCsv(file.bytes);
   const auto& h = rows[0];
-  ASSERT_EQ(rows.size(), 1u + 3u + 1u);
   for (const auto& r : rows)
     ASSERT_EQ(r.size(), h.size());
-  EXPECT_EQ(rows[2][col(h, "id")], "SK-1001-M");
-  EXPECT_EQ(rows[2][col(h, "item_group_id")], "SK-1001");
-  EXPECT_EQ(rows[2][col(h, "size")], "M");
-  EXPECT_EQ(rows[2][col(h, "size_system")], "EU");
-  EXPECT_EQ(rows[2][col(h, "gender")], "female");
-  EXPECT_EQ(rows[2][col(h, "age_group")], "adult");
-  EXPECT_EQ(rows[2][col(h, "color")], "blue");
-  EXPECT_EQ(rows[2][col(h, "price")], "59.90 EUR");
-  EXPECT_EQ(rows[2][col(h, "product_detail")],
+  // Item a: one variant, two images (two rows); item b: one variant, one image.
+  ASSERT_EQ(rows.size(), 1u + 2u + 1u);
+  EXPECT_EQ(rows[1][col(h, "Title")], items[0].title);
+  EXPECT_EQ(rows[1][col(h, "URL handle")], "sk-1001");
+  EXPECT_EQ(rows[2][col(h, "URL handle")], "sk-1001");
+  EXPECT_EQ(rows[2][col(h, "SKU")], "");  // an image row, not a variant
+  EXPECT_EQ(rows[1][col(h, "Option1 name")], "Size");
+  EXPECT_EQ(rows[1][col(h, "Option1 value")], "38");  // chart size M, the shop's label
+  EXPECT_EQ(rows[1][col(h, "SKU")], "SK-1001");
+  EXPECT_EQ(rows[1][col(h, "Inventory tracker")], "shopify");
+  EXPECT_EQ(rows[1][col(h, "Inventory quantity")], "1");
+  EXPECT_EQ(rows[1][col(h, "Continue selling when out of stock")], "DENY");
+  EXPECT_EQ(rows[1][col(h, "Price")], "59.90");
+  EXPECT_EQ(rows[1][col(h, "Status")], "active");
+  EXPECT_EQ(rows[1][col(h, "Vendor")], "Atelier Test");
+  EXPECT_EQ(rows[1][col(h, "Color (product.metafields.shopify.color-pattern)")], "Navy");
+  EXPECT_EQ(rows[1][col(h, "Tags")], "linen, summer, 2026");
+  const std::string desc = rows[1][col(h, "Description")];
+  EXPECT_NE(desc.find("<td>38</td><td>72.0</td><td>96.5</td><td>61.0</td>"), std::string::npos)
+      << desc;
+  EXPECT_EQ(desc.find("<td>36</td>"), std::string::npos) << "a size not for sale is shown";
+  EXPECT_EQ(desc.find("taken flat"), std::string::npos);
+  // Item b has no price: a draft, not published, and the file says so.
+  EXPECT_EQ(rows[3][col(h, "URL handle")], "tp-2002");
+  EXPECT_EQ(rows[3][col(h, "Option1 value")], "One size");
+  EXPECT_EQ(rows[3][col(h, "SKU")], "TP 2002/ü");
+  EXPECT_EQ(rows[3][col(h, "Status")], "draft");
+  EXPECT_EQ(rows[3][col(h, "Published on online store")], "FALSE");
+  EXPECT_EQ(rows[3][col(h, "Color (product.metafields.shopify.color-pattern)")], "print");
+  EXPECT_EQ(rows[3][col(h, "Product image URL")],
+            "https://cdn.shop.test/catalog/images/TP%202002-product.jpg");
+  ASSERT_EQ(file.warnings.size(), 1u);
+  EXPECT_NE(file.warnings[0].find("item 2 (TP 2002/ü): no price"), std::string::npos);
+}
+
+TEST(ShopifyCsv, MadeToOrderAddsTheOtherSizesUntracked) {
+  auto o = options();
+  o.madeToOrder = true;
+  const auto rows = parseCsv(shopifyCsv(exports_test::sampleItems(), o).bytes);
+  const auto& h = rows[0];
+  ASSERT_EQ(rows.size(), 1u + 3u + 1u);
+  EXPECT_EQ(rows[1][col(h, "Option1 value")], "36");
+  EXPECT_EQ(rows[1][col(h, "SKU")], "SK-1001-36");
+  EXPECT_EQ(rows[1][col(h, "Inventory tracker")], "");
+  EXPECT_EQ(rows[1][col(h, "Continue selling when out of stock")], "CONTINUE");
+  EXPECT_EQ(rows[2][col(h, "SKU")], "SK-1001");
+  EXPECT_EQ(rows[2][col(h, "Inventory quantity")], "1");
+  EXPECT_EQ(rows[3][col(h, "SKU")], "SK-1001-40");
+  EXPECT_NE(rows[1][col(h, "Description")].find("<td>36</td><td>67.0</td>"), std::string::npos);
+  // Two chart sizes on one label would make two variants the shop cannot tell apart.
+  o.sizeLabels["L"] = "38";
+  EXPECT_THROW(shopifyCsv(exports_test::sampleItems(), o), ExportError);
+}
+
+TEST(ShopifyCsv, LegacyHeader) {
+  auto o = options();
+  o.legacyShopifyHeader = true;
+  const auto rows = parseCsv(shopifyCsv(exports_test::sampleItems(), o).bytes);
+  const auto& h = rows[0];
+  EXPECT_EQ(h[0], "Handle");
+  EXPECT_EQ(rows[1][col(h, "Variant SKU")], "SK-1001");
+  EXPECT_EQ(rows[1][col(h, "Variant Inventory Qty")], "1");
+  EXPECT_EQ(rows[1][col(h, "Image Src")],
+            "https://cdn.shop.test/catalog/images/SK-1001-product.jpg");
+  EXPECT_NE(rows[1][col(h, "Body (HTML)")].find("size-guide"), std::string::npos);
+}
+
+TEST(ShopifyCsv, RefusesItemsShopsCannotTakeAndLoopbackLinks) {
+  auto items = exports_test::sampleItems();
+  items[0].sku.clear();
+  EXPECT_THROW(shopifyCsv(items, options()), ExportError);
+  auto o = options();
+  o.publicBaseUrl.clear();
+  EXPECT_THROW(shopifyCsv(exports_test::sampleItems(), o), ExportError);
+  for (const std::string local :
+       {"http://127.0.0.1:8080/api/export/files", "http://localhost/x", "http://[::1]:80/",
+        "https://0.0.0.0/files", "http://user@127.0.0.5/"}) {
+    o.publicBaseUrl = local;
+    try {
+      shopifyCsv(exports_test::sampleItems(), o);
+      ADD_FAILURE() << local << " accepted";
+    } catch (const ExportError& e) {
+      EXPECT_NE(std::string(e.what()).find("public_base_url"), std::string::npos) << e.what();
+    }
+  }
+  o.allowLoopback = true;
+  EXPECT_NO_THROW(shopifyCsv(exports_test::sampleItems(), o));
+  o.publicBaseUrl = "http://127.0.0.1.example.net/files";  // a real host that starts with 127.
+  o.allowLoopback = false;
+  EXPECT_NO_THROW(shopifyCsv(exports_test::sampleItems(), o));
+}
+
+TEST(WooCommerceCsv, SimpleProductWithStockOneOrVariableWhenMadeToOrder) {
+  const auto rows = parseCsv(wooCommerceCsv(exports_test::sampleItems(), options()).bytes);
+  const auto& h = rows[0];
+  ASSERT_EQ(rows.size(), 1u + 1u + 1u);
+  EXPECT_EQ(rows[1][col(h, "Type")], "simple");
+  EXPECT_EQ(rows[1][col(h, "SKU")], "SK-1001");
+  EXPECT_EQ(rows[1][col(h, "Stock")], "1");
+  EXPECT_EQ(rows[1][col(h, "Regular price")], "59.90");
+  EXPECT_EQ(rows[1][col(h, "Attribute 1 value(s)")], "38");
+  EXPECT_EQ(rows[1][col(h, "Attribute 2 value(s)")], "Navy/White");
+  EXPECT_EQ(rows[1][col(h, "Meta: hip_circ_cm")], "96.5");
+  EXPECT_EQ(rows[1][col(h, "Images")],
+            "https://cdn.shop.test/catalog/images/SK-1001-product.jpg, "
+            "https://cdn.shop.test/catalog/images/SK-1001-cutout.png");
+  EXPECT_EQ(rows[2][col(h, "Published")], "-1");  // no price: draft
+  EXPECT_EQ(rows[2][col(h, "Meta: bust_circ_cm")], "94.0");
+
+  auto o = options();
+  o.madeToOrder = true;
+  const auto mto = parseCsv(wooCommerceCsv(exports_test::sampleItems(), o).bytes);
+  const auto& hm = mto[0];
+  ASSERT_EQ(mto.size(), 1u + (1 + 3) + 1u);
+  EXPECT_EQ(mto[1][col(hm, "Type")], "variable");
+  EXPECT_EQ(mto[1][col(hm, "Attribute 1 value(s)")], "36, 38, 40");
+  EXPECT_EQ(mto[1][col(hm, "Attribute 1 default")], "38");
+  EXPECT_EQ(mto[3][col(hm, "SKU")], "SK-1001-38");
+  EXPECT_EQ(mto[3][col(hm, "Stock")], "1");
+  EXPECT_EQ(mto[4][col(hm, "SKU")], "SK-1001-40");
+  EXPECT_EQ(mto[4][col(hm, "Stock")], "");
+  EXPECT_EQ(mto[4][col(hm, "Backorders allowed?")], "1");
+  EXPECT_EQ(mto[4][col(hm, "Meta: hip_circ_cm")], "101.5");
+}
+
+TEST(MerchantTsv, ThePieceWithColourBrandAndItsOwnLinks) {
+  auto o = options();
+  o.sizeSystem = "EU";
+  const auto file = merchantTsv(exports_test::sampleItems(), o);
+  const auto rows = parseTsv(file.bytes);
+  const auto& h = rows[0];
+  ASSERT_EQ(rows.size(), 1u + 1u);  // item b has no price: Merchant refuses it, so it is left out
+  for (const auto& r : rows)
+    ASSERT_EQ(r.size(), h.size());
+  EXPECT_EQ(rows[1][col(h, "id")], "SK-1001");
+  EXPECT_EQ(rows[1][col(h, "item_group_id")], "");
+  EXPECT_EQ(rows[1][col(h, "size")], "38");
+  EXPECT_EQ(rows[1][col(h, "size_system")], "EU");
+  EXPECT_EQ(rows[1][col(h, "brand")], "Atelier Test");
+  EXPECT_EQ(rows[1][col(h, "color")], "Navy/White");
+  EXPECT_EQ(rows[1][col(h, "price")], "59.90 EUR");
+  EXPECT_EQ(rows[1][col(h, "product_detail")],
             "Measurements:Hip:96.5 cm,Measurements:Skirt length:61.0 cm,"
             "Measurements:Waist:72.0 cm");
-  // The description's line break must not split the row.
   EXPECT_EQ(rows[1][col(h, "description")], "Soft linen. Lined, with pockets; size M on the form.");
   EXPECT_EQ(rows[1][col(h, "link")], "https://shop.test/products/sk-1001");
+  ASSERT_EQ(file.warnings.size(), 1u);
+  EXPECT_NE(file.warnings[0].find("no price"), std::string::npos);
+
+  o.storePlatform = "woocommerce";
+  o.madeToOrder = true;
+  const auto mto = parseTsv(merchantTsv(exports_test::sampleItems(), o).bytes);
+  ASSERT_EQ(mto.size(), 1u + 3u);
+  EXPECT_EQ(mto[1][col(h, "item_group_id")], "SK-1001");
+  EXPECT_EQ(mto[1][col(h, "link")], "https://shop.test/product/linen-skirt-ete-blue/");
+
+  o.sizeSystem = "KR";  // not one of Merchant's
+  EXPECT_THROW(merchantTsv(exports_test::sampleItems(), o), ExportError);
+  o.sizeSystem = "";
+  o.brand.clear();
+  EXPECT_THROW(merchantTsv(exports_test::sampleItems(), o), ExportError);
+  o.brand = "B";
+  o.storeUrl = "http://localhost:8080";
+  EXPECT_THROW(merchantTsv(exports_test::sampleItems(), o), ExportError);
+}
+
+TEST(ProductTitle, FromColourCutAndType) {
+  auto items = exports_test::sampleItems();
+  EXPECT_EQ(defaultProductTitle(items[0]), "Navy A-line skirt");
+  EXPECT_EQ(defaultProductTitle(items[1]), "Printed short-sleeve top");
+  ExportItem p;
+  p.type = "pants";
+  EXPECT_EQ(defaultProductTitle(p), "Trousers");
+  p.colors = {"Black"};
+  EXPECT_EQ(defaultProductTitle(p), "Black trousers");
 }
 
 TEST(StoreZip, UnzipReadsItBack) {

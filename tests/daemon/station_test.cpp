@@ -266,10 +266,27 @@ TEST(Naming, TemplateExpandsToOneSafeFileName) {
   EXPECT_EQ(expandNamingTemplate("{unknown}", {}), "_unknown_");
 }
 
-TEST(SizeGuide, Csv) {
-  nlohmann::json g = {{"sizes", {"44", "55"}},
-                      {"measurements", {{"bust_circ", {{"44", 82.0}, {"55", 88.25}}}}}};
-  EXPECT_EQ(sizeGuideCsv(g), "measurement,44,55\nbust_circ,82.0,88.2\n");
+TEST(SizeGuide, CsvOfTheStoredGuide) {
+  const nlohmann::json g = {
+      {"units", "cm"},
+      {"type", "top"},
+      {"chart", "korean_women"},
+      {"base_size", "55"},
+      {"measurements", {"bust_circ"}},
+      {"rows",
+       {{{"size", "44"}, {"garment", {{"bust_circ", 82.0}}}, {"body", nlohmann::json::object()}},
+        {{"size", "55"},
+         {"garment", {{"bust_circ", 88.25}}},
+         {"body", nlohmann::json::object()}}}}};
+  EXPECT_EQ(sizeGuideCsv(g), "size,item,bust_circ\r\n44,,82.0\r\n55,yes,88.3\r\n");
+  // The old shape is refused with the field named, not read with defaults.
+  const nlohmann::json old = {{"sizes", {"44"}}, {"measurements", {{"bust_circ", {{"44", 82.0}}}}}};
+  try {
+    sizeGuideCsv(old);
+    ADD_FAILURE() << "old shape accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("'sizes'"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -48,12 +48,9 @@ TEST(SizeRun, EveryChartSizeGradedWithAGuide) {
   ASSERT_EQ(run->sizes, chart.sizes);
   for (std::size_t i = 1; i < run->sizes.size(); ++i)
     EXPECT_GT(run->garment[i].at("bust_circ"), run->garment[i - 1].at("bust_circ"));
-  const std::string csv = sizeGuideCsv(*run);
-  EXPECT_EQ(csv.rfind("size,", 0), 0u);
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), static_cast<long>(chart.sizes.size()) + 1);
-  const auto json = nlohmann::json::parse(sizeGuideJson(*run, src.type, chart.name));
-  EXPECT_EQ(json.at("sizes").size(), chart.sizes.size());
-  EXPECT_TRUE(json.at("sizes")[0].at("garment").contains("waist_circ"));
+  EXPECT_TRUE(run->skipped.empty());
+  EXPECT_TRUE(run->garment[0].count("waist_circ"));
+  EXPECT_EQ(run->body[0].at("bust_circ"), chart.bodies[0].get("bust_circ"));
 }
 
 }  // namespace

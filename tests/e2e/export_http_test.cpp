@@ -119,7 +119,8 @@ std::string itemPath(std::int64_t id) {
 }
 
 const std::string kBase = "https://shop.example/files";
-const std::string kQuery = "?base_url=" + kBase + "&store_url=https://shop.example";
+const std::string kQuery =
+    "?base_url=" + kBase + "&store_url=https://shop.example&brand=Atelier%20E2E";
 
 // The dressed capture stores the graded run (a pattern per chart size and a size guide), its
 // shop files have one variant per graded size, every pattern route serves every size, and the
@@ -151,20 +152,32 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   const Json guide = guideReply.json();
   EXPECT_EQ(guide["units"], "cm");
   EXPECT_EQ(guide["base_size"], baseSize);
-  EXPECT_EQ(guide["sizes"].get<std::vector<std::string>>(), graded);
-  ASSERT_TRUE(guide["measurements"].is_object() && !guide["measurements"].empty());
-  for (const auto& [name, bySize] : guide["measurements"].items())
-    for (const auto& s : graded) {
-      ASSERT_TRUE(bySize.contains(s) && bySize[s].is_number()) << name << " size " << s;
-      EXPECT_GT(bySize[s].get<double>(), 0) << name << " size " << s;
+  ASSERT_TRUE(guide["rows"].is_array() && guide["measurements"].is_array()) << guideReply.body;
+  std::vector<std::string> guideSizes;
+  for (const auto& r : guide["rows"])
+    guideSizes.push_back(r["size"]);
+  EXPECT_EQ(guideSizes, graded);
+  ASSERT_FALSE(guide["measurements"].empty());
+  // The piece's own row is what was measured on it, to 0.1 cm; every other row has each value.
+  for (const auto& r : guide["rows"])
+    for (const auto& name : guide["measurements"]) {
+      const std::string n = name;
+      if (r["size"] == baseSize) {
+        ASSERT_TRUE(item["measurements"].contains(n)) << n;
+        EXPECT_NEAR(r["garment"][n].get<double>(), item["measurements"][n].get<double>(), 0.05)
+            << n;
+      }
+      ASSERT_TRUE(r["garment"].contains(n)) << n << " size " << r["size"];
+      EXPECT_GT(r["garment"][n].get<double>(), 0) << n << " size " << r["size"];
     }
   // Graded garments grow with the size: the waist of every size is larger than the one before.
-  if (guide["measurements"].contains("waist_circ")) {
-    for (std::size_t i = 1; i < graded.size(); ++i)
-      EXPECT_GT(guide["measurements"]["waist_circ"][graded[i]].get<double>(),
-                guide["measurements"]["waist_circ"][graded[i - 1]].get<double>())
-          << graded[i];
-  }
+  for (std::size_t i = 1; i < graded.size(); ++i)
+    EXPECT_GT(guide["rows"][i]["garment"]["waist_circ"].get<double>(),
+              guide["rows"][i - 1]["garment"]["waist_circ"].get<double>())
+        << graded[i];
+  const auto guideCsv = d.get(at + "/sizeguide.csv");
+  ASSERT_EQ(guideCsv.status, 200);
+  EXPECT_EQ(guideCsv.body.rfind("size,item,", 0), 0u) << guideCsv.body;
 
   // --- pattern files of every stored size.
   for (const auto& size : sizesJ) {
@@ -251,7 +264,16 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
             404);
   ASSERT_EQ(httpCall(d.port(), http::verb::patch, at, R"({"status": "approved"})").status, 200);
 
-  // --- Shopify: one product, one variant per graded size, SKU suffix, option "Size".
+  // --- Shopify: one product, one variant: the piece in its own size, stock 1. Without a
+  // price it is a draft.
+  {
+    const auto draft = d.get("/api/export/shopify.csv" + kQuery);
+    ASSERT_EQ(draft.status, 200) << draft.body;
+    const auto rows = readCsv(draft.body, ',');
+    ASSERT_FALSE(rows.empty());
+    EXPECT_EQ(rows.front().at("Status"), "draft");
+  }
+  ASSERT_EQ(httpCall(d.port(), http::verb::patch, at, R"({"price_cents": 4990})").status, 200);
   const auto shopify = d.get("/api/export/shopify.csv" + kQuery);
   ASSERT_EQ(shopify.status, 200) << shopify.body;
   EXPECT_EQ(shopify.contentType, "text/csv; charset=utf-8");
@@ -262,61 +284,65 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
     EXPECT_EQ(r.at("URL handle"), "exp-7");
     if (!r.at("Option1 value").empty()) {
       EXPECT_EQ(r.at("Option1 name"), "Size");
-      EXPECT_EQ(r.at("SKU"), sku + "-" + r.at("Option1 value"));
+      EXPECT_EQ(r.at("SKU"), sku);
+      EXPECT_EQ(r.at("Inventory quantity"), "1");
       variants.push_back(r.at("Option1 value"));
     }
   }
-  EXPECT_EQ(variants, graded);
+  EXPECT_EQ(variants, std::vector<std::string>{baseSize});
   EXPECT_EQ(std::count_if(srows.begin(), srows.end(),
                           [](const Row& r) { return !r.at("Title").empty(); }),
             1);
   const auto& product = srows.front();
+  EXPECT_EQ(product.at("Status"), "active");
+  EXPECT_EQ(product.at("Vendor"), "Atelier E2E");
   EXPECT_NE(product.at("Description").find("Size guide"), std::string::npos);
-  for (const auto& s : graded)
-    EXPECT_NE(product.at("Description").find("<td>" + s + "</td>"), std::string::npos) << s;
+  EXPECT_NE(product.at("Description").find("<td>" + baseSize + "</td>"), std::string::npos);
   const auto images = rowsWith(srows, "Product image URL", kBase + "/images/");
   ASSERT_FALSE(images.empty()) << "no image URL under the configured base";
   EXPECT_EQ(images.front(), kBase + "/images/" + std::to_string(cap.id) + "-product.png");
   EXPECT_EQ(d.get("/api/export/files/images/" + std::to_string(cap.id) + "-product.png").status,
             200);
-  // The legacy header set names the same variants.
+  // Made to order: every graded size is a variant, the piece's keeps the item's SKU.
+  const auto mto =
+      readCsv(d.get("/api/export/shopify.csv" + kQuery + "&made_to_order=1").body, ',');
+  std::vector<std::string> mtoSizes;
+  for (const auto& r : mto)
+    if (!r.at("Option1 value").empty())
+      mtoSizes.push_back(r.at("Option1 value"));
+  EXPECT_EQ(mtoSizes, graded);
+  // Links to this machine are refused unless the shop allows them.
+  const auto local = d.get("/api/export/shopify.csv?base_url=http://127.0.0.1:1/files");
+  EXPECT_EQ(local.status, 422) << local.body;
+  EXPECT_NE(local.json().value("error", "").find("public_base_url"), std::string::npos);
+  // The legacy header set names the same variant.
   const auto legacy = d.get("/api/export/shopify.csv" + kQuery + "&legacy=1");
   ASSERT_EQ(legacy.status, 200);
   EXPECT_EQ(csvHeader(legacy.body).front(), "Handle");
-  EXPECT_EQ(rowsWith(readCsv(legacy.body, ','), "Variant SKU", sku + "-").size(), graded.size());
+  EXPECT_EQ(rowsWith(readCsv(legacy.body, ','), "Variant SKU", sku).size(), 1u);
 
-  // --- WooCommerce: a variable parent and one variation per size with its measurements.
+  // --- WooCommerce: a simple product with stock 1 and the piece's measurements.
   const auto woo = d.get("/api/export/woocommerce.csv" + kQuery);
   ASSERT_EQ(woo.status, 200) << woo.body;
   const auto wrows = readCsv(woo.body, ',');
-  ASSERT_EQ(wrows.size(), graded.size() + 1);
-  EXPECT_EQ(wrows[0].at("Type"), "variable");
+  ASSERT_EQ(wrows.size(), 1u);
+  EXPECT_EQ(wrows[0].at("Type"), "simple");
   EXPECT_EQ(wrows[0].at("SKU"), sku);
-  for (std::size_t i = 0; i < graded.size(); ++i) {
-    const auto& v = wrows[i + 1];
-    EXPECT_EQ(v.at("Type"), "variation");
-    EXPECT_EQ(v.at("Parent"), sku);
-    EXPECT_EQ(v.at("Attribute 1 name"), "Size");
-    EXPECT_EQ(v.at("Attribute 1 value(s)"), graded[i]);
-    EXPECT_EQ(v.at("SKU"), sku + "-" + graded[i]);
-    if (guide["measurements"].contains("waist_circ") && v.count("Meta: waist_circ_cm")) {
-      EXPECT_NEAR(std::stod(v.at("Meta: waist_circ_cm")),
-                  guide["measurements"]["waist_circ"][graded[i]].get<double>(), 0.051);
-    }
-  }
+  EXPECT_EQ(wrows[0].at("Stock"), "1");
+  EXPECT_EQ(wrows[0].at("Attribute 1 value(s)"), baseSize);
+  EXPECT_NEAR(std::stod(wrows[0].at("Meta: waist_circ_cm")),
+              item["measurements"]["waist_circ"].get<double>(), 0.051);
 
-  // --- Merchant Center: one row per size, grouped by the SKU.
+  // --- Merchant Center: the piece, with its brand and link.
   const auto merchant = d.get("/api/export/merchant.tsv" + kQuery);
   ASSERT_EQ(merchant.status, 200) << merchant.body;
   const auto mrows = readCsv(merchant.body, '\t');
-  ASSERT_EQ(mrows.size(), graded.size());
-  for (std::size_t i = 0; i < graded.size(); ++i) {
-    EXPECT_EQ(mrows[i].at("item_group_id"), sku);
-    EXPECT_EQ(mrows[i].at("size"), graded[i]);
-    EXPECT_EQ(mrows[i].at("id"), sku + "-" + graded[i]);
-    EXPECT_EQ(mrows[i].at("link"), "https://shop.example/products/exp-7");
-    EXPECT_NE(mrows[i].at("product_detail").find("Measurements:"), std::string::npos);
-  }
+  ASSERT_EQ(mrows.size(), 1u);
+  EXPECT_EQ(mrows[0].at("id"), sku);
+  EXPECT_EQ(mrows[0].at("size"), baseSize);
+  EXPECT_EQ(mrows[0].at("brand"), "Atelier E2E");
+  EXPECT_EQ(mrows[0].at("link"), "https://shop.example/products/exp-7");
+  EXPECT_NE(mrows[0].at("product_detail").find("Measurements:"), std::string::npos);
 
   // --- catalog ZIP: valid (CRCs), and every file the item promises.
   const auto zip = d.get("/api/export/catalog.zip" + kQuery);

@@ -106,53 +106,95 @@ function readCsv(file, opts = {}) {
   return parse(readFileSync(join(dir, file), 'utf8'), { columns: true, bom: true, ...opts });
 }
 const url = (p) => truth.base_url + '/' + p.split('/').map(encodeURIComponent).join('/');
-const variantCount = (it) => Math.max(1, it.sizes.length);
+// Every variant a file must hold: the piece (stock 1), then with made-to-order the other sizes.
+const variantsOf = (it, mto) => [{ ...it.piece, sku: it.sku, piece: true },
+  ...(mto ? it.made_to_order.map((s) => ({ ...s, sku: `${it.sku}-${s.label}`, piece: false })) : [])];
+const handleOf = (sku) => sku.toLowerCase().replace(/[^a-z0-9]+/g, '-').replace(/^-+|-+$/g, '');
 
-const shop = readCsv('shopify.csv');
-for (const it of truth.items) {
-  const rows = shop.filter((r) => r['URL handle'] === shop.find((x) => x.Title === it.title)?.['URL handle']);
-  check(`shopify: "${it.title}" found by exact title`, rows.length > 0);
-  if (!rows.length) continue;
-  const variants = rows.filter((r) => r.SKU);
-  check(`shopify: ${it.sku} has ${variantCount(it)} variants`, variants.length === variantCount(it));
-  check(`shopify: ${it.sku} option Size`, variants.every((r) => r['Option1 name'] === 'Size'));
-  if (it.sizes.length)
-    check(`shopify: ${it.sku} variant SKUs`, it.sizes.every((s) => variants.some((r) => r.SKU === `${it.sku}-${s.label}` && r['Option1 value'] === s.label)));
-  check(`shopify: ${it.sku} tags`, rows[0].Tags === it.tags.join(', '));
-  check(`shopify: ${it.sku} images`, JSON.stringify(rows.map((r) => r['Product image URL']).filter(Boolean)) === JSON.stringify(it.images.map(url)));
-  const desc = rows[0].Description;
-  const okGuide = (it.sizes.length ? it.sizes : [{ measurements: it.measurements }]).every((s) =>
-    Object.values(s.measurements).every((v) => desc.includes(`<td>${fix1(v)}</td>`)));
-  check(`shopify: ${it.sku} description holds the size guide`, okGuide);
-  if (it.price !== null) check(`shopify: ${it.sku} price`, variants.every((r) => Number(r.Price) === it.price));
+// No file may link to this machine: a shop cannot fetch from it.
+for (const f of ['shopify.csv', 'woocommerce.csv', 'merchant.tsv', 'shopify_mto.csv', 'woocommerce_mto.csv', 'merchant_mto.tsv', 'shopify_legacy.csv'])
+  check(`${f}: no loopback link`, !/\/\/(localhost|127\.|\[::1\]|0\.0\.0\.0)/.test(readFileSync(join(dir, f), 'utf8')));
+
+for (const mto of [false, true]) {
+  const tag = mto ? 'shopify made-to-order' : 'shopify';
+  const shop = readCsv(mto ? 'shopify_mto.csv' : 'shopify.csv');
+  for (const it of truth.items) {
+    const rows = shop.filter((r) => r['URL handle'] === shop.find((x) => x.Title === it.title)?.['URL handle']);
+    check(`${tag}: "${it.title}" found by exact title`, rows.length > 0);
+    if (!rows.length) continue;
+    const want = variantsOf(it, mto);
+    const variants = rows.filter((r) => r.SKU);
+    check(`${tag}: ${it.sku} has ${want.length} variants`, variants.length === want.length, `${variants.length}`);
+    for (const w of want) {
+      const v = variants.find((r) => r.SKU === w.sku);
+      check(`${tag}: ${it.sku} variant ${w.label}`, !!v && v['Option1 name'] === 'Size' && v['Option1 value'] === w.label);
+      if (!v) continue;
+      check(`${tag}: ${w.sku} stock`, w.piece
+        ? v['Inventory tracker'] === 'shopify' && v['Inventory quantity'] === '1' && v['Continue selling when out of stock'] === 'DENY'
+        : v['Inventory tracker'] === '' && v['Continue selling when out of stock'] === 'CONTINUE');
+    }
+    const draft = it.price === null;
+    check(`${tag}: ${it.sku} ${draft ? 'draft, unpublished' : 'active, published'}`,
+      rows[0].Status === (draft ? 'draft' : 'active') && rows[0]['Published on online store'] === (draft ? 'FALSE' : 'TRUE'));
+    check(`${tag}: ${it.sku} colour`, rows[0]['Color (product.metafields.shopify.color-pattern)'] === (it.printed ? 'print' : it.color.split('/')[0]));
+    check(`${tag}: ${it.sku} vendor is the configured brand`, rows[0].Vendor === truth.brand);
+    check(`${tag}: ${it.sku} tags`, rows[0].Tags === it.tags.join(', '));
+    check(`${tag}: ${it.sku} images`, JSON.stringify(rows.map((r) => r['Product image URL']).filter(Boolean)) === JSON.stringify(it.images.map(url)));
+    const desc = rows[0].Description;
+    check(`${tag}: ${it.sku} description holds the piece's size row`,
+      desc.includes(`<td>${it.piece.label}</td>`) && Object.values(it.piece.measurements).every((v) => desc.includes(`<td>${fix1(v)}</td>`)));
+    check(`${tag}: ${it.sku} guide shows other sizes only when made to order`,
+      it.made_to_order.every((s) => desc.includes(`<td>${s.label}</td>`) === mto));
+    if (it.price !== null) check(`${tag}: ${it.sku} price`, variants.every((r) => Number(r.Price) === it.price));
+  }
 }
 const legacy = readCsv('shopify_legacy.csv');
 check('shopify legacy: Handle/Variant SKU columns', 'Handle' in legacy[0] && 'Variant SKU' in legacy[0]);
 check('shopify legacy: titles', truth.items.every((it) => legacy.some((r) => r.Title === it.title)));
+check('shopify legacy: the piece tracked with stock 1', truth.items.every((it) => legacy.some((r) => r['Variant SKU'] === it.sku && r['Variant Inventory Qty'] === '1')));
 
-const woo = readCsv('woocommerce.csv');
-for (const it of truth.items) {
-  const parent = woo.find((r) => r.Type === 'variable' && r.SKU === it.sku);
-  check(`woocommerce: ${it.sku} parent with exact name`, !!parent && parent.Name === it.title);
-  if (!parent) continue;
-  const vars = woo.filter((r) => r.Type === 'variation' && r.Parent === it.sku);
-  check(`woocommerce: ${it.sku} ${variantCount(it)} variations`, vars.length === variantCount(it));
-  check(`woocommerce: ${it.sku} Attribute 1 Size`, parent['Attribute 1 name'] === 'Size' && vars.every((v) => v['Attribute 1 name'] === 'Size'));
-  for (const s of it.sizes) {
-    const v = vars.find((r) => r['Attribute 1 value(s)'] === s.label);
-    check(`woocommerce: ${it.sku} size ${s.label} Meta measurements`, !!v && Object.entries(s.measurements).every(([k, cm]) => Number(v[`Meta: ${k}_cm`]) === Math.round(cm * 10) / 10));
+for (const mto of [false, true]) {
+  const tag = mto ? 'woocommerce made-to-order' : 'woocommerce';
+  const woo = readCsv(mto ? 'woocommerce_mto.csv' : 'woocommerce.csv');
+  for (const it of truth.items) {
+    const want = variantsOf(it, mto);
+    const simple = want.length === 1;
+    const parent = woo.find((r) => r.SKU === it.sku && r.Type === (simple ? 'simple' : 'variable'));
+    check(`${tag}: ${it.sku} ${simple ? 'simple' : 'variable'} product with exact name`, !!parent && parent.Name === it.title);
+    if (!parent) continue;
+    check(`${tag}: ${it.sku} ${it.price === null ? 'draft (-1)' : 'published (1)'}`, parent.Published === (it.price === null ? '-1' : '1'));
+    check(`${tag}: ${it.sku} short description keeps line breaks`, parent['Short description'] === it.description);
+    check(`${tag}: ${it.sku} colour attribute`, parent['Attribute 2 name'] === 'Color' && parent['Attribute 2 value(s)'] === (it.printed ? 'Print' : it.color));
+    const rows = simple ? [parent] : woo.filter((r) => r.Type === 'variation' && r.Parent === it.sku);
+    check(`${tag}: ${it.sku} ${want.length} sellable rows`, rows.length === want.length, `${rows.length}`);
+    for (const w of want) {
+      const v = simple ? parent : rows.find((r) => r['Attribute 1 value(s)'] === w.label);
+      check(`${tag}: ${it.sku} size ${w.label} Meta measurements`, !!v && Object.entries(w.measurements).every(([k, cm]) => Number(v[`Meta: ${k}_cm`]) === Math.round(cm * 10) / 10));
+      if (v) check(`${tag}: ${it.sku} size ${w.label} stock`, w.piece ? v.Stock === '1' && v['Backorders allowed?'] === '0' : v.Stock === '' && v['Backorders allowed?'] === '1');
+    }
   }
-  check(`woocommerce: ${it.sku} short description keeps line breaks`, parent['Short description'] === it.description);
 }
 
-const gmc = readCsv('merchant.tsv', { delimiter: '\t', quote: false });
-for (const it of truth.items) {
-  const rows = gmc.filter((r) => r.item_group_id === it.sku);
-  check(`merchant: ${it.sku} one row per size`, rows.length === variantCount(it));
-  check(`merchant: ${it.sku} apparel fields`, rows.every((r) => r.gender && r.age_group === 'adult' && r.size && r.size_system && r.color === it.color));
-  for (const s of it.sizes) {
-    const r = rows.find((x) => x.size === s.label);
-    check(`merchant: ${it.sku} ${s.label} product_detail`, !!r && Object.values(s.measurements).every((cm) => r.product_detail.includes(`:${fix1(cm)} cm`)));
+for (const mto of [false, true]) {
+  const tag = mto ? 'merchant made-to-order' : 'merchant';
+  const gmc = readCsv(mto ? 'merchant_mto.tsv' : 'merchant.tsv', { delimiter: '\t', quote: false });
+  for (const it of truth.items) {
+    const want = variantsOf(it, mto);
+    const rows = gmc.filter((r) => want.some((w) => w.sku === r.id));
+    if (it.price === null) {
+      check(`${tag}: ${it.sku} without a price is left out`, rows.length === 0);
+      continue;
+    }
+    check(`${tag}: ${it.sku} one row per variant`, rows.length === want.length, `${rows.length}`);
+    check(`${tag}: ${it.sku} grouped only when there are variants`, rows.every((r) => r.item_group_id === (want.length > 1 ? it.sku : '')));
+    check(`${tag}: ${it.sku} apparel fields`, rows.every((r) => r.gender && r.age_group === 'adult' && r.color === it.color && r.brand === truth.brand && r.size_system === truth.size_system));
+    check(`${tag}: ${it.sku} price`, rows.every((r) => r.price === `${it.price.toFixed(2)} EUR`));
+    const link = mto ? `${truth.store_url}/product/` : `${truth.store_url}/products/${handleOf(it.sku)}`;
+    check(`${tag}: ${it.sku} links to the ${mto ? 'WooCommerce' : 'Shopify'} product page`, rows.every((r) => r.link.startsWith(link) && (!mto || r.link.endsWith('/'))), rows[0]?.link);
+    for (const w of want) {
+      const r = rows.find((x) => x.id === w.sku);
+      check(`${tag}: ${w.sku} size ${w.label} and product_detail`, !!r && r.size === w.label && Object.values(w.measurements).every((cm) => r.product_detail.includes(`:${fix1(cm)} cm`)));
+    }
   }
 }
 

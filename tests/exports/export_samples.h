@@ -4,6 +4,7 @@
 // side seams; graded sizes keep the vertex count and order, as DSW does.
 
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -70,7 +71,24 @@ inline drafts::GradedRun skirtRun() {
   return run;
 }
 
-/// Two items whose texts exercise CSV quoting: commas, quotes, a line break, non-ASCII.
+/// A size guide over S, M, L whose row `item` is the piece (chart "test").
+inline dsw::SizeGuide sampleGuide(const std::vector<std::map<std::string, double>>& rows,
+                                  std::size_t item) {
+  dsw::SizeGuide g;
+  g.type = "skirt";
+  g.chart = "test";
+  const std::vector<std::string> sizes = {"S", "M", "L"};
+  for (const auto& name : dsw::sizeGuideMeasurementNames())
+    if (rows.front().count(name))
+      g.measurements.push_back(name);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    g.rows.push_back({sizes[i], rows[i], {}});
+  g.itemRow = item;
+  return g;
+}
+
+/// Two items whose texts exercise CSV quoting: commas, quotes, a line break, non-ASCII. The
+/// first is priced and graded (S, M, L; the piece is M); the second has no price and no guide.
 inline std::vector<daemon::ExportItem> sampleItems() {
   daemon::ExportItem a;
   a.id = "1";
@@ -78,14 +96,15 @@ inline std::vector<daemon::ExportItem> sampleItems() {
   a.title = "Linen skirt, \"Été\" — blue";
   a.description = "Soft linen.\nLined, with pockets; size M on the form.";
   a.type = "skirt";
-  a.attributes = {{"skirt", "a_line"}, {"color", "blue"}};
+  a.attributes = {{"skirt", "a_line"}};
+  a.colors = {"Navy", "White"};
   a.price = 59.9;
   a.tags = {"linen", "summer, 2026"};
   a.measurementsCm = {{"waist_circ", 72.0}, {"hip_circ", 96.5}, {"skirt_length", 61.0}};
-  a.sampleSize = "M";
-  a.sizes = {{"S", {{"waist_circ", 67.0}, {"hip_circ", 91.5}, {"skirt_length", 60.0}}},
-             {"M", {{"waist_circ", 72.0}, {"hip_circ", 96.5}, {"skirt_length", 61.0}}},
-             {"L", {{"waist_circ", 77.0}, {"hip_circ", 101.5}, {"skirt_length", 62.0}}}};
+  a.sizeGuide = sampleGuide({{{"waist_circ", 67.0}, {"hip_circ", 91.5}, {"skirt_length", 60.0}},
+                             {{"waist_circ", 72.0}, {"hip_circ", 96.5}, {"skirt_length", 61.0}},
+                             {{"waist_circ", 77.0}, {"hip_circ", 101.5}, {"skirt_length", 62.0}}},
+                            1);
   a.images = {{"images/SK-1001-product.jpg", ""}, {"images/SK-1001-cutout.png", "Cut-out"}};
   daemon::ExportItem b;
   b.id = "2";
@@ -93,8 +112,8 @@ inline std::vector<daemon::ExportItem> sampleItems() {
   b.title = "Bluse 'Grün' ★";
   b.type = "top";
   b.attributes = {{"sleeve", "short"}};
+  b.printed = true;
   b.tags = {};
-  b.published = false;
   b.measurementsCm = {{"bust_circ", 94.0}, {"garment_length", 58.25}};
   b.images = {{"images/TP 2002-product.jpg", ""}};
   return {a, b};

@@ -50,12 +50,21 @@ int main(int argc, char** argv) {
     daemon::ShopOptions o;
     o.publicBaseUrl = "https://cdn.shop.test/catalog";
     o.storeUrl = "https://shop.test";
+    o.brand = "Atelier Test";
+    o.sizeSystem = "EU";
+    o.sizeLabels = {{"S", "36"}, {"M", "38"}, {"L", "40"}};
     const auto items = exports_test::sampleItems();
-    write(dir / "shopify.csv", daemon::shopifyCsv(items, o));
-    write(dir / "woocommerce.csv", daemon::wooCommerceCsv(items, o));
-    write(dir / "merchant.tsv", daemon::merchantTsv(items, o));
+    write(dir / "shopify.csv", daemon::shopifyCsv(items, o).bytes);
+    write(dir / "woocommerce.csv", daemon::wooCommerceCsv(items, o).bytes);
+    write(dir / "merchant.tsv", daemon::merchantTsv(items, o).bytes);
     o.legacyShopifyHeader = true;
-    write(dir / "shopify_legacy.csv", daemon::shopifyCsv(items, o));
+    write(dir / "shopify_legacy.csv", daemon::shopifyCsv(items, o).bytes);
+    o.legacyShopifyHeader = false;
+    o.madeToOrder = true;
+    write(dir / "shopify_mto.csv", daemon::shopifyCsv(items, o).bytes);
+    write(dir / "woocommerce_mto.csv", daemon::wooCommerceCsv(items, o).bytes);
+    o.storePlatform = "woocommerce";
+    write(dir / "merchant_mto.tsv", daemon::merchantTsv(items, o).bytes);
 
     const auto run = exports_test::skirtRun();
     write(dir / "skirt_M.dxf", drafts::patternDxf(run.patterns[1], {run.style, "M"}));
@@ -64,24 +73,43 @@ int main(int argc, char** argv) {
 
     nlohmann::json truth;
     truth["base_url"] = o.publicBaseUrl;
+    truth["store_url"] = o.storeUrl;
     nlohmann::json its = nlohmann::json::array();
+    // What each file must say, from the sample items themselves (not from the writers).
     for (const auto& it : items) {
-      nlohmann::json sizes = nlohmann::json::array();
-      for (const auto& s : it.sizes)
-        sizes.push_back({{"label", s.label}, {"measurements", s.measurementsCm}});
+      auto label = [&](const std::string& s) {
+        return o.sizeLabels.count(s) ? o.sizeLabels.at(s) : s;
+      };
+      nlohmann::json piece, others = nlohmann::json::array();
+      if (it.sizeGuide) {
+        piece = {{"label", label(it.sizeGuide->itemSize())},
+                 {"measurements", it.sizeGuide->item().garmentCm}};
+        for (std::size_t i = 0; i < it.sizeGuide->rows.size(); ++i)
+          if (i != it.sizeGuide->itemRow)
+            others.push_back({{"label", label(it.sizeGuide->rows[i].size)},
+                              {"measurements", it.sizeGuide->rows[i].garmentCm}});
+      } else {
+        piece = {{"label", "One size"}, {"measurements", it.measurementsCm}};
+      }
       nlohmann::json images = nlohmann::json::array();
       for (const auto& im : it.images)
         images.push_back(im.path);
+      std::string color;
+      for (const auto& c : it.colors)
+        color += (color.empty() ? "" : "/") + c;
       its.push_back({{"sku", it.sku},
                      {"title", it.title},
                      {"description", it.description},
                      {"price", it.price ? nlohmann::json(*it.price) : nlohmann::json(nullptr)},
                      {"tags", it.tags},
-                     {"measurements", it.measurementsCm},
-                     {"sizes", sizes},
+                     {"piece", piece},
+                     {"made_to_order", others},
                      {"images", images},
-                     {"color", it.attributes.count("color") ? it.attributes.at("color") : ""}});
+                     {"color", color},
+                     {"printed", it.printed}});
     }
+    truth["brand"] = o.brand;
+    truth["size_system"] = o.sizeSystem;
     truth["items"] = its;
     truth["single"] = pieces(run.patterns[1], "M");
     nlohmann::json graded = nlohmann::json::object();

@@ -12,8 +12,8 @@ namespace garmcap::daemon {
 
 void addApiRoutes(Router& router, Station& station);
 
-/// The size guide as CSV: "measurement,<size>,<size>..." then one row per measurement (cm, one
-/// decimal). Throws nlohmann::json exceptions on a malformed guide.
+/// A stored size guide (dsw::sizeGuideJson) as dsw::sizeGuideCsv. Throws drafts::ParseError
+/// naming the field on a malformed guide.
 std::string sizeGuideCsv(const nlohmann::json& guide);
 
 struct Item;

@@ -83,7 +83,7 @@ struct NewItem {
   std::vector<ImageRef> images;  // blobs already durable in the store; rows added here
   std::map<std::string, nlohmann::json> patterns;  // size -> pattern JSON ("base" = as measured)
   std::string baseSize;
-  nlohmann::json sizeGuide;  // {"chart", "sizes": [...], "rows": [...]} or null
+  nlohmann::json sizeGuide;  // dsw::sizeGuideJson (docs/formats.md) or null
   nlohmann::json result;     // the pipeline's result.json
   std::optional<std::int64_t> calibrationId;
   std::optional<std::int64_t> jobId;

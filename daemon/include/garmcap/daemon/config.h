@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -15,6 +16,19 @@ namespace garmcap::daemon {
 class ConfigError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+/// [shop]: what the shop exports need to know about the shop (docs/exports.md).
+struct ShopConfig {
+  std::string brand;          // the label's or the shop's name (Merchant brand, Shopify vendor)
+  std::string storeUrl;       // the shop's public address; product links are built on it
+  std::string publicBaseUrl;  // where the exported images are published
+  std::string storePlatform = "shopify";  // shopify | woocommerce: whose product links
+  std::string currency = "EUR";           // ISO 4217
+  std::string sizeSystem;                 // Merchant size_system; "" = none (e.g. Korean sizes)
+  std::map<std::string, std::string> sizeLabels;  // chart size -> shop label, e.g. "55" = "S"
+  bool madeToOrder = false;    // offer the graded run's other sizes as made-to-order variants
+  bool allowLoopback = false;  // allow links to this machine (a shop served from this host)
 };
 
 struct Config {
@@ -58,6 +72,8 @@ struct Config {
   int resumeQueuedS = 600;
   // [naming]
   std::string namingTemplate = "{sku}_{kind}";
+  // [shop]
+  ShopConfig shop;
 
   /// Throws ConfigError if the combination is unsafe or incomplete (e.g. a non-loopback
   /// address without a token).

@@ -55,6 +55,8 @@
 #include <string_view>
 #include <vector>
 
+#include "garmcap/daemon/config.h"
+
 namespace garmcap::daemon {
 
 namespace http = boost::beast::http;
@@ -138,6 +140,8 @@ class RouteContext {
   virtual const ContentStore& store() const = 0;
   /// The file-naming template from the config, e.g. "{sku}_{kind}" (see naming.h).
   virtual std::string namingTemplate() const = 0;
+  /// The [shop] settings of the config (brand, links, size labels), a copy.
+  virtual ShopConfig shopConfig() const = 0;
 };
 
 using RouteModule = void (*)(Router&, RouteContext&);

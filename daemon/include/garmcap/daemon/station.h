@@ -118,6 +118,7 @@ class Station : public RouteContext {
   void offload(std::function<void()> fn) override;
   const ContentStore& store() const override { return *store_; }
   std::string namingTemplate() const override { return config_.namingTemplate; }
+  ShopConfig shopConfig() const override { return config_.shop; }
 
   /// Simulated rig only: makes the camera "disappear" (every camera call fails as disconnected)
   /// or come back. Returns false when the station is not simulated.

@@ -1,0 +1,36 @@
+#pragma once
+// The colours a shop lists for a garment: its pixels named by the nearest colour of a small
+// palette of the names shops and Google Merchant Center use ("Navy", "Beige", ...), the
+// dominant ones first, and whether the garment is a print (dots, stripes, florals: many sharp
+// colour changes over short distances) rather than a plain colour with folds and shading.
+//
+// Pure function of an image and a mask; no I/O. Thread-safe.
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace garmcap::daemon {
+
+struct NamedColour {
+  std::string name;   // palette name, e.g. "Navy"
+  double share = 0;   // fraction of the garment's pixels (blends at colour edges left out)
+  cv::Vec3b meanBgr;  // mean colour of those pixels
+};
+
+struct GarmentColours {
+  std::vector<NamedColour> colours;  // dominant first; each at least kMinShare of the garment
+  bool printed = false;
+  /// "Navy" or "Navy/White" (up to three names), the form Merchant's `color` takes.
+  std::string label() const;
+};
+
+/// Palette names, in no particular order (for documentation and the UI's colour picker).
+const std::vector<std::string>& colourPaletteNames();
+
+/// `bgr`: CV_8UC3 frame; `mask`: CV_8UC1 of the same size, non-zero on the garment. The edge
+/// (3 px) is left out, where the garment's colour mixes with what is behind it. Throws
+/// std::invalid_argument on mismatched inputs or a mask with fewer than 100 garment pixels.
+GarmentColours garmentColours(const cv::Mat& bgr, const cv::Mat& mask);
+
+}  // namespace garmcap::daemon
