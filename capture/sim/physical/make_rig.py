@@ -19,6 +19,7 @@ import bmesh
 import bpy
 import numpy as np
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import formgeom as fg  # noqa: E402
 import garments as gm  # noqa: E402
@@ -478,7 +479,8 @@ def make_garment(form, kind, style, rng):
         lengths["long"] = min(rng.uniform(54, 60), arm_len - 8)
         sleeve = lengths[s]
         if kind == "top":
-            hem = form.hip + rng.uniform(-8, 10)
+            # Above the crotch: lower, the offset surface would follow each leg like shorts.
+            hem = rng.uniform(form.crotch + 2.0, form.hip + 10.0)
         else:
             hem = form.waist - 5.0  # the bodice ends under the skirt's waist seam
         tv, tf, tcls = cut_top(form, v, f, form.neck_side, hem, sleeve, s, clearance=e_w + 1.0)
