@@ -6,6 +6,8 @@
 #   ./station.sh deps    install the Debian packages only (apt-get; idempotent)
 #   ./station.sh build   configure and build into build/ (Release, -Wall -Wextra -Werror)
 #   ./station.sh asan    build into build-asan/ with ASan+UBSan and run every test
+#   ./station.sh physrig OUT [ARGS]  install Blender (not in PACKAGES: CI never needs it), build,
+#                        render a physical rig into OUT and calibrate it (docs/physical_rig.md)
 #
 # Environment: JOBS (parallel build jobs, default: nproc), GARMCAP_PORT (default 8080),
 # GARMCAP_DATA (station data folder for `run`, default ./station-data).
@@ -32,6 +34,22 @@ PACKAGES=(
   # web UI browser test (headless chromium), Valentina .vit interop test, ZIP check
   chromium valentina unzip
 )
+
+# Only for `physrig`: Blender 3.4 (cloth solver and Cycles) with numpy for its Python.
+PHYSRIG_PACKAGES=(blender python3-numpy)
+
+physrig() {  # $1 = output rig folder, rest = make_rig.py arguments (default: the committed rig)
+  local out=${1:?usage: ./station.sh physrig OUT [--count N --seed S ...]}; shift
+  local station_packages=("${PACKAGES[@]}")
+  PACKAGES=("${PHYSRIG_PACKAGES[@]}")
+  deps
+  PACKAGES=("${station_packages[@]}")
+  build
+  local args=("$@")
+  [ ${#args[@]} -gt 0 ] || args=(--count 24 --seed 2026)
+  nice -n 10 blender -b -t 2 --python capture/sim/physical/make_rig.py -- --out "$out" "${args[@]}"
+  /usr/bin/python3 capture/sim/physical/calibrate_rig.py "$out" --garmcap build/bin/garmcap
+}
 
 as_root() {
   if [ "$(id -u)" = 0 ]; then "$@"; elif command -v sudo >/dev/null; then sudo "$@"; else
@@ -90,5 +108,6 @@ case "${1:-}" in
   asan) deps; configure_and_build "$ROOT/build-asan" -DGARMCAP_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
         ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 run_tests "$ROOT/build-asan" ;;
   run) deps; build; run_station ;;
-  *) sed -n '2,12p' "$0"; exit 2 ;;
+  physrig) shift; deps; physrig "$@" ;;
+  *) sed -n '2,14p' "$0"; exit 2 ;;
 esac
