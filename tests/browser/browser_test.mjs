@@ -122,11 +122,14 @@ async function main() {
       return await page.isVisible('#last') && (await page.textContent('#last-sku')).includes(sku);
     }, JOB_TIMEOUT_MS, 'the capture to finish');
     await page.waitForTimeout(500);
-    if (!(await inView('#last-approve')) || !(await inView('#last-type')))
+    // An item confident enough is approved at once and has no Approve button; then the way to
+    // check and correct it must be in view.
+    const action = (await page.isVisible('#last-approve')) ? '#last-approve' : '#last-open';
+    if (!(await inView(action)) || !(await inView('#last-type')))
       throw new Error(`${what}: the result and Approve are not in view (scrollY ${await page.evaluate(() => window.scrollY)})`);
     const scrolled = await page.evaluate(() => window.scrollY);
     if (scrolled !== 0) throw new Error(`${what}: the page had to scroll ${scrolled} px to show the result`);
-    step(`${what}: result "${(await page.textContent('#last-type')).trim()}" and Approve in view at ${page.viewportSize().width}x${page.viewportSize().height} (page scrolled by ${scrolled} px)`);
+    step(`${what}: result "${(await page.textContent('#last-type')).trim()}" and ${action === '#last-approve' ? 'Approve' : '"Check & correct" (approved at once)'} in view at ${page.viewportSize().width}x${page.viewportSize().height} (page scrolled by ${scrolled} px)`);
   };
 
   await page.goto(base + '/#/capture');
@@ -151,23 +154,25 @@ async function main() {
   await captureAndSeeResult('BRW-001', 'capture (double tap)');
   await shot('capture-result');
 
-  // A failed capture: red, a toast, plain words and the next step, and the SKU stays.
-  if (!stub) await fetch(base + '/api/sim/camera', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: '{"still_delay_ms": 9000}' });
-  const failSku = stub ? 'FAIL-7' : 'BRW-FAIL';
-  await page.fill('#sku', failSku);
-  await page.click('#btn-capture');
-  await waitFor(async () => page.isVisible('#job.failed'), JOB_TIMEOUT_MS, 'the capture to fail');
-  if (!stub) await fetch(base + '/api/sim/camera', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: '{"still_delay_ms": 0}' });
-  const failure = { what: await page.textContent('#job-error-what'), next: await page.textContent('#job-error-next'),
-    toastBad: await page.evaluate(() => { const t = document.querySelector('#toast'); return !t.hidden && t.classList.contains('bad'); }),
-    sku: await page.inputValue('#sku'),
-    color: await page.evaluate(() => getComputedStyle(document.querySelector('#job')).borderColor) };
-  if (!failure.what || !/^What to do: /.test(failure.next) || !failure.toastBad || failure.sku !== failSku || !/rgb\(198, 40, 40\)/.test(failure.color))
-    throw new Error('a failed capture shows ' + JSON.stringify(failure));
-  if (!(await inView('#job-error-next'))) throw new Error('the failure and the next step are not in view');
-  step(`failed capture: red, toast, "${failure.what}" ${failure.next}; SKU ${failure.sku} kept`);
-  await shot('capture-failed');
-  await page.fill('#sku', '');
+  // A failed capture: red, a toast, plain words and the next step, and the SKU stays. Against the
+  // stub only: the simulated rig has no fault that fails a capture once the form is calibrated
+  // (a slow or pulled camera still delivers the replayed frame).
+  if (stub) {
+    const failSku = 'FAIL-7';
+    await page.fill('#sku', failSku);
+    await page.click('#btn-capture');
+    await waitFor(async () => page.isVisible('#job.failed'), 60000, 'the capture to fail');
+    const failure = { what: await page.textContent('#job-error-what'), next: await page.textContent('#job-error-next'),
+      toastBad: await page.evaluate(() => { const t = document.querySelector('#toast'); return !t.hidden && t.classList.contains('bad'); }),
+      sku: await page.inputValue('#sku'),
+      color: await page.evaluate(() => getComputedStyle(document.querySelector('#job')).borderColor) };
+    if (!failure.what || !/^What to do: /.test(failure.next) || !failure.toastBad || failure.sku !== failSku || !/rgb\(198, 40, 40\)/.test(failure.color))
+      throw new Error('a failed capture shows ' + JSON.stringify(failure));
+    if (!(await inView('#job-error-next'))) throw new Error('the failure and the next step are not in view');
+    step(`failed capture: red, toast, "${failure.what}" ${failure.next}; SKU ${failure.sku} kept`);
+    await shot('capture-failed');
+    await page.fill('#sku', '');
+  }
 
   await page.click('a[data-tab="catalog"]');
   await page.waitForSelector('.tile');
