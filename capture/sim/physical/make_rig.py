@@ -492,8 +492,9 @@ def make_garment(form, kind, style, rng):
             sk = style["skirt"]
             length = rng.uniform(50, 75) if sk != "a_line" else rng.uniform(50, 65)
             sp, sdesc = gm.build_skirt(form, rng, sk, length)
-            # The skirt hangs from the waist seam, outside the bodice there.
-            sp.v = _push_outside(sp.v, tv, margin=0.6)
+            # The skirt hangs from the waist seam, outside the bodice there (not the sleeves,
+            # which hang beside it at the same height).
+            sp.v = _push_outside(sp.v, tv[tcls == gm.TORSO], margin=0.6)
             piece.add(sp.v, sp.f, gm.SKIRT, sp.pin)
             desc.update({"skirt_start": sdesc})
     elif kind == "skirt":

@@ -1,0 +1,137 @@
+// GarmCap on the physical rig (tests/data/rig_physical): garments draped as cloth on the form by
+// Blender's cloth solver and path-traced with Cycles through a distorted perspective camera
+// (capture/sim/physical, docs/physical_rig.md). Nothing of it shares code with the pipeline or
+// with the scene simulator, so this is the one accuracy check the measurer cannot pass by being a
+// copy of its generator. Each case's calibration.json is the station's own registration of the
+// bare frame (`garmcap calibrate --camera`), never the scene's pose. Label "rig".
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "garmcap/capture/rig.h"
+#include "garmcap/pipeline/capture_pipeline.h"
+
+using namespace garmcap;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
+
+// Regression bounds: what the pipeline reached on this rig when it was made (41c8482: 14 of 24
+// types, 56 readings missing; the table in docs/physical_rig.md), plus about 15 % and 0.5 cm.
+// They record today's state so that a change for the worse shows; they are no acceptance.
+// Per measurement {mean, max} absolute error in cm.
+constexpr int kMinTypesRight = 13;
+constexpr int kMaxMissing = 60;
+const std::map<std::string, std::pair<double, double>> kBounds = {
+    {"bust_circ", {3.6, 5.5}},        {"waist_circ", {2.0, 5.0}},
+    {"hip_circ", {1.3, 2.3}},         {"hem_circ", {6.0, 16.0}},
+    {"garment_length", {25.0, 60.0}}, {"skirt_length", {23.0, 64.0}},
+    {"sleeve_length", {6.8, 30.0}},   {"outseam", {5.0, 8.0}},
+    {"inseam", {26.0, 60.0}},         {"leg_opening_circ", {42.0, 72.0}},
+};
+
+// Issue 15's acceptance on a rig: type >= 95 %, every measurement mean <= 1.0 cm, max <= 3.0 cm,
+// nothing missing. Printed, not asserted, until the pipeline reaches it.
+constexpr double kTargetTypeShare = 0.95, kTargetMeanCm = 1.0, kTargetMaxCm = 3.0;
+
+struct Stats {
+  double sum = 0, max = 0;
+  int n = 0, missing = 0;
+};
+
+}  // namespace
+
+// The table this prints is the independent evaluation of issue 15. The bounds are a regression
+// guard at what the pipeline reaches on this rig today plus a margin (docs/physical_rig.md has
+// the numbers); they are far from the issue's targets (type >= 95 %, every mean <= 1.0 cm and
+// max <= 3.0 cm). A measurement the pipeline leaves out, or a case it cannot run, counts as a
+// failure: dropping a hard reading must never improve the table.
+TEST(PhysicalRig, AccuracyOnClothDrapedByAnIndependentSolver) {
+  ASSERT_TRUE(fs::exists(kRig / "rig.json")) << "no rig at " << kRig;
+  const auto rig = capture::readRig(kRig);
+  ASSERT_GE(rig.cases.size(), 24u);
+  pipeline::CaptureOptions opt;
+  opt.makeProductImages = false;
+  opt.makeTexture = false;
+  std::map<std::string, Stats> stats;
+  int typeOk = 0, attrOk = 0, attrN = 0, failed = 0, missing = 0;
+  for (const auto& info : rig.cases) {
+    const auto c = capture::loadRigCase(info.dir);
+    ASSERT_TRUE(c.calibration.is_object()) << c.id << ": no calibration.json";
+    const std::string truthType = c.truth.at("type");
+    const auto& truthMeas = c.truth.at("measurements");
+    pipeline::CaptureResult r;
+    try {
+      r = pipeline::runCapture(c.empty, c.dressed, c.calibration, opt);
+    } catch (const std::exception& e) {
+      ++failed;
+      missing += static_cast<int>(truthMeas.size());
+      for (const auto& [k, v] : truthMeas.items())
+        ++stats[k].missing;
+      std::printf("%s %-5s FAILED: %s\n", c.id.c_str(), truthType.c_str(), e.what());
+      continue;
+    }
+    typeOk += r.type == truthType;
+    for (const auto& [k, v] : c.truth.at("attributes").items()) {
+      ++attrN;
+      const auto it = r.attributes.find(k);
+      attrOk += it != r.attributes.end() && it->second == v.get<std::string>();
+    }
+    std::string line;
+    for (const auto& [k, v] : truthMeas.items()) {
+      const auto it = r.measurements.find(k);
+      Stats& s = stats[k];
+      char buf[64];
+      if (it == r.measurements.end() || r.type != truthType) {
+        // A wrong type measures a different garment: its readings count as missing.
+        ++s.missing;
+        ++missing;
+        std::snprintf(buf, sizeof buf, " %s=missing", k.c_str());
+      } else {
+        const double e = it->second - v.get<double>();
+        s.sum += std::abs(e);
+        s.max = std::max(s.max, std::abs(e));
+        ++s.n;
+        std::snprintf(buf, sizeof buf, " %s%+.1f", k.c_str(), e);
+      }
+      line += buf;
+    }
+    std::printf("%s %-5s as %-7s%s\n", c.id.c_str(), truthType.c_str(), r.type.c_str(),
+                line.c_str());
+  }
+  const int n = static_cast<int>(rig.cases.size());
+  std::printf(
+      "physical rig: %d of %d types, attributes %d of %d, %d cases failed, %d readings "
+      "missing\n",
+      typeOk, n, attrOk, attrN, failed, missing);
+  std::printf("%-18s %6s %6s %4s %7s\n", "measurement", "mean", "max", "n", "missing");
+  for (const auto& [k, s] : stats)
+    std::printf("%-18s %6.2f %6.2f %4d %7d\n", k.c_str(), s.n ? s.sum / s.n : 0.0, s.max, s.n,
+                s.missing);
+
+  bool targetsMet = typeOk >= kTargetTypeShare * n && missing == 0;
+  for (const auto& [k, st] : stats)
+    targetsMet = targetsMet && st.n > 0 && st.sum / st.n <= kTargetMeanCm && st.max <= kTargetMaxCm;
+  std::printf("issue 15 targets (type >= 95 %%, mean <= 1.0 cm, max <= 3.0 cm, none missing): %s\n",
+              targetsMet ? "met" : "NOT met");
+
+  // Regression guard (see the comment above): today's figures plus a margin.
+  EXPECT_EQ(failed, 0);
+  EXPECT_GE(typeOk, kMinTypesRight);
+  EXPECT_LE(missing, kMaxMissing);
+  for (const auto& [k, s] : stats) {
+    ASSERT_GT(s.n, 0) << k << ": never measured";
+    const auto bound = kBounds.find(k);
+    ASSERT_NE(bound, kBounds.end()) << k << ": no bound for this measurement";
+    EXPECT_LE(s.sum / s.n, bound->second.first) << k << " mean";
+    EXPECT_LE(s.max, bound->second.second) << k << " max";
+  }
+}
