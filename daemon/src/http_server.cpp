@@ -29,10 +29,16 @@ bool authorized(const Request& request, const std::string& token) {
       diff |= static_cast<unsigned>(token[i] ^ (i < given.size() ? given[i] : 0));
     return diff == 0;
   };
+  // RFC 7235: the scheme is case-insensitive ("bearer", "BEARER"), one or more spaces follow.
   auto auth = request[http::field::authorization];
-  const std::string_view a(auth.data(), auth.size());
-  if (a.rfind("Bearer ", 0) == 0 && equal(a.substr(7)))
-    return true;
+  std::string_view a(auth.data(), auth.size());
+  if (a.size() > 7 && beast::iequals(beast::string_view(a.data(), 6), "Bearer") && a[6] == ' ') {
+    a.remove_prefix(7);
+    while (!a.empty() && a.front() == ' ')
+      a.remove_prefix(1);
+    if (equal(a))
+      return true;
+  }
   if (request.method() == http::verb::get) {
     const auto target = request.target();
     const std::string_view t(target.data(), target.size());

@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace garmcap::daemon {
 
@@ -58,6 +59,10 @@ struct Config {
   std::size_t bodyLimitBytes = 1 << 20;
   int requestTimeoutS = 30;
   int maxConnections = 256;
+  // Host names the station answers to besides IP literals and "localhost" (a tablet's
+  // "station.local"); requests for any other name are refused (DNS rebinding). garmcapd adds the
+  // machine's own host name and <hostname>.local at start-up.
+  std::vector<std::string> serverNames;
   // [pipeline]
   bool makeProductImages = true;
   bool makeTexture = true;

@@ -25,6 +25,7 @@
 #include <string>
 
 #include "garmcap/daemon/config.h"
+#include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
 
 namespace garmcap::daemon {
@@ -170,7 +171,24 @@ class Session : public std::enable_shared_from_this<Session<Stream>> {
     handle(std::move(req));
   }
 
+  // No exception may leave a completion handler: it would escape io.run() and stop the daemon.
   void handle(Request req) {
+    try {
+      route(std::move(req));
+    } catch (const std::exception& e) {
+      spdlog::error("http: request failed before an answer: {}", e.what());
+      sendError(http::status::internal_server_error,
+                "internal error; the station's log has the details", false);
+    } catch (...) {
+      spdlog::error("http: request failed before an answer (non-standard exception)");
+      sendError(http::status::internal_server_error,
+                "internal error; the station's log has the details", false);
+    }
+  }
+
+  void route(Request req) {
+    if (auto refusal = refuseRequest(req, shared_->config.serverNames))
+      return sendError(refusal->status, refusal->message, false);
     const auto target = req.target();
     const std::string_view t(target.data(), target.size());
     const std::string_view path = t.substr(0, t.find('?'));
@@ -197,8 +215,22 @@ class Session : public std::enable_shared_from_this<Session<Stream>> {
       }
       auto self = this->shared_from_this();
       const unsigned version = req.version();
-      shared_->router.dispatch(req, [self, keepAlive, version](Response res) {
+      const bool head = req.method() == http::verb::head;
+      // A handler answers once; a second answer (a handler that replied, then threw) would be a
+      // second write racing the first on this stream, so it is dropped and logged.
+      auto answered = std::make_shared<std::atomic<bool>>(false);
+      shared_->router.dispatch(req, [self, keepAlive, version, head, answered](Response res) {
+        if (answered->exchange(true)) {
+          spdlog::error("http: a handler answered twice; the second answer ({}) is dropped",
+                        res.result_int());
+          return;
+        }
         res.version(version);
+        if (head) {
+          const auto n = res.body().size();
+          res.body().clear();
+          res.content_length(n);
+        }
         asio::post(self->stream_.get_executor(), [self, res = std::move(res), keepAlive]() mutable {
           self->send(std::move(res), keepAlive);
         });
