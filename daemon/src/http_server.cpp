@@ -97,7 +97,10 @@ class Listener : public std::enable_shared_from_this<Listener> {
     if (ec == asio::error::operation_aborted || !acceptor_.is_open())
       return;
     if (!ec) {
-      if (shared_->sessions.load() >= shared_->config.maxConnections) {
+      // Full: the new client takes the slot of the one that has waited longest for its own
+      // request's header; only when every slot is busy serving is the answer 503.
+      if (shared_->sessions.load() >= shared_->config.maxConnections &&
+          !shared_->waiting.evictOldest()) {
         // Over the limit: a short answer instead of silently queueing the client.
         static const char kBusy[] =
             "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\n"

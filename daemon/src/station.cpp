@@ -193,6 +193,10 @@ Station::Station(asio::io_context& io, Config config, std::unique_ptr<capture::C
   else
     camera_ = std::move(camera);
   pool_ = std::make_unique<asio::thread_pool>(static_cast<std::size_t>(config_.workerThreads));
+  // Downloads (blob reads, exports, pattern files) run apart from the pipeline, so a capture's
+  // latency does not depend on how many catalog.zip are being built; two threads, so one long
+  // export does not hold up every image.
+  servePool_ = std::make_unique<asio::thread_pool>(2);
 }
 
 Station::~Station() {
@@ -202,6 +206,7 @@ Station::~Station() {
     sd->release();  // the Button owns the fd
   }
   cameraThread_.join();
+  servePool_->join();
   pool_->join();
   if (camera_)
     camera_->close();
@@ -1070,7 +1075,7 @@ void Station::withCatalog(std::function<void(Catalog&)> fn, Reply failed) {
 }
 
 void Station::offload(std::function<void()> fn, Reply failed) {
-  asio::post(*pool_, [fn = std::move(fn), failed = std::move(failed)] {
+  asio::post(*servePool_, [fn = std::move(fn), failed = std::move(failed)] {
     try {
       fn();
     } catch (...) {

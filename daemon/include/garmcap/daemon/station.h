@@ -201,7 +201,8 @@ class Station : public RouteContext {
   std::unique_ptr<Catalog> catalog_;
   std::unique_ptr<ContentStore> store_;
   boost::asio::thread_pool cameraThread_{1};
-  std::unique_ptr<boost::asio::thread_pool> pool_;
+  std::unique_ptr<boost::asio::thread_pool> pool_;       // the pipeline
+  std::unique_ptr<boost::asio::thread_pool> servePool_;  // RouteContext::offload
 
   StationState state_ = StationState::kUncalibrated;
   bool calibrated_ = false;
