@@ -19,9 +19,15 @@ bool needsToken(std::string_view path) {
   return path.rfind("/api/", 0) == 0 || path == "/api" || path.rfind("/stream", 0) == 0;
 }
 
-bool authorized(const Request& request, const std::string& token) {
+bool authorized(const Request& request, const std::string& token, const LoginSessions* logins) {
   if (token.empty())
     return true;
+  if (logins) {
+    const auto cookie = request[http::field::cookie];
+    if (auto id = cookieValue(std::string_view(cookie.data(), cookie.size()), kSessionCookie))
+      if (logins->valid(*id))
+        return true;
+  }
   auto equal = [&](std::string_view given) {
     // Constant time in the token's length: no early exit on the first wrong byte.
     unsigned diff = given.size() == token.size() ? 0u : 1u;

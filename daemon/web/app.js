@@ -91,11 +91,41 @@ const ui = {
 };
 
 // --- API -----------------------------------------------------------------------------------
-function token() { return localStorage.getItem('garmcap.token') || ''; }
+// A station with a token: the token is asked once and exchanged for an HttpOnly session cookie
+// (POST /api/session), which the browser then sends on everything, the event stream, the live
+// preview, photos and downloads included. The token is never kept in the page's storage.
+// Several calls can meet the 401 at once (the page loads status, items and events together):
+// they share one prompt, and a call sent before a log-in that has since succeeded just retries.
+let loginPending = null;
+let loginCount = 0;
+function logIn(sentAt) {
+  if (sentAt !== undefined && sentAt < loginCount) return Promise.resolve(true);
+  if (!loginPending) loginPending = doLogIn().finally(() => { loginPending = null; });
+  return loginPending;
+}
 
-async function api(method, path, body) {
+async function doLogIn() {
+  const legacy = localStorage.getItem('garmcap.token');
+  localStorage.removeItem('garmcap.token');
+  const t = legacy || prompt('This station needs its access token (see the station config):');
+  if (!t) return false;
+  const res = await fetch('/api/session', {
+    method: 'POST', headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify({ token: t.trim() }),
+  });
+  if (res.ok) {
+    loginCount++;
+    // What loaded before the log-in (events, preview) starts again now.
+    if (events) { events.close(); connectEvents(); }
+    const preview = document.querySelector('#preview');
+    if (preview && preview.getAttribute('src')) preview.src = '/stream.mjpg?t=' + Date.now();
+  }
+  return res.ok;
+}
+
+async function api(method, path, body, retried) {
+  const sentAt = loginCount;
   const opts = { method, headers: {} };
-  if (token()) opts.headers.Authorization = 'Bearer ' + token();
   if (body !== undefined) {
     opts.headers['Content-Type'] = 'application/json';
     opts.body = JSON.stringify(body);
@@ -109,10 +139,7 @@ async function api(method, path, body) {
   const text = await res.text();
   let data = null;
   try { data = text ? JSON.parse(text) : null; } catch (e) { data = null; }
-  if (res.status === 401) {
-    const t = prompt('This station needs its access token (see the station config):');
-    if (t) { localStorage.setItem('garmcap.token', t.trim()); return api(method, path, body); }
-  }
+  if (res.status === 401 && !retried && await logIn(sentAt)) return api(method, path, body, true);
   if (!res.ok) {
     const msg = (data && data.error) || text || res.statusText;
     const err = new Error(msg);
@@ -299,7 +326,10 @@ function photoPending() {
   return !!j && j.kind === 'dressed' && (j.state === 'queued' || (j.state === 'running' && (j.stage === 'capture' || j.stage === 'capturing')));
 }
 async function captureGarment() {
-  if (captureInFlight || Date.now() - lastCaptureAt < 2000 || photoPending()) {
+  // The 2 s guard is for a double tap on one garment; once that capture has finished, a tap is the
+  // next garment's (the stub station finishes within the 2 s, and a fast one may too).
+  const finished = !!ui.job && (ui.job.state === 'done' || ui.job.state === 'failed');
+  if (captureInFlight || (Date.now() - lastCaptureAt < 2000 && !finished) || photoPending()) {
     toast('Already capturing this garment: wait for the result.');
     return;
   }
@@ -635,9 +665,10 @@ async function loadExportCounts() {
 async function download(ev) {
   ev.preventDefault();
   const a = ev.currentTarget;
-  const headers = token() ? { Authorization: 'Bearer ' + token() } : {};
   try {
-    const res = await fetch(a.href, { headers });
+    const sentAt = loginCount;
+    let res = await fetch(a.href);
+    if (res.status === 401 && await logIn(sentAt)) res = await fetch(a.href);
     if (!res.ok) {
       let msg = res.statusText;
       try { msg = (await res.json()).error || msg; } catch (e) { /* not JSON */ }

@@ -17,11 +17,14 @@
 namespace garmcap::daemon {
 
 struct ServerShared;  // http_session.h
+class LoginSessions;  // login_sessions.h
 
 /// True when the request carries the token ("Authorization: Bearer <token>", or `?token=` on a
 /// GET, for EventSource and <img> which cannot set headers). Constant-time compare. An empty
 /// token means "no token configured": every request is allowed (loopback binding only).
-bool authorized(const Request& request, const std::string& token);
+/// With `logins`, a live session cookie (POST /api/session, login_sessions.h) counts too.
+bool authorized(const Request& request, const std::string& token,
+                const LoginSessions* logins = nullptr);
 
 /// Paths that need the token when one is configured: the API and the preview stream. Static UI
 /// files do not (they hold no data).

@@ -29,12 +29,10 @@
 #include "garmcap/daemon/config.h"
 #include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
+#include "garmcap/daemon/http_server.h"
+#include "garmcap/daemon/login_sessions.h"
 
 namespace garmcap::daemon {
-
-/// True when the request carries the token (http_server.h).
-bool authorized(const Request& request, const std::string& token);
-bool needsToken(std::string_view path);
 
 /// A session that can be told to go away (the listener makes room for a new client).
 class Evictable {
@@ -88,6 +86,7 @@ struct ServerShared {
   const StaticFiles& files;
   std::atomic<int> sessions{0};
   WaitingSessions waiting{};
+  LoginSessions logins{};
 };
 
 /// The longest a response of `bytes` may take to write: the request timeout plus the time at
@@ -285,7 +284,9 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
     const std::string_view t(target.data(), target.size());
     const std::string_view path = t.substr(0, t.find('?'));
     const bool keepAlive = req.keep_alive();
-    if (needsToken(path) && !authorized(req, shared_->config.token)) {
+    if (path == "/api/session")
+      return send(login(req), keepAlive);
+    if (needsToken(path) && !authorized(req, shared_->config.token, &shared_->logins)) {
       Response res = jsonError(http::status::unauthorized, "missing or wrong bearer token");
       res.set(http::field::www_authenticate, "Bearer realm=\"garmcapd\"");
       return send(std::move(res), keepAlive);
@@ -340,6 +341,53 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
       return send(std::move(*res), keepAlive);
     }
     sendError(http::status::not_found, "no such resource", keepAlive);
+  }
+
+  // POST {"token": ...}: the token for a session cookie; DELETE: log out; GET: whether this
+  // browser is logged in. Without a configured token everyone is, and no cookie is made.
+  Response login(const Request& req) {
+    const std::string& token = shared_->config.token;
+    const auto cookieField = req[http::field::cookie];
+    const auto cookie =
+        cookieValue(std::string_view(cookieField.data(), cookieField.size()), kSessionCookie);
+    auto answer = [&](http::status st, bool in) {
+      Response res = jsonResponse(st, {{"authenticated", in}, {"token_required", !token.empty()}});
+      return res;
+    };
+    auto setCookie = [&](Response& res, const std::string& value, long maxAge) {
+      res.set(http::field::set_cookie,
+              std::string(kSessionCookie) + "=" + value +
+                  "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" + std::to_string(maxAge));
+    };
+    if (req.method() == http::verb::get)
+      return answer(http::status::ok, authorized(req, token, &shared_->logins));
+    if (req.method() == http::verb::delete_) {
+      if (cookie)
+        shared_->logins.revoke(*cookie);
+      Response res = answer(http::status::ok, token.empty());
+      setCookie(res, "", 0);
+      return res;
+    }
+    if (req.method() != http::verb::post)
+      return jsonError(http::status::method_not_allowed, "use GET, POST or DELETE here");
+    nlohmann::json body;
+    try {
+      body = parseJsonBody(req);
+    } catch (const BadRequest& e) {
+      return jsonError(http::status::bad_request, e.what());
+    }
+    if (!body.is_object() || !body.contains("token") || !body["token"].is_string() ||
+        body.size() != 1)
+      return jsonError(http::status::bad_request, R"(body must be {"token": "..."})");
+    if (token.empty())
+      return answer(http::status::ok, true);
+    if (!constantTimeEqual(body["token"].get<std::string>(), token)) {
+      spdlog::warn("http: a log-in with a wrong token");
+      return jsonError(http::status::unauthorized, "wrong token");
+    }
+    Response res = answer(http::status::ok, true);
+    setCookie(res, shared_->logins.create(), shared_->logins.lifetime().count());
+    return res;
   }
 
   void sendError(http::status status, const std::string& message, bool keepAlive) {
