@@ -1,9 +1,12 @@
 // The request checks every request passes before routing (http_guard.h): UTF-8, echoing input,
-// Host (DNS rebinding), Origin and content type on writes (CSRF), long targets.
+// Host (DNS rebinding), Origin and content type on writes (CSRF), long targets; and the
+// browser log-in sessions (login_sessions.h).
 
 #include "garmcap/daemon/http_guard.h"
 
 #include <gtest/gtest.h>
+
+#include "garmcap/daemon/login_sessions.h"
 
 namespace garmcap::daemon {
 namespace {
@@ -103,6 +106,38 @@ TEST(RefuseRequest, WriteBodiesMustBeJson) {
                              {}));
   // No body, no type needed (curl -X POST /api/button).
   EXPECT_FALSE(refuseRequest(request(http::verb::post, "/api/button", "127.0.0.1"), {}));
+}
+
+}  // namespace
+}  // namespace garmcap::daemon
+
+namespace garmcap::daemon {
+namespace {
+
+TEST(LoginSessions, IdsAreRandomLiveUntilRevokedOrExpired) {
+  LoginSessions s(std::chrono::seconds(3600), 3);
+  const std::string a = s.create(), b = s.create();
+  EXPECT_EQ(a.size(), 64u);
+  EXPECT_NE(a, b);
+  EXPECT_TRUE(s.valid(a));
+  EXPECT_FALSE(s.valid(std::string(64, '0')));
+  EXPECT_FALSE(s.valid(a.substr(0, 63)));
+  s.revoke(a);
+  EXPECT_FALSE(s.valid(a));
+  EXPECT_TRUE(s.valid(b));
+  // Past the cap the oldest gives way.
+  const std::string c = s.create(), d = s.create(), e = s.create();
+  EXPECT_FALSE(s.valid(b));
+  EXPECT_TRUE(s.valid(c) && s.valid(d) && s.valid(e));
+  LoginSessions shortLived(std::chrono::seconds(0));
+  EXPECT_FALSE(shortLived.valid(shortLived.create()));
+}
+
+TEST(LoginSessions, CookieValueFindsTheNamedCookie) {
+  EXPECT_EQ(cookieValue("a=1; garmcap_session=abc; b=2", kSessionCookie).value_or(""), "abc");
+  EXPECT_EQ(cookieValue("garmcap_session=x", kSessionCookie).value_or(""), "x");
+  EXPECT_FALSE(cookieValue("xgarmcap_session=abc", kSessionCookie));
+  EXPECT_FALSE(cookieValue("", kSessionCookie));
 }
 
 }  // namespace
