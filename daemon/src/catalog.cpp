@@ -4,10 +4,27 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <ctime>
 
+#include "garmcap/daemon/disk_full.h"
+
 namespace garmcap::daemon {
+
+namespace {
+// SQLITE_FULL, or an I/O error whose cause is a full disk or quota: DiskFull, without the SQL.
+[[noreturn]] void throwCatalogError(sqlite3* db, const std::string& message) {
+  const int code = sqlite3_extended_errcode(db);
+  const int sys = sqlite3_system_errno(db);
+  if ((code & 0xff) == SQLITE_FULL ||
+      ((code & 0xff) == SQLITE_IOERR && (sys == ENOSPC || sys == EDQUOT)))
+    throw DiskFull("catalog");
+  if ((code & 0xff) == SQLITE_READONLY)  // opened read-only because the disk was full
+    throw DiskFull("catalog opened read-only");
+  throw CatalogError(message);
+}
+}  // namespace
 
 namespace {
 
@@ -162,7 +179,7 @@ class Catalog::Statement {
       return true;
     if (rc == SQLITE_DONE)
       return false;
-    throw CatalogError(std::string("catalog: '") + sql_ + "' failed: " + sqlite3_errmsg(db_));
+    throwCatalogError(db_, std::string("catalog: '") + sql_ + "' failed: " + sqlite3_errmsg(db_));
   }
   void run() {
     while (step()) {
@@ -190,7 +207,7 @@ class Transaction {
     if (sqlite3_exec(db_, "BEGIN IMMEDIATE", nullptr, nullptr, &err) != SQLITE_OK) {
       std::string msg = err ? err : "?";
       sqlite3_free(err);
-      throw CatalogError("catalog: cannot begin a transaction: " + msg);
+      throwCatalogError(db_, "catalog: cannot begin a transaction: " + msg);
     }
   }
   ~Transaction() {
@@ -202,7 +219,7 @@ class Transaction {
     if (sqlite3_exec(db_, "COMMIT", nullptr, nullptr, &err) != SQLITE_OK) {
       std::string msg = err ? err : "?";
       sqlite3_free(err);
-      throw CatalogError("catalog: commit failed: " + msg);
+      throwCatalogError(db_, "catalog: commit failed: " + msg);
     }
     done_ = true;
   }
@@ -213,10 +230,19 @@ class Transaction {
 };
 }  // namespace
 
-Catalog::Catalog(const std::filesystem::path& file) : file_(file) {
+Catalog::Catalog(const std::filesystem::path& file, Mode mode) : file_(file) {
+  const bool readOnly = mode == Mode::kReadOnly;
+  if (readOnly && !std::filesystem::exists(file))
+    throw CatalogError("catalog: " + file.string() +
+                       " does not exist (cannot create it read-only)");
+  const std::string uri = "file:" + file.string() + "?immutable=1";
   const int rc =
-      sqlite3_open_v2(file.c_str(), &db_,
-                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+      readOnly
+          ? sqlite3_open_v2(uri.c_str(), &db_,
+                            SQLITE_OPEN_READONLY | SQLITE_OPEN_URI | SQLITE_OPEN_FULLMUTEX, nullptr)
+          : sqlite3_open_v2(file.c_str(), &db_,
+                            SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+                            nullptr);
   if (rc != SQLITE_OK) {
     std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);
@@ -227,9 +253,14 @@ Catalog::Catalog(const std::filesystem::path& file) : file_(file) {
     sqlite3_extended_result_codes(db_, 1);
     sqlite3_busy_timeout(db_, 5000);
     exec("PRAGMA foreign_keys = ON");
-    exec("PRAGMA journal_mode = WAL");
-    exec("PRAGMA synchronous = FULL");
-    migrate();
+    if (readOnly) {
+      readOnly_ = true;
+      checkReadable();
+    } else {
+      exec("PRAGMA journal_mode = WAL");
+      exec("PRAGMA synchronous = FULL");
+      migrate();
+    }
   } catch (...) {
     sqlite3_close(db_);
     db_ = nullptr;
@@ -242,13 +273,29 @@ Catalog::~Catalog() {
     sqlite3_close(db_);
 }
 
+void Catalog::checkReadable() {
+  int appId = 0;
+  {
+    Statement s(*this, "PRAGMA application_id");
+    if (s.step())
+      appId = sqlite3_column_int(s.get(), 0);
+  }
+  if (appId != kCatalogApplicationId)
+    throw CatalogError("catalog " + file_.string() + ": not a GarmCap catalog (application_id " +
+                       std::to_string(appId) + ")");
+  if (schemaVersion() != kCatalogSchemaVersion)
+    throw CatalogError("catalog " + file_.string() + ": schema version " +
+                       std::to_string(schemaVersion()) + " cannot be migrated read-only (this " +
+                       "garmcapd needs " + std::to_string(kCatalogSchemaVersion) + ")");
+}
+
 void Catalog::exec(const char* sql) {
   char* err = nullptr;
   if (sqlite3_exec(db_, sql, nullptr, nullptr, &err) != SQLITE_OK) {
     std::string msg = err ? err : sqlite3_errmsg(db_);
     sqlite3_free(err);
-    throw CatalogError("catalog " + file_.string() + ": '" + std::string(sql).substr(0, 60) +
-                       "' failed: " + msg);
+    throwCatalogError(db_, "catalog " + file_.string() + ": '" + std::string(sql).substr(0, 60) +
+                               "' failed: " + msg);
   }
 }
 

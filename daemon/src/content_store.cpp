@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "garmcap/daemon/disk_full.h"
+
 namespace garmcap::daemon {
 
 namespace fs = std::filesystem;
@@ -42,6 +44,8 @@ bool isSha256Hex(std::string_view text) {
 namespace {
 
 [[noreturn]] void throwErrno(const std::string& what, const fs::path& path) {
+  if (errno == ENOSPC || errno == EDQUOT)
+    throw DiskFull("image store");
   throw std::runtime_error("content store: " + what + " " + path.string() + ": " +
                            std::strerror(errno));
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "garmcap/daemon/disk_full.h"
 #include "garmcap/daemon/http_guard.h"
 #include "garmcap/drafts/file_io.h"
 
@@ -250,6 +251,9 @@ void Router::dispatch(const Request& request, Reply reply) const {
     (*m.handler)(request, m.match, reply);
   } catch (const BadRequest& e) {
     reply(jsonError(http::status::bad_request, e.what()));
+  } catch (const DiskFull& e) {
+    spdlog::error("http: {}", e.what());
+    reply(jsonError(http::status::insufficient_storage, e.what()));
   } catch (const std::exception& e) {
     // The details (SQL text, paths) go to the log, not to the client.
     spdlog::error("http: {} {} failed: {}", std::string(request.method_string()),
@@ -302,6 +306,11 @@ void replyFailure(const Reply& failed, const std::string& what, std::exception_p
   } catch (const BadRequest& e) {
     if (failed)
       failed(jsonError(http::status::bad_request, e.what()));
+    return;
+  } catch (const DiskFull& e) {
+    spdlog::error("station: {} failed: {}", what, e.what());
+    if (failed)
+      failed(jsonError(http::status::insufficient_storage, e.what()));
     return;
   } catch (const std::exception& e) {
     spdlog::error("station: {} failed: {}", what, e.what());

@@ -9,6 +9,7 @@
 
 #include "garmcap/capture/camera.h"
 #include "garmcap/capture/gpio.h"
+#include "garmcap/daemon/disk_full.h"
 
 namespace garmcap::daemon {
 
@@ -242,8 +243,33 @@ void Station::stallLoopForTest(std::chrono::milliseconds duration, std::function
 
 void Station::start() {
   std::filesystem::create_directories(config_.dataDir);
-  catalog_ = std::make_unique<Catalog>(std::filesystem::path(config_.dataDir) / "catalog.sqlite");
+  const auto catalogFile = std::filesystem::path(config_.dataDir) / "catalog.sqlite";
+  try {
+    catalog_ = std::make_unique<Catalog>(catalogFile);
+  } catch (const DiskFull& e) {
+    // A full disk must not keep the station down: what is stored can still be browsed and
+    // exported. Nothing is written until garmcapd is restarted with space freed.
+    catalog_ = std::make_unique<Catalog>(catalogFile, Catalog::Mode::kReadOnly);
+    readOnly_ =
+        "the station's disk is full: started read-only, nothing can be captured or "
+        "changed; free space in " +
+        config_.dataDir + " and restart garmcapd";
+    spdlog::error("station: {} ({})", readOnly_, e.what());
+  }
   store_ = std::make_unique<ContentStore>(std::filesystem::path(config_.dataDir) / "blobs");
+  if (!readOnly_.empty()) {
+    lastError_ = readOnly_;
+    if (auto cal = catalog_->latestCalibration(); cal && store_->contains(cal->emptySha256))
+      calibrated_ = true, calibrationId_ = cal->id;
+    state_ = StationState::kError;
+    lastLoopTick_ = Clock::now();
+    postToStrand([this] {
+      startGpio();
+      ledTick();
+      keepAliveTick();
+    });
+    return;
+  }
   // A job that was running when the process died is not retried: it may be what killed it,
   // and a restart loop would follow. Its stored frames stay, so the item can be re-captured.
   const auto interrupted =
@@ -317,7 +343,7 @@ void Station::openCamera() {
       }
       spdlog::info("station: camera {} ({}) open", camera_->device(), camera_->backend());
       cameraRetryDelay_ = std::chrono::milliseconds(0);
-      if (state_ == StationState::kError && !running_ && !stopping_) {
+      if (state_ == StationState::kError && !running_ && !stopping_ && readOnly_.empty()) {
         lastError_.clear();
         setState(calibrated_ ? StationState::kReady : StationState::kUncalibrated);
         startNext();
@@ -468,6 +494,8 @@ void Station::submitOnStrand(JobKind kind, std::string sku, std::int64_t itemId,
   };
   if (stopping_)
     return answer({std::nullopt, 503, "the station is shutting down", false});
+  if (!readOnly_.empty())
+    return answer({std::nullopt, 507, readOnly_, false});
   if (static_cast<int>(queue_.size()) >= config_.queueLimit)
     return answer({std::nullopt, 503,
                    "capture queue full (" + std::to_string(config_.queueLimit) + " waiting)",
@@ -498,9 +526,13 @@ void Station::submitOnStrand(JobKind kind, std::string sku, std::int64_t itemId,
   try {
     jobId = catalog_->addJob(toString(kind), sku,
                              kind == JobKind::kRerun ? std::optional(itemId) : std::nullopt);
+  } catch (const DiskFull& e) {
+    spdlog::error("station: cannot record a job: {}", e.what());
+    return answer({std::nullopt, 507, e.what(), false});
   } catch (const std::exception& e) {
     spdlog::error("station: cannot record a job: {}", e.what());
-    return answer({std::nullopt, 500, e.what(), false});
+    return answer(
+        {std::nullopt, 500, "cannot record the job; the station's log has the details", false});
   }
   queue_.push_back({kind, jobId, std::move(sku), itemId, fromButton, 1});
   spdlog::info("station: job {} ({}) queued{}", jobId, toString(kind),
@@ -753,8 +785,13 @@ void Station::failJob(const Pending& req, const std::string& error, bool cameraF
   spdlog::error("station: job {} ({}) failed: {}", req.jobId, toString(req.kind), error);
   try {
     catalog_->failJob(req.jobId, error);
+    unrecordedFailures_.erase(req.jobId);
   } catch (const std::exception& e) {
+    // The catalog still says queued or running: keep the outcome in memory so that the job is
+    // reported failed with its reason (a full disk, typically) instead of running forever.
     spdlog::error("station: cannot record the failure of job {}: {}", req.jobId, e.what());
+    unrecordedFailures_[req.jobId] =
+        error + " (this failure could not be stored: " + e.what() + ")";
   }
   lastError_ = error;
   if (cameraFault) {
@@ -793,10 +830,10 @@ nlohmann::json Station::jobJson(const Job& job) const {
 }
 
 nlohmann::json Station::statusJson() {
-  nlohmann::json s{{"state", toString(state_)}, {"calibrated", calibrated_},
-                   {"queue", queue_.size()},    {"last_error", lastError_},
-                   {"simulated", simulated()},  {"led", ledPattern(state_)},
-                   {"healthy", healthy()}};
+  nlohmann::json s{{"state", toString(state_)},       {"calibrated", calibrated_},
+                   {"read_only", !readOnly_.empty()}, {"queue", queue_.size()},
+                   {"last_error", lastError_},        {"simulated", simulated()},
+                   {"led", ledPattern(state_)},       {"healthy", healthy()}};
   s["calibration_id"] = calibrationId_ ? nlohmann::json(*calibrationId_) : nlohmann::json(nullptr);
   if (running_) {
     if (auto j = catalog_->job(running_->request.jobId))
@@ -832,7 +869,15 @@ void Station::status(std::function<void(nlohmann::json)> done) {
 void Station::job(std::int64_t id, std::function<void(std::optional<nlohmann::json>)> done) {
   postToStrand([this, id, done = std::move(done)] {
     auto j = catalog_->job(id);
-    done(j ? std::optional<nlohmann::json>(jobJson(*j)) : std::nullopt);
+    if (!j)
+      return done(std::nullopt);
+    nlohmann::json out = jobJson(*j);
+    if (auto f = unrecordedFailures_.find(id);
+        f != unrecordedFailures_.end() && out.value("state", "") != "done") {
+      out["state"] = "failed";
+      out["error"] = f->second;
+    }
+    done(out);
   });
 }
 

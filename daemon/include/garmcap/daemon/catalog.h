@@ -135,8 +135,15 @@ struct Job {
 
 class Catalog {
  public:
-  /// Opens or creates the catalog, migrating older schemas (each step in a transaction).
-  explicit Catalog(const std::filesystem::path& file);
+  /// How the catalog is opened: normally, or read-only when the disk is full (the station then
+  /// serves what is stored; no write is attempted, each would fail as DiskFull).
+  enum class Mode { kReadWrite, kReadOnly };
+  /// Opens or creates the catalog, migrating older schemas (each step in a transaction). With
+  /// kReadOnly the file must exist at the current schema; it is opened immutable (no lock, no
+  /// -shm: a full disk has no room for one), so only this process may have written it, and a
+  /// WAL left by a crash is not read (a clean stop checkpoints it).
+  explicit Catalog(const std::filesystem::path& file, Mode mode = Mode::kReadWrite);
+  bool readOnly() const { return readOnly_; }
   ~Catalog();
   Catalog(const Catalog&) = delete;
   Catalog& operator=(const Catalog&) = delete;
@@ -205,12 +212,14 @@ class Catalog {
   friend class Statement;
   void exec(const char* sql);
   void migrate();
+  void checkReadable();
   void loadItemDetails(Item& item);
   void writeItemContents(std::int64_t id, const NewItem& n, const std::string& ts);
   std::string now() const;
 
   sqlite3* db_ = nullptr;
   std::filesystem::path file_;
+  bool readOnly_ = false;
 };
 
 /// The schema of version `version` (1 or 2) as SQL, for fixtures in tests.

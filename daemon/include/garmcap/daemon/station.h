@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -210,6 +211,8 @@ class Station : public RouteContext {
   std::deque<Pending> queue_;
   std::optional<Running> running_;
   std::string lastError_;
+  std::string readOnly_;  // why the station runs read-only (a full disk at start), or empty
+  std::map<std::int64_t, std::string> unrecordedFailures_;  // job id -> reason (catalog unwritable)
   std::string cameraError_;
   bool cameraOpen_ = false;
   std::shared_ptr<std::atomic<bool>> unplugged_;
