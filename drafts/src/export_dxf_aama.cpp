@@ -5,6 +5,8 @@
 #include <set>
 
 #include "export_util.h"
+#include "garmcap/drafts/panel_edges.h"
+#include "garmcap/drafts/seam_allowance.h"
 
 namespace garmcap::drafts {
 namespace {
@@ -87,7 +89,7 @@ void dxfHeader(Dxf& d) {
   d.code(2, "TABLES");
   d.code(0, "TABLE");
   d.code(2, "LAYER");
-  const std::vector<std::string> layers = {"1", "2", "3", "4", "7", "8", "13", "15"};
+  const std::vector<std::string> layers = {"1", "2", "3", "4", "6", "7", "8", "13", "14", "15"};
   d.code(70, std::to_string(layers.size()));
   for (const auto& l : layers) {
     d.code(0, "LAYER");
@@ -116,7 +118,12 @@ void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std
   d.code(30, "0.0");
   d.code(3, name);
 
-  d.polyline("1", panel.outline, true);
+  // Layer 1 is the cut line (allowance included), layer 14 the sew line (the net outline).
+  d.polyline("1", detail::cutLine<DxfExportError>(panel, pattern), true);
+  d.polyline("14", panel.outline, true);
+  if (auto fold = foldEdge(panel, pattern))  // layer 6: the mirror line of a piece cut on fold
+    d.line("6", panel.outline[static_cast<size_t>(fold->from)],
+           panel.outline[static_cast<size_t>(fold->to)]);
 
   std::set<int> turnSet(turns.begin(), turns.end());
   for (size_t k = 0; k < turns.size(); ++k) {
@@ -151,8 +158,7 @@ void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std
                                     "Category: " + pattern.type};
   if (panel.cutOnFold)
     lines.push_back("Annotation: cut on fold");
-  lines.push_back("Annotation: seam allowance " + fixed(panel.seamAllowanceCm * 10, 1) +
-                  " mm not included");
+  lines.push_back("Annotation: " + detail::allowanceNote(panel));
   if (sample)
     lines.push_back("Sample Size: " + size);
   for (size_t i = 0; i < lines.size(); ++i)
