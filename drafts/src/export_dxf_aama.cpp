@@ -142,7 +142,7 @@ void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std
   }
   d.line("7", panel.grainline.start, panel.grainline.end);
   for (const auto& dart : panel.darts) {
-    d.polyline("8", {dart.leg1, dart.apex, dart.leg2}, false);
+    d.polyline("8", dartPath(panel, dart), false);
     d.point("13", dart.apex);
   }
   for (const auto& l : panel.internalLines)

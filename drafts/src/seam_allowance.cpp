@@ -197,6 +197,19 @@ const char* edgeRoleName(EdgeRole role) {
   return "?";
 }
 
+Polyline dartPath(const Panel& panel, const Dart& dart) {
+  Panel one = panel;
+  one.darts = {dart};
+  const auto runs = dartRuns(one);
+  if (runs.empty())
+    return {dart.leg1, dart.apex, dart.leg2};
+  const int n = static_cast<int>(panel.outline.size());
+  Polyline path;
+  for (int k = 0; k <= runs[0].count; ++k)
+    path.push_back(panel.outline[static_cast<size_t>(wrap(runs[0].first + k, n))]);
+  return path;
+}
+
 std::vector<EdgeRole> edgeRoles(const Panel& panel, const Pattern& pattern) {
   const auto& o = panel.outline;
   const int n = static_cast<int>(o.size());

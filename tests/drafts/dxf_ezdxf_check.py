@@ -2,7 +2,7 @@
 """DXF-AAMA files of every garment type, written by the real CLI and read by an independent
 reader (Debian's python3-ezdxf):
 
-  dxf_ezdxf_check.py GARMCAP_BINARY OUT_DIR [SIZE ...]
+  dxf_ezdxf_check.py [-v] GARMCAP_BINARY OUT_DIR [SIZE ...]     (-v: list the audit's fixes)
 
 For each type of `garmcap draft --list` and each korean_women size (default 44 66 88) the CLI
 writes the DXF; ezdxf audits it (no errors allowed) and, for every piece block, the layer-1 cut
@@ -82,7 +82,7 @@ def check_block(block, problems):
     folds = [((e.dxf.start.x, e.dxf.start.y), (e.dxf.end.x, e.dxf.end.y))
              for e in block.query('LINE[layer=="6"]')]
     darts = [[(v.dxf.location.x, v.dxf.location.y) for v in e.vertices]
-             for e in block.query('POLYLINE[layer=="8"]') if len(e) == 3]
+             for e in block.query('POLYLINE[layer=="8"]')]
     for p in sew:
         if not inside(p, cut) and ring_dist(p, cut) > 1e-3:
             problems.append(f"{name}: sew-line vertex {p} outside the cut line")
@@ -92,13 +92,24 @@ def check_block(block, problems):
             problems.append(f"{name}: cut-line vertex {p} inside the piece")
             return
     n = len(sew)
-    counts = {"seam": 0, "hem": 0, "fold": 0, "near": 0}
+    # Corners of the sew line (a turn over 30 degrees): where one allowance steps to another.
+    corners = []
+    for i in range(n):
+        a, b, c = sew[i - 1], sew[i], sew[(i + 1) % n]
+        u, v = (b[0] - a[0], b[1] - a[1]), (c[0] - b[0], c[1] - b[1])
+        lu, lv = math.hypot(*u), math.hypot(*v)
+        if lu > 1e-6 and lv > 1e-6 and (u[0] * v[0] + u[1] * v[1]) / (lu * lv) < math.cos(math.radians(30)):
+            corners.append(b)
+    counts = {"seam": 0, "hem": 0, "fold": 0, "near": 0, "dart": 0}
     for i in range(n):
         a, b = sew[i], sew[(i + 1) % n]
         if math.hypot(b[0] - a[0], b[1] - a[1]) < 1e-6:
             continue
         mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
         d = ring_dist(mid, cut)
+        if any(path_dist(mid, dp) < 1e-3 for dp in darts):
+            counts["dart"] += 1  # a dart leg: crossed by the dart cap, no allowance of its own
+            continue
         on_fold = any(seg_dist(mid, f0, f1) < 1e-3 for f0, f1 in folds)
         near_fold = any(seg_dist(mid, f0, f1) < hem + TOL_MM for f0, f1 in folds)
         near_dart = any(path_dist(mid, dp) < hem + TOL_MM for dp in darts)
@@ -111,9 +122,8 @@ def check_block(block, problems):
         elif abs(d - hem) <= TOL_MM:
             counts["hem"] += 1
         elif (near_fold or near_dart) and d < hem + TOL_MM:
-            counts["near"] += 1
-        elif d < hem and any(abs(ring_dist(q, cut) - hem) <= TOL_MM or abs(ring_dist(q, cut) - seam) <= TOL_MM
-                             for q in (a, b)) and d > seam - TOL_MM:
+            counts["near"] += 1  # beside the fold (no allowance) or a dart's cap
+        elif seam - TOL_MM < d < hem and any(math.hypot(mid[0] - q[0], mid[1] - q[1]) < hem for q in corners):
             counts["near"] += 1  # where the hem allowance steps to the seam's at a corner
         else:
             problems.append(f"{name}: sew-line edge at ({mid[0]:.1f}, {mid[1]:.1f}) is {d:.3f} mm "
@@ -125,11 +135,13 @@ def check_block(block, problems):
 
 
 def main():
-    if len(sys.argv) < 3:
+    verbose = "-v" in sys.argv
+    args = [a for a in sys.argv[1:] if a != "-v"]
+    if len(args) < 2:
         print(__doc__)
         return 2
-    garmcap, out = sys.argv[1], Path(sys.argv[2])
-    sizes = sys.argv[3:] or ["44", "66", "88"]
+    garmcap, out = args[0], Path(args[1])
+    sizes = args[2:] or ["44", "66", "88"]
     out.mkdir(parents=True, exist_ok=True)
     types = [t["name"] for t in json.loads(subprocess.run(
         [garmcap, "draft", "--list"], check=True, capture_output=True, text=True).stdout)["types"]]
@@ -143,10 +155,17 @@ def main():
             doc = ezdxf.readfile(dxf)
             auditor = doc.audit()
             problems = [f"audit: {e.message}" for e in auditor.errors]
+            # ezdxf 0.18.1 re-owns the SEQEND of every POLYLINE in a block of an R12 file, also
+            # in R12 files it writes itself; any other fix is a problem of the file.
+            problems += [f"audit fix: {f.message}" for f in auditor.fixes
+                         if not re.fullmatch(r"Deleted SEQEND\(#\w+\) entity with invalid owner handle #None\.", f.message)]
+            if verbose:
+                for f in auditor.fixes:
+                    print("     fix:", f.message)
             blocks = [b for b in doc.blocks if not b.name.startswith("*")]
             if not blocks:
                 problems.append("no piece blocks")
-            summary = {"seam": 0, "hem": 0, "fold": 0, "near": 0}
+            summary = {"seam": 0, "hem": 0, "fold": 0, "near": 0, "dart": 0}
             for b in blocks:
                 c = check_block(b, problems)
                 for k, v in (c or {}).items():
@@ -155,8 +174,8 @@ def main():
                 problems.append("no edge at the hem allowance")
             status = "ok  " if not problems else "FAIL"
             print(f"{status} {dxf.name}: {len(blocks)} pieces, audit {len(auditor.errors)} errors "
-                  f"{len(auditor.fixes)} fixes, sew-line edges at seam/hem/fold/near-corner "
-                  f"{summary['seam']}/{summary['hem']}/{summary['fold']}/{summary['near']}")
+                  f"{len(auditor.fixes)} fixes, sew-line edges at seam/hem/fold/beside-corner-fold-or-dart "
+                  f"{summary['seam']}/{summary['hem']}/{summary['fold']}/{summary['near']}, dart legs {summary['dart']}")
             for p in problems:
                 print("     " + p)
             failed += bool(problems)

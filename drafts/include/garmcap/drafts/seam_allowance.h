@@ -35,6 +35,11 @@ class SeamAllowanceError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The dart's sewn legs: the outline from one leg to the other through the apex when the dart
+/// is opened in the outline (a dart whose legs follow a bodice dart first, as the high-waist
+/// skirt's, bends there), else leg1, apex, leg2.
+Polyline dartPath(const Panel& panel, const Dart& dart);
+
 /// One role per outline edge i -> i+1 (wrapping), decided from the pattern's seams, the fold
 /// edge and the darts whose legs are outline vertices.
 std::vector<EdgeRole> edgeRoles(const Panel& panel, const Pattern& pattern);
