@@ -81,6 +81,16 @@ def check_block(block, problems):
     seam, hem = float(m.group(1)), float(m.group(2))
     folds = [((e.dxf.start.x, e.dxf.start.y), (e.dxf.end.x, e.dxf.end.y))
              for e in block.query('LINE[layer=="6"]')]
+    if "Annotation: cut on fold" in note:
+        # The mirror line: one layer-6 LINE along the sew line's straight edge at its far left
+        # or right (the centre line the piece is unfolded about).
+        xs = [p[0] for p in sew]
+        on_side = lambda q: min(abs(q[0] - min(xs)), abs(q[0] - max(xs))) < 1e-3
+        if len(folds) != 1 or not all(on_side(q) and ring_dist(q, sew) < 1e-3 for q in folds[0]) \
+                or abs(folds[0][0][0] - folds[0][1][0]) > 1e-3:
+            problems.append(f"{name}: cut on fold without one layer-6 mirror line on its centre edge")
+    elif folds:
+        problems.append(f"{name}: a layer-6 mirror line on a piece not cut on the fold")
     darts = [[(v.dxf.location.x, v.dxf.location.y) for v in e.vertices]
              for e in block.query('POLYLINE[layer=="8"]')]
     for p in sew:
