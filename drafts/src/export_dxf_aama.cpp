@@ -194,8 +194,8 @@ std::string patternDxf(const Pattern& pattern, const PieceText& text) {
   d.code(0, "ENDSEC");
   d.code(0, "SECTION");
   d.code(2, "ENTITIES");
-  dxfStyleText(d, {"Style Name: " + text.style, "Units: METRIC", "Size: " + text.size,
-                   "Author: GarmCap Station"});
+  dxfStyleText(d, {kAstmVersionLine, "Style Name: " + text.style, "Units: METRIC",
+                   "Size: " + text.size, "Author: GarmCap Station"});
   for (const auto& p : pattern.panels)
     dxfInsert(d, blockName(p.name, text.size));
   d.code(0, "ENDSEC");
@@ -238,9 +238,10 @@ std::string gradedDxf(const GradedRun& run) {
   std::string list;
   for (const auto& s : run.sizes)
     list += (list.empty() ? "" : " ") + s;
-  dxfStyleText(d, {"Style Name: " + run.style, "Units: METRIC", "Grade Rule Table: " + run.style,
-                   "Number of Sizes: " + std::to_string(run.sizes.size()), "Size List: " + list,
-                   "Sample Size: " + run.sampleSize, "Author: GarmCap Station"});
+  dxfStyleText(
+      d, {kAstmVersionLine, "Style Name: " + run.style, "Units: METRIC",
+          "Grade Rule Table: " + run.style, "Number of Sizes: " + std::to_string(run.sizes.size()),
+          "Size List: " + list, "Sample Size: " + run.sampleSize, "Author: GarmCap Station"});
   for (size_t s = 0; s < run.sizes.size(); ++s)
     for (const auto& p : run.patterns[s].panels)
       dxfInsert(d, blockName(p.name, run.sizes[s]));

@@ -7,7 +7,9 @@
 #include <cmath>
 #include <sstream>
 
+#include "garmcap/drafts/export_dxf_aama.h"
 #include "garmcap/drafts/export_pdf.h"
+#include "garmcap/drafts/export_rul.h"
 #include "garmcap/drafts/export_svg.h"
 #include "garmcap/drafts/panel_edges.h"
 #include "garmcap/drafts/recipes.h"
@@ -121,6 +123,39 @@ TEST(PatternFiles, PdfStatesTheAllowanceAndMarksEveryFold) {
         << "parentheses are escaped in PDF strings";
     EXPECT_EQ(countOf(pdf, "(Sew on the dashed line \\(the net seam line\\).) Tj"), pages);
   }
+}
+
+// Group code / value pairs of an ASCII DXF.
+std::vector<std::pair<int, std::string>> dxfPairs(const std::string& dxf) {
+  std::vector<std::pair<int, std::string>> out;
+  std::istringstream in(dxf);
+  std::string code, value;
+  auto trim = [](std::string s) {
+    while (!s.empty() && (s.back() == '\r' || s.back() == ' '))
+      s.pop_back();
+    return s.substr(std::min(s.find_first_not_of(' '), s.size()));
+  };
+  while (std::getline(in, code) && std::getline(in, value))
+    out.emplace_back(std::stoi(trim(code)), trim(value));
+  return out;
+}
+
+TEST(PatternFiles, DxfVersionAndStandardAgreeWithTheRul) {
+  const Pattern pat = draftGarment("skirt_a", sizeChart("korean_women").body("66"));
+  const GradedRun run{"T-1", {"66", "77"}, "66", {pat, pat}};
+  for (const std::string& dxf : {patternDxf(pat, {"T-1", "66"}), gradedDxf(run)}) {
+    const auto pairs = dxfPairs(dxf);
+    const auto ver =
+        std::find(pairs.begin(), pairs.end(), std::pair<int, std::string>{9, "$ACADVER"});
+    ASSERT_NE(ver, pairs.end());
+    EXPECT_EQ(*(ver + 1), (std::pair<int, std::string>{1, "AC1009"})) << "R12";
+    EXPECT_NE(
+        std::find(pairs.begin(), pairs.end(), std::pair<int, std::string>{1, kAstmVersionLine}),
+        pairs.end())
+        << "the DXF names the standard the RUL names";
+  }
+  const std::string rul = gradeRuleTable(run);
+  EXPECT_EQ(rul.substr(0, rul.find("\r\n")), kAstmVersionLine);
 }
 
 }  // namespace
