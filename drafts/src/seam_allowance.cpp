@@ -116,7 +116,8 @@ Point2 rotated(const Point2& p, const Point2& pivot, double c, double s) {
 // mirrors that once more. Appends the cut points from the first leg's side to the second's;
 // false when the legs are parallel to each other or to the edges beside them.
 bool appendDartCap(Polyline& out, const Line& before, const Line& after, const Point2& leg1At,
-                   const Point2& leg2At, const Line& leg1, const Line& leg2) {
+                   const Point2& leg2At, const Line& leg1, const Line& leg2,
+                   const Point2& outward) {
   const auto apex = intersectLines(leg1, leg2);
   if (!apex)
     return false;
@@ -163,7 +164,11 @@ bool appendDartCap(Polyline& out, const Line& before, const Line& after, const P
   } else {
     onCentre = intersectLines(mirroredLine(before, leg1), centre);
   }
-  if (!onCentre || (*onCentre - *apex).dot(u1 + u2) < (legCross - *apex).dot(u1 + u2))
+  // Legs that open toward the edge give a cap pointing out; legs that close toward it (the
+  // high-waist skirt's at its top line continue the bodice darts above) one pointing in, a
+  // shallow V between the legs. Beyond the legs' meeting point there is no cap.
+  const Point2 centreOut = (u1 + u2).dot(outward) >= 0 ? Point2(u1 + u2) : Point2(-(u1 + u2));
+  if (!onCentre || (*onCentre - *apex).dot(centreOut) * (legCross - *apex).dot(centreOut) <= 0)
     return false;
   half.push_back(*onCentre);
   // Out: the first side, the mirrored half, the other half (mirrored about the centre line,
@@ -369,8 +374,11 @@ Polyline cutOutline(const Panel& panel, const Pattern& pattern) {
     const auto leg2 = Line::through(P(closing), P(closing - 1));
     if (!leg1 || !leg2)
       throw fail("a dart leg has zero length");
-    if (!appendDartCap(raw, offsetLine(a), offsetLine(closing), P(v), P(closing), *leg1, *leg2))
-      throw fail("a dart's legs are parallel to the edges beside it");
+    if (!appendDartCap(raw, offsetLine(a), offsetLine(closing), P(v), P(closing), *leg1, *leg2,
+                       normal(a) + normal(closing)))
+      throw fail(
+          "no dart cap (the dart's legs are parallel to each other or to the edges "
+          "beside it)");
   }
 
   Polyline cut = withoutLoops(raw);

@@ -16,7 +16,10 @@
 namespace garmcap::drafts {
 namespace {
 
-constexpr double kTolCm = 0.005;  // 0.05 mm
+// 0.1 mm: on a concave curve tighter than a few allowances the offset edges are shortened to
+// nothing and the nearest cut point is their mitre, d / cos(half the turn) away (0.06 mm at the
+// back neck with a 3 cm allowance).
+constexpr double kTolCm = 0.01;
 
 double segmentDistance(const Point2& p, const Point2& a, const Point2& b) {
   const Point2 ab = b - a;
@@ -87,7 +90,7 @@ Checked checkPanel(const Pattern& pat, const Panel& panel) {
     } else if (distanceToDart(mid, panel, roles) < want + 1.0) {
       // Beside a dart the allowance is the closed dart's (DartCapFollowsTheClosedDart); flat,
       // the cap may pass farther or nearer, never onto the seam line.
-      EXPECT_GT(got, 0.5 * want) << where;
+      EXPECT_GE(got, 0.5 * want - kTolCm) << where;
       ++c.besideDart;
     } else {
       EXPECT_NEAR(got, want, kTolCm) << where;
@@ -114,8 +117,17 @@ Checked checkPanel(const Pattern& pat, const Panel& panel) {
   for (const auto& v : cut)
     EXPECT_FALSE(pointInPolygon(v, o) && ringDistance(v, o) > 1e-6)
         << pat.type << "/" << panel.name << ": cut vertex inside the piece";
-  for (const auto& d : panel.darts)  // the closed dart's allowance stays on the piece
-    EXPECT_TRUE(pointInPolygon((d.leg1 + d.leg2) / 2, cut)) << panel.name << " dart " << d.name;
+  for (const auto& d : panel.darts) {
+    // Legs that open toward the edge: the closed dart's allowance stands over the opening.
+    const Polyline legs = dartPath(panel, d);
+    const double opening = (legs.front() - legs.back()).norm();
+    const double below = (legs[1] - legs[legs.size() - 2]).norm();
+    if (legs.size() > 3 && opening < below)
+      continue;  // legs closing toward the edge (a high-waist top line): the cap dips in
+    EXPECT_TRUE(pointInPolygon((d.leg1 + d.leg2) / 2, cut) ||
+                ringDistance((d.leg1 + d.leg2) / 2, cut) < 1e-6)  // on it without allowance
+        << panel.name << " dart " << d.name;
+  }
   return c;
 }
 
@@ -175,6 +187,21 @@ TEST(SeamAllowance, PanelSeamAllowanceIsUsedOnSeams) {
         EXPECT_DOUBLE_EQ(allowance[i], 1.5);
       }
     checkPanel(pat, panel);
+  }
+}
+
+TEST(SeamAllowance, EveryTypeAtTheDesignParametersRange) {
+  // seam_allowance runs from 0 to 3 cm (recipe_registry.cpp): every cut line is still built.
+  for (const auto& type : garmentTypes()) {
+    for (double sa : {0.0, 2.0, 3.0}) {
+      const Pattern pat =
+          draftGarment(type.name, sizeChart("korean_women").body("55"), {{"seam_allowance", sa}});
+      for (const auto& panel : pat.panels) {
+        SCOPED_TRACE(type.name + " seam_allowance " + std::to_string(sa) + " " + panel.name);
+        ASSERT_DOUBLE_EQ(panel.seamAllowanceCm, sa);
+        checkPanel(pat, panel);
+      }
+    }
   }
 }
 
