@@ -184,6 +184,39 @@ bool appendDartCap(Polyline& out, const Line& before, const Line& after, const P
   return true;
 }
 
+// x of the piece's centre line: its fold, else the centre seam that joins it to its own
+// mirrored twin (a skirt back cut twice); std::nullopt when neither is a vertical line.
+std::optional<double> centreLineX(const Panel& panel, const Pattern& pattern) {
+  const auto& o = panel.outline;
+  if (auto fold = foldEdge(panel, pattern))
+    return o[static_cast<size_t>(fold->from)].x();
+  for (const auto& s : pattern.seams) {
+    if (s.a.panel != panel.name || !seamJoinsTwins(s))
+      continue;
+    const Point2& from = o[static_cast<size_t>(s.a.from)];
+    const Point2& to = o[static_cast<size_t>(s.a.to)];
+    if (std::abs(from.x() - to.x()) < 0.2 * std::abs(from.y() - to.y()))
+      return (from.x() + to.x()) / 2;
+  }
+  return std::nullopt;
+}
+
+// Which way a pattern maker presses a dart's intake: a vertical dart toward the centre line,
+// a horizontal one (a bust dart from the side or armhole) down; toward the first leg along the
+// outline when the piece has no centre line.
+bool pressTowardFirstLeg(const Point2& leg1At, const Point2& leg2At, const Line& leg1,
+                         const Line& leg2, std::optional<double> centreX) {
+  const auto apex = intersectLines(leg1, leg2);
+  if (!apex)
+    return true;
+  const Point2 centreDir = (leg1At - *apex).normalized() + (leg2At - *apex).normalized();
+  if (std::abs(centreDir.x()) > std::abs(centreDir.y()))
+    return leg1At.y() >= leg2At.y();  // horizontal: the lower leg (y down)
+  if (!centreX)
+    return true;
+  return std::abs(leg1At.x() - *centreX) <= std::abs(leg2At.x() - *centreX);
+}
+
 }  // namespace
 
 const char* edgeRoleName(EdgeRole role) {
@@ -312,6 +345,7 @@ Polyline cutOutline(const Panel& panel, const Pattern& pattern) {
 
   auto P = [&](int i) { return o[static_cast<size_t>(wrap(i, n))]; };
   auto edgeLen = [&](int i) { return (P(i + 1) - P(i)).norm(); };
+  const std::optional<double> centreX = centreLineX(panel, pattern);
   auto normal = [&](int i) { return outwardNormal(P(i), P(i + 1), positive); };
   auto offsetLine = [&](int i) {
     return Line{P(i) + dist[static_cast<size_t>(wrap(i, n))] * normal(i), P(i + 1) - P(i)};
@@ -374,8 +408,18 @@ Polyline cutOutline(const Panel& panel, const Pattern& pattern) {
     const auto leg2 = Line::through(P(closing), P(closing - 1));
     if (!leg1 || !leg2)
       throw fail("a dart leg has zero length");
-    if (!appendDartCap(raw, offsetLine(a), offsetLine(closing), P(v), P(closing), *leg1, *leg2,
-                       normal(a) + normal(closing)))
+    // Pressed toward the first leg, or the cap of the walk reversed: pressed toward the second.
+    bool capped = false;
+    if (pressTowardFirstLeg(P(v), P(closing), *leg1, *leg2, centreX)) {
+      capped = appendDartCap(raw, offsetLine(a), offsetLine(closing), P(v), P(closing), *leg1,
+                             *leg2, normal(a) + normal(closing));
+    } else {
+      Polyline cap;
+      capped = appendDartCap(cap, offsetLine(closing), offsetLine(a), P(closing), P(v), *leg2,
+                             *leg1, normal(a) + normal(closing));
+      raw.insert(raw.end(), cap.rbegin(), cap.rend());
+    }
+    if (!capped)
       throw fail(
           "no dart cap (the dart's legs are parallel to each other or to the edges "
           "beside it)");

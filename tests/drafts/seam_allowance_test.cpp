@@ -124,6 +124,12 @@ Checked checkPanel(const Pattern& pat, const Panel& panel) {
     const double below = (legs[1] - legs[legs.size() - 2]).norm();
     if (legs.size() > 3 && opening < below)
       continue;  // legs closing toward the edge (a high-waist top line): the cap dips in
+    // Without allowance the cut runs along the closed seam line, which may pass either side.
+    const auto at = std::find_if(o.begin(), o.end(),
+                                 [&](const Point2& q) { return (q - legs.front()).norm() < 1e-9; });
+    const size_t first = static_cast<size_t>(at - o.begin());
+    if (at == o.end() || allowance[(first + o.size() - 1) % o.size()] == 0.0)
+      continue;
     EXPECT_TRUE(pointInPolygon((d.leg1 + d.leg2) / 2, cut) ||
                 ringDistance((d.leg1 + d.leg2) / 2, cut) < 1e-6)  // on it without allowance
         << panel.name << " dart " << d.name;
@@ -259,6 +265,62 @@ TEST(SeamAllowance, DartCapFollowsTheClosedDart) {
       return (q - foot).norm() < 1e-9;
     })) << foot.transpose();
   EXPECT_TRUE(isSimplePolygon(cut));
+}
+
+TEST(SeamAllowance, VerticalDartPressedTowardTheFold) {
+  // An asymmetric top edge: flat right of the dart, sloping left of it, the fold at x = 0. The
+  // intake goes toward the fold, i.e. the second leg (8,0) along the outline; that cap is the
+  // mirror image (about x = 10) of the cap of the mirrored piece pressed toward its first leg
+  // (no centre line there), as the mirrored piece's first leg is the mirror of this second one.
+  auto piece = [](const Polyline& outline, bool onFold) {
+    Pattern pat;
+    pat.type = "test";
+    Panel p;
+    p.name = "piece";
+    p.cutOnFold = onFold;
+    p.outline = outline;
+    p.darts.push_back({"d", {10, 10}, outline[4], outline[6]});
+    pat.panels.push_back(p);
+    return pat;
+  };
+  const Polyline net = {{0, -1}, {0, 30}, {20, 30}, {20, 0}, {12, 0}, {10, 10}, {8, 0}};
+  const Pattern folded = piece(net, true);
+  ASSERT_TRUE(foldEdge(folded.panels[0], folded));
+  // Mirrored about x = 10 and walked backward (same orientation), starting at the same corner.
+  Polyline mirrored;
+  for (size_t k = 0; k < net.size(); ++k) {
+    const Point2& q = net[(net.size() - k + 3) % net.size()];  // (20,0), (20,30), ...
+    mirrored.emplace_back(20 - q.x(), q.y());
+  }
+  // mirrored: (0,0) (0,30) (20,30) (20,-1) (12,0) (10,10) (8,0): legs (12,0) then (8,0).
+  ASSERT_LT((mirrored[4] - Point2(12, 0)).norm(), 1e-12);
+  const Pattern plain = piece(mirrored, false);
+  auto capNearDart = [](const Polyline& cut) {
+    Polyline out;
+    for (const auto& q : cut)
+      if (std::abs(q.x() - 10) < 4 && q.y() < 0)
+        out.push_back(q);
+    return out;
+  };
+  Polyline got = capNearDart(cutOutline(folded.panels[0], folded));
+  Polyline want = capNearDart(cutOutline(plain.panels[0], plain));
+  for (auto& q : want)
+    q.x() = 20 - q.x();
+  ASSERT_EQ(got.size(), want.size());
+  ASSERT_GE(got.size(), 3u);
+  std::sort(got.begin(), got.end(), [](auto& a, auto& b) { return a.x() < b.x(); });
+  std::sort(want.begin(), want.end(), [](auto& a, auto& b) { return a.x() < b.x(); });
+  for (size_t k = 0; k < got.size(); ++k)
+    EXPECT_LT((got[k] - want[k]).norm(), 1e-9)
+        << got[k].transpose() << " vs " << want[k].transpose();
+  // And it differs from pressing toward the first leg (the same piece without a fold).
+  const Pattern unfolded = piece(net, false);
+  Polyline other = capNearDart(cutOutline(unfolded.panels[0], unfolded));
+  std::sort(other.begin(), other.end(), [](auto& a, auto& b) { return a.x() < b.x(); });
+  double largest = 0;
+  for (size_t k = 0; k < std::min(other.size(), got.size()); ++k)
+    largest = std::max(largest, (other[k] - got[k]).norm());
+  EXPECT_GT(largest, 0.01) << "the press direction changes the cap";
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 // Corners are mitred (the two offset edges intersected) and bevelled only where a convex
 // corner is so sharp that the mitre would reach beyond 4 x the allowance. A dart opening in
 // the outline is crossed by the dart cap a pattern maker draws: the cut line of the closed
-// dart, its intake pressed toward the leg that comes first along the outline.
+// dart, its intake pressed toward the centre line (vertical darts) or down (horizontal ones).
 
 #include <stdexcept>
 #include <vector>
