@@ -362,8 +362,45 @@ Polyline cutOutline(const Panel& panel, const Pattern& pattern) {
   };
 
   Polyline raw;
+  // A hem corner, trued as a pattern maker does: the side edge's cut line runs on to the hem
+  // line and then turns as its mirror image about the hem line, so that the hem allowance,
+  // turned up, lies flat against the side seam of a flared or tapered piece. false when the
+  // corner is no hem corner (or too flat to be one).
+  auto trueHemCorner = [&](int a, int b, int v) {
+    const EdgeRole ra = roles[static_cast<size_t>(wrap(a, n))];
+    const EdgeRole rb = roles[static_cast<size_t>(wrap(b, n))];
+    auto isSide = [](EdgeRole r) { return r == EdgeRole::Seam || r == EdgeRole::Free; };
+    const bool hemAfter = rb == EdgeRole::Hem && isSide(ra);
+    const bool hemBefore = ra == EdgeRole::Hem && isSide(rb);
+    if (!hemAfter && !hemBefore)
+      return false;
+    const Point2 ua = (P(a + 1) - P(a)).normalized(), ub = (P(b + 1) - P(b)).normalized();
+    if (ua.dot(ub) > std::cos(kHemCornerDeg * kPi / 180.0))
+      return false;
+    const int hem = hemAfter ? b : a, side = hemAfter ? a : b;
+    const auto hemLine = Line::through(P(hem), P(hem + 1));
+    if (!hemLine)
+      return false;
+    const Line sideCut = offsetLine(side);
+    const auto onHemLine = intersectLines(sideCut, *hemLine);
+    const auto turned = intersectLines(mirroredLine(sideCut, *hemLine), offsetLine(hem));
+    const double reach =
+        4 * (dist[static_cast<size_t>(wrap(a, n))] + dist[static_cast<size_t>(wrap(b, n))]);
+    if (!onHemLine || !turned || (*onHemLine - P(v)).norm() > reach ||
+        (*turned - P(v)).norm() > reach)
+      return false;
+    if (std::abs(ua.dot(ub)) < 1e-9) {
+      raw.push_back(*turned);  // a side square to the hem is its own mirror image: the mitre
+      return true;
+    }
+    raw.push_back(hemAfter ? *onHemLine : *turned);
+    raw.push_back(hemAfter ? *turned : *onHemLine);
+    return true;
+  };
   // Where edges a (ending at vertex v) and b (starting at v) meet, offset by their allowances.
   auto join = [&](int a, int b, int v) {
+    if (trueHemCorner(a, b, v))
+      return;
     const double da = dist[static_cast<size_t>(wrap(a, n))];
     const double db = dist[static_cast<size_t>(wrap(b, n))];
     const Point2 ua = (P(a + 1) - P(a)).normalized(), ub = (P(b + 1) - P(b)).normalized();

@@ -58,6 +58,12 @@ double distanceToDart(const Point2& p, const Panel& panel, const std::vector<Edg
   return best;
 }
 
+// 1 cm to the right of the edge a -> b walking up a right-hand side (y down).
+Point2 outwardOf(const Point2& a, const Point2& b) {
+  const Point2 e = (b - a).normalized();
+  return Point2(-e.y(), e.x());
+}
+
 struct Checked {
   int edges = 0;
   int hemEdges = 0;
@@ -233,6 +239,32 @@ TEST(SeamAllowance, SquareWithFoldHemAndSeam) {
   ASSERT_EQ(cut.size(), want.size());
   for (size_t i = 0; i < want.size(); ++i)
     EXPECT_LT((cut[i] - want[i]).norm(), 1e-9) << i << ": " << cut[i].transpose();
+}
+
+TEST(SeamAllowance, FlaredHemCornerIsTruedAsTheSideSeamsMirror) {
+  // A flared piece: fold at x = 0, hem y = 30 from x = 0 to 25, side seam up to (20, 0). The
+  // side's cut line (1 cm out) meets the hem line at x = 25 + 1 / cos(atan(5/30)) and then runs
+  // on as its mirror image about the hem line, reaching the hem's cut line (y = 33) 0.5 cm
+  // further in, not 0.5 cm further out as the plain mitre would.
+  Pattern pat;
+  pat.type = "test";
+  Panel p;
+  p.name = "piece";
+  p.cutOnFold = true;
+  p.outline = {{0, 0}, {0, 30}, {25, 30}, {20, 0}};
+  pat.panels.push_back(p);
+  pat.seams.push_back({"side", {"piece", 2, 3}, {"piece", 2, 3}, 0});
+  ASSERT_EQ(edgeRoles(p, pat)[1], EdgeRole::Hem);
+  const double onHemLineX = 25 + 1 / std::cos(std::atan(5.0 / 30.0));
+  const Point2 onHemLine(onHemLineX, 30), turned(onHemLineX - 3.0 * 5.0 / 30.0, 33);
+  const Polyline cut = cutOutline(p, pat);
+  for (const Point2& want : {onHemLine, turned})
+    EXPECT_TRUE(std::any_of(cut.begin(), cut.end(), [&](const Point2& q) {
+      return (q - want).norm() < 1e-9;
+    })) << want.transpose();
+  // Folded up along the hem line, the hem allowance's side lies on the side seam's cut line.
+  const Line sideCut{Point2(25, 30) + outwardOf({25, 30}, {20, 0}), Point2(-5, -30)};
+  EXPECT_NEAR(signedDistanceToLine(mirrorPoint(turned, Line::horizontal(30)), sideCut), 0, 1e-9);
 }
 
 TEST(SeamAllowance, DartCapFollowsTheClosedDart) {
