@@ -5,9 +5,10 @@
 // seamAllowanceCm (design parameter `seam_allowance`, 1 cm), the hem 3 cm, a fold edge none.
 // Corners are mitred (the two offset edges intersected) and bevelled only where a convex
 // corner is so sharp that the mitre would reach beyond 4 x the allowance; hem corners are
-// trued (the side's cut line mirrored about the hem line, as the turned-up hem needs it). A dart opening in
-// the outline is crossed by the dart cap a pattern maker draws: the cut line of the closed
-// dart, its intake pressed toward the centre line (vertical darts) or down (horizontal ones).
+// trued (the side's cut line mirrored about the hem line, as the turned-up hem needs it). A dart
+// opening in the outline is crossed by the dart cap a pattern maker draws: the cut line of the
+// closed dart, its intake pressed toward the centre line (vertical darts) or down (horizontal
+// ones).
 
 #include <stdexcept>
 #include <vector>
