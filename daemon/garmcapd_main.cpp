@@ -4,6 +4,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <systemd/sd-daemon.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <boost/asio/io_context.hpp>
@@ -58,6 +59,12 @@ daemon::Config buildConfig(const Options& o) {
       c.dataDir = state;
   if (const char* t = std::getenv("GARMCAPD_TOKEN"); t && c.token.empty())
     c.token = t;
+  // The machine's own names (what a tablet types, or finds over mDNS) are always the station's.
+  char host[256] = {};
+  if (gethostname(host, sizeof host - 1) == 0 && host[0] != '\0') {
+    c.serverNames.push_back(host);
+    c.serverNames.push_back(std::string(host) + ".local");
+  }
   c.validate();
   return c;
 }
@@ -219,7 +226,18 @@ int main(int argc, char** argv) {
   const std::string ready = "READY=1\nSTATUS=" + station->statusLine();
   sd_notify(0, ready.c_str());
 
-  io.run();
+  // A handler that throws must not stop the station: the exception is logged and the loop goes
+  // on (asio allows run() again after an exception). Handlers catch their own; this is the net.
+  for (;;) {
+    try {
+      io.run();
+      break;
+    } catch (const std::exception& e) {
+      spdlog::error("garmcapd: an event handler failed, serving on: {}", e.what());
+    } catch (...) {
+      spdlog::error("garmcapd: an event handler failed (non-standard exception), serving on");
+    }
+  }
   server.reset();
   station.reset();
   spdlog::info("garmcapd: stopped");

@@ -1,5 +1,14 @@
 // The "synthetic" camera: a ReplayCamera whose scenes are rendered on demand by the scene
-// simulator (sim.h) instead of read from a rig folder. Case i is randomScene(seed + i).
+// simulator (sim.h) instead of read from a rig folder.
+//
+// It simulates one station, not a rig of many: the camera pose, the studio's lights and the
+// bare form are those of randomScene(seed) for the camera's whole life, as a fixed camera on a
+// fixed form would be. Case i only brings the garment and fabric of randomScene(seed + i), its
+// own sensor noise and a small drift of the exposure (+-0.5 %). Camera shake is left out: a
+// moved camera is a real fault the station refuses (capture the bare form again), not
+// something that happens on every press. (Hard cases keep their strong spill and shadow only as
+// far as the fixed studio has them; a fabric drawn form-coloured is so for the case's own form
+// cover colour, which the station's fixed cover only approaches.)
 //
 // The simulator is written alongside (another unit of capture/); until its header is in the
 // tree, makeSyntheticSceneSource says plainly that the back end is not available.
@@ -11,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include "garmcap/calib/form_model.h"
 #include "garmcap/capture/scene.h"
@@ -70,11 +80,8 @@ class SyntheticSceneSource final : public SceneSource {
 
   SceneImage load(std::size_t index, Shot shot) override {
     if (!renderer_ || index != rendered_) {
-      RandomSceneOptions options;
-      options.size = size_;
       try {
-        renderer_ = std::make_unique<SceneRenderer>(
-            *form_, randomScene(*form_, formPath_.string(), seed_ + index, options));
+        renderer_ = std::make_unique<SceneRenderer>(*form_, stationScene(index));
       } catch (const std::invalid_argument& e) {
         throw CameraError(CameraErrorKind::kBadData,
                           "synthetic camera: scene " + caseId(index) + ": " + e.what());
@@ -97,12 +104,33 @@ class SyntheticSceneSource final : public SceneSource {
   }
 
  private:
+  // The studio of the station (pose, lights, form cover) with the garment of case `index`.
+  Scene stationScene(std::size_t index) {
+    RandomSceneOptions options;
+    options.size = size_;
+    if (!studio_) {
+      RandomSceneOptions calm = options;
+      calm.hardFraction = 0;  // an ordinary studio: moderate spill and shadow
+      studio_ = randomScene(*form_, formPath_.string(), seed_, calm);
+    }
+    Scene s = randomScene(*form_, formPath_.string(), seed_ + index, options);
+    s.size = studio_->size;
+    s.pose = studio_->pose;
+    const double exposure = s.lighting.exposure;
+    s.lighting = studio_->lighting;
+    // The case's own exposure draw, 0.9-1.12, mapped to +-0.5 % around the studio's.
+    s.lighting.exposure *= 1.0 + 0.005 * ((exposure - 0.9) / 0.11 - 1.0);
+    s.shake = Shake{};
+    return s;
+  }
+
   static constexpr std::size_t kCases = 1'000'000;
   fs::path formPath_;
   std::uint64_t seed_;
   cv::Size size_;
   fs::path outDir_;
   std::shared_ptr<const calib::FormModel> form_;
+  std::optional<Scene> studio_;
   std::unique_ptr<SceneRenderer> renderer_;
   std::size_t rendered_ = 0;
   fs::path truthPath_;

@@ -12,6 +12,7 @@
 
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/http_guard.h"
 #include "garmcap/drafts/pattern_io.h"
 #include "garmcap/drafts/svg.h"
 #include "garmcap/dsw/size_guide.h"
@@ -39,18 +40,31 @@ int queryInt(const RouteMatch& m, const std::string& name, int fallback, int lo,
   const auto [p, ec] = std::from_chars(v->data(), v->data() + v->size(), x);
   if (ec != std::errc() || p != v->data() + v->size() || x < lo || x > hi)
     throw BadRequest("query '" + name + "' must be an integer in " + std::to_string(lo) + ".." +
-                     std::to_string(hi) + ", got '" + *v + "'");
+                     std::to_string(hi) + ", got '" + quoteInput(*v) + "'");
   return x;
 }
 
+// Text that reaches the catalog, the shop CSVs and the pattern files: the JSON parser has
+// already refused invalid UTF-8; control characters are refused here (a NUL would cut a title
+// short in C strings, a CR would split a CSV row in a careless importer). Notes keep newlines
+// and tabs.
+void requireText(const std::string& s, const std::string& what, bool multiLine = false) {
+  if (!validUtf8(s))
+    throw BadRequest(what + " is not valid UTF-8");
+  for (unsigned char c : s)
+    if ((c < 0x20 && !(multiLine && (c == '\n' || c == '\t' || c == '\r'))) || c == 0x7F)
+      throw BadRequest(what + " holds a control character (byte " + std::to_string(c) + ")");
+}
+
 std::string requireStringField(const nlohmann::json& body, const std::string& key,
-                               std::size_t maxLen) {
+                               std::size_t maxLen, bool multiLine = false) {
   const auto& v = body.at(key);
   if (!v.is_string())
     throw BadRequest("field '" + key + "' must be a string");
   std::string s = v.get<std::string>();
   if (s.size() > maxLen)
     throw BadRequest("field '" + key + "' is longer than " + std::to_string(maxLen) + " bytes");
+  requireText(s, "field '" + key + "'", multiLine);
   return s;
 }
 
@@ -66,7 +80,7 @@ ItemPatch parsePatch(const nlohmann::json& body) {
     } else if (key == "title") {
       p.title = requireStringField(body, key, 200);
     } else if (key == "notes") {
-      p.notes = requireStringField(body, key, 4000);
+      p.notes = requireStringField(body, key, 4000, true);
     } else if (key == "status") {
       p.status = requireStringField(body, key, 32);
       if (*p.status != kStatusNeedsReview && *p.status != kStatusApproved &&
@@ -90,6 +104,7 @@ ItemPatch parsePatch(const nlohmann::json& body) {
       for (const auto& t : value) {
         if (!t.is_string() || t.get<std::string>().size() > 64)
           throw BadRequest("field 'tags' must hold strings of at most 64 bytes");
+        requireText(t.get<std::string>(), "a tag");
         tags.push_back(t.get<std::string>());
       }
       p.tags = tags;
@@ -99,27 +114,35 @@ ItemPatch parsePatch(const nlohmann::json& body) {
       std::map<std::string, std::string> attrs;
       for (const auto& [k, v] : value.items()) {
         if (!v.is_string() || k.size() > 64 || v.get<std::string>().size() > 200)
-          throw BadRequest("attribute '" + k + "' must be a string");
+          throw BadRequest("attribute '" + quoteInput(k) +
+                           "' must be a string of at most 200 bytes under a name of at most 64");
+        requireText(k, "an attribute name");
+        requireText(v.get<std::string>(), "attribute '" + quoteInput(k) + "'");
         attrs[k] = v.get<std::string>();
       }
       p.attributes = attrs;
     } else if (key == "measurements") {
+      // The vocabulary has a few dozen names; 100 is room for any garment, not for 50,000 rows.
+      constexpr std::size_t kMaxMeasurements = 100;
       if (!value.is_object())
         throw BadRequest("field 'measurements' must be an object name -> cm");
+      if (value.size() > kMaxMeasurements)
+        throw BadRequest("field 'measurements' holds " + std::to_string(value.size()) +
+                         " names; at most " + std::to_string(kMaxMeasurements));
       std::map<std::string, double> ms;
       for (const auto& [k, v] : value.items()) {
         if (k.empty() || k.size() > 64 || !std::all_of(k.begin(), k.end(), [](char c) {
               return std::islower(static_cast<unsigned char>(c)) ||
                      std::isdigit(static_cast<unsigned char>(c)) || c == '_';
             }))
-          throw BadRequest("measurement name '" + k + "' is not a measurement name");
+          throw BadRequest("measurement name '" + quoteInput(k) + "' is not a measurement name");
         if (!v.is_number() || !(v.get<double>() > 0 && v.get<double>() < 1000))
           throw BadRequest("measurement '" + k + "' must be a number of cm in (0, 1000)");
         ms[k] = v.get<double>();
       }
       p.measurementsCm = ms;
     } else {
-      throw BadRequest("unknown field '" + key + "'");
+      throw BadRequest("unknown field '" + quoteInput(key) + "'");
     }
   }
   return p;
@@ -145,7 +168,8 @@ std::string patternSizeParam(const RouteMatch& m) {
   if (size.empty() || size.size() > 16 || !std::all_of(size.begin(), size.end(), [](char c) {
         return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
       }))
-    throw BadRequest("query 'size' must be a size name like 55 or M, got '" + size + "'");
+    throw BadRequest("query 'size' must be a size name like 55 or M, got '" + quoteInput(size) +
+                     "'");
   return size;
 }
 
@@ -197,7 +221,7 @@ void addApiRoutes(Router& router, Station& station) {
         throw BadRequest("the body must be a JSON object");
       for (const auto& [k, v] : body.items())
         if (k != "sku")
-          throw BadRequest("unknown field '" + k + "'");
+          throw BadRequest("unknown field '" + quoteInput(k) + "'");
       if (body.contains("sku")) {
         sku = requireStringField(body, "sku", 64);
         if (!validSku(sku))
@@ -221,12 +245,14 @@ void addApiRoutes(Router& router, Station& station) {
 
   router.add(V::get, "/api/jobs", [st](const Request&, const RouteMatch& m, Reply reply) {
     const int limit = queryInt(m, "limit", 20, 1, 200);
-    st->withCatalog([reply, limit](Catalog& c) {
-      nlohmann::json jobs = nlohmann::json::array();
-      for (const auto& j : c.recentJobs(limit))
-        jobs.push_back(j.toJson());
-      reply(jsonResponse(http::status::ok, {{"jobs", jobs}}));
-    });
+    st->withCatalog(
+        [reply, limit](Catalog& c) {
+          nlohmann::json jobs = nlohmann::json::array();
+          for (const auto& j : c.recentJobs(limit))
+            jobs.push_back(j.toJson());
+          reply(jsonResponse(http::status::ok, {{"jobs", jobs}}));
+        },
+        reply);
   });
 
   router.addStream(V::get, "/api/events",
@@ -253,59 +279,70 @@ void addApiRoutes(Router& router, Station& station) {
     q.deleted = queryInt(m, "deleted", 0, 0, 1) == 1;
     q.offset = queryInt(m, "offset", 0, 0, 1 << 30);
     q.limit = queryInt(m, "limit", 50, 1, 500);
-    st->withCatalog([reply, q](Catalog& c) {
-      auto [items, total] = c.items(q);
-      nlohmann::json list = nlohmann::json::array();
-      for (const auto& it : items)
-        list.push_back(it.toJson());
-      reply(jsonResponse(
-          http::status::ok,
-          {{"items", list}, {"total", total}, {"offset", q.offset}, {"limit", q.limit}}));
-    });
+    st->withCatalog(
+        [reply, q](Catalog& c) {
+          auto [items, total] = c.items(q);
+          nlohmann::json list = nlohmann::json::array();
+          for (const auto& it : items)
+            list.push_back(it.toJson());
+          reply(jsonResponse(
+              http::status::ok,
+              {{"items", list}, {"total", total}, {"offset", q.offset}, {"limit", q.limit}}));
+        },
+        reply);
   });
 
   router.add(V::get, "/api/items/{id}", [st](const Request&, const RouteMatch& m, Reply reply) {
     const auto id = m.id("id");
-    st->withCatalog([reply, id](Catalog& c) {
-      auto it = c.item(id);
-      reply(it ? jsonResponse(http::status::ok, it->toJson())
-               : jsonError(http::status::not_found, "no item " + std::to_string(id)));
-    });
+    st->withCatalog(
+        [reply, id](Catalog& c) {
+          auto it = c.item(id);
+          reply(it ? jsonResponse(http::status::ok, it->toJson())
+                   : jsonError(http::status::not_found, "no item " + std::to_string(id)));
+        },
+        reply);
   });
 
   router.add(
       V::patch, "/api/items/{id}", [st](const Request& req, const RouteMatch& m, Reply reply) {
         const auto id = m.id("id");
         const ItemPatch patch = parsePatch(parseJsonBody(req));
-        st->withCatalog([reply, id, patch](Catalog& c) {
-          try {
-            if (!c.patchItem(id, patch))
-              return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
-            reply(jsonResponse(http::status::ok, c.item(id)->toJson()));
-          } catch (const CatalogError& e) {
-            reply(jsonError(http::status::bad_request, e.what()));
-          }
-        });
+        st->withCatalog(
+            [reply, id, patch](Catalog& c) {
+              try {
+                if (!c.patchItem(id, patch))
+                  return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+                reply(jsonResponse(http::status::ok, c.item(id)->toJson()));
+              } catch (const CatalogError& e) {
+                reply(jsonError(http::status::bad_request, e.what()));
+              }
+            },
+            reply);
       });
 
   router.add(V::delete_, "/api/items/{id}", [st](const Request&, const RouteMatch& m, Reply reply) {
     const auto id = m.id("id");
-    st->withCatalog([reply, id](Catalog& c) {
-      reply(c.deleteItem(id) ? jsonResponse(http::status::ok, {{"deleted", id}})
-                             : jsonError(http::status::not_found, "no item " + std::to_string(id)));
-    });
+    st->withCatalog(
+        [reply, id](Catalog& c) {
+          reply(c.deleteItem(id)
+                    ? jsonResponse(http::status::ok, {{"deleted", id}})
+                    : jsonError(http::status::not_found, "no item " + std::to_string(id)));
+        },
+        reply);
   });
 
-  router.add(V::post, "/api/items/{id}/restore",
-             [st](const Request&, const RouteMatch& m, Reply reply) {
-               const auto id = m.id("id");
-               st->withCatalog([reply, id](Catalog& c) {
-                 if (!c.restoreItem(id))
-                   return reply(
-                       jsonError(http::status::not_found, "no deleted item " + std::to_string(id)));
-                 reply(jsonResponse(http::status::ok, c.item(id)->toJson()));
-               });
-             });
+  router.add(
+      V::post, "/api/items/{id}/restore", [st](const Request&, const RouteMatch& m, Reply reply) {
+        const auto id = m.id("id");
+        st->withCatalog(
+            [reply, id](Catalog& c) {
+              if (!c.restoreItem(id))
+                return reply(
+                    jsonError(http::status::not_found, "no deleted item " + std::to_string(id)));
+              reply(jsonResponse(http::status::ok, c.item(id)->toJson()));
+            },
+            reply);
+      });
 
   router.add(V::post, "/api/items/{id}/rerun",
              [st](const Request&, const RouteMatch& m, Reply reply) {
@@ -319,40 +356,45 @@ void addApiRoutes(Router& router, Station& station) {
         const auto id = m.id("id");
         const std::string kind = m.param("kind");
         const bool download = m.queryValue("download").value_or("0") == "1";
-        st->withCatalog([st, reply, id, kind, download](Catalog& c) {
-          auto it = c.item(id);
-          if (!it)
-            return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
-          auto im = std::find_if(it->images.begin(), it->images.end(),
-                                 [&](const ImageRef& r) { return r.kind == kind; });
-          if (im == it->images.end())
-            return reply(jsonError(http::status::not_found,
-                                   "item " + std::to_string(id) + " has no image '" + kind + "'"));
-          const std::string name =
-              expandNamingTemplate(st->namingTemplate(),
-                                   {{"sku", it->sku.empty() ? "item" : it->sku},
-                                    {"id", std::to_string(id)},
-                                    {"kind", kind},
-                                    {"type", it->type},
-                                    {"size", it->baseSize},
-                                    {"date", it->createdAt.substr(0, 10)}}) +
-              ".png";
-          const ImageRef ref = *im;
-          // Reading the blob happens off the strand: the catalog owner must not wait for disks.
-          st->offload([st, reply, ref, name, download] {
-            auto bytes = st->store().read(ref.sha256);
-            if (!bytes)
-              return reply(jsonError(http::status::internal_server_error,
-                                     "image " + ref.sha256 + " is missing from the store"));
-            Response res = textResponse(http::status::ok, ref.mediaType, std::move(*bytes));
-            res.set(http::field::cache_control, "private, max-age=31536000, immutable");
-            res.set(http::field::etag, "\"" + ref.sha256 + "\"");
-            res.set(
-                http::field::content_disposition,
-                std::string(download ? "attachment" : "inline") + "; filename=\"" + name + "\"");
-            reply(std::move(res));
-          });
-        });
+        st->withCatalog(
+            [st, reply, id, kind, download](Catalog& c) {
+              auto it = c.item(id);
+              if (!it)
+                return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+              auto im = std::find_if(it->images.begin(), it->images.end(),
+                                     [&](const ImageRef& r) { return r.kind == kind; });
+              if (im == it->images.end())
+                return reply(
+                    jsonError(http::status::not_found,
+                              "item " + std::to_string(id) + " has no image '" + kind + "'"));
+              const std::string name =
+                  expandNamingTemplate(st->namingTemplate(),
+                                       {{"sku", it->sku.empty() ? "item" : it->sku},
+                                        {"id", std::to_string(id)},
+                                        {"kind", kind},
+                                        {"type", it->type},
+                                        {"size", it->baseSize},
+                                        {"date", it->createdAt.substr(0, 10)}}) +
+                  ".png";
+              const ImageRef ref = *im;
+              // Reading the blob happens off the strand: the catalog owner must not wait for disks.
+              st->offload(
+                  [st, reply, ref, name, download] {
+                    auto bytes = st->store().read(ref.sha256);
+                    if (!bytes)
+                      return reply(jsonError(http::status::internal_server_error,
+                                             "image " + ref.sha256 + " is missing from the store"));
+                    Response res = textResponse(http::status::ok, ref.mediaType, std::move(*bytes));
+                    res.set(http::field::cache_control, "private, max-age=31536000, immutable");
+                    res.set(http::field::etag, "\"" + ref.sha256 + "\"");
+                    res.set(http::field::content_disposition,
+                            std::string(download ? "attachment" : "inline") + "; filename=\"" +
+                                name + "\"");
+                    reply(std::move(res));
+                  },
+                  reply);
+            },
+            reply);
       });
 
   router.add(
@@ -360,16 +402,18 @@ void addApiRoutes(Router& router, Station& station) {
       [st](const Request&, const RouteMatch& m, Reply reply) {
         const auto id = m.id("id");
         const std::string size = patternSizeParam(m);
-        st->withCatalog([reply, id, size](Catalog& c) {
-          auto it = c.item(id);
-          if (!it)
-            return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
-          auto p = c.pattern(id, size);
-          if (!p)
-            return reply(noPatternForSize(*it, size));
-          reply(patternIsEmpty(*p) ? noDraftedPattern(*it, size)
-                                   : jsonResponse(http::status::ok, *p));
-        });
+        st->withCatalog(
+            [reply, id, size](Catalog& c) {
+              auto it = c.item(id);
+              if (!it)
+                return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+              auto p = c.pattern(id, size);
+              if (!p)
+                return reply(noPatternForSize(*it, size));
+              reply(patternIsEmpty(*p) ? noDraftedPattern(*it, size)
+                                       : jsonResponse(http::status::ok, *p));
+            },
+            reply);
       });
 
   router.add(
@@ -377,73 +421,84 @@ void addApiRoutes(Router& router, Station& station) {
       [st](const Request&, const RouteMatch& m, Reply reply) {
         const auto id = m.id("id");
         const std::string size = patternSizeParam(m);
-        st->withCatalog([st, reply, id, size](Catalog& c) {
-          auto it = c.item(id);
-          if (!it)
-            return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
-          auto p = c.pattern(id, size);
-          if (!p)
-            return reply(noPatternForSize(*it, size));
-          if (patternIsEmpty(*p))
-            return reply(noDraftedPattern(*it, size));
-          st->offload([reply, json = *p, id, size] {
-            try {
-              const auto pattern = drafts::patternFromJsonValue(
-                  json, "item " + std::to_string(id) + " pattern " + size);
-              reply(textResponse(http::status::ok, "image/svg+xml",
-                                 drafts::patternToSvg(pattern, drafts::SvgOptions{})));
-            } catch (const std::exception& e) {
-              reply(jsonError(http::status::internal_server_error, e.what()));
-            }
-          });
-        });
+        st->withCatalog(
+            [st, reply, id, size](Catalog& c) {
+              auto it = c.item(id);
+              if (!it)
+                return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+              auto p = c.pattern(id, size);
+              if (!p)
+                return reply(noPatternForSize(*it, size));
+              if (patternIsEmpty(*p))
+                return reply(noDraftedPattern(*it, size));
+              st->offload(
+                  [reply, json = *p, id, size] {
+                    try {
+                      const auto pattern = drafts::patternFromJsonValue(
+                          json, "item " + std::to_string(id) + " pattern " + size);
+                      reply(textResponse(http::status::ok, "image/svg+xml",
+                                         drafts::patternToSvg(pattern, drafts::SvgOptions{})));
+                    } catch (const std::exception& e) {
+                      reply(jsonError(http::status::internal_server_error, e.what()));
+                    }
+                  },
+                  reply);
+            },
+            reply);
       });
 
   auto sizeGuide = [st](bool csv) {
     return [st, csv](const Request&, const RouteMatch& m, Reply reply) {
       const auto id = m.id("id");
-      st->withCatalog([reply, id, csv](Catalog& c) {
-        if (!c.item(id))
-          return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
-        auto g = c.sizeGuide(id);
-        if (!g)
-          return reply(jsonError(http::status::not_found,
-                                 "item " + std::to_string(id) + " has no size guide (not graded)"));
-        if (!csv)
-          return reply(jsonResponse(http::status::ok, *g));
-        try {
-          reply(textResponse(http::status::ok, "text/csv; charset=utf-8", sizeGuideCsv(*g)));
-        } catch (const std::exception& e) {
-          reply(jsonError(http::status::internal_server_error,
-                          std::string("stored size guide is malformed: ") + e.what()));
-        }
-      });
+      st->withCatalog(
+          [reply, id, csv](Catalog& c) {
+            if (!c.item(id))
+              return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+            auto g = c.sizeGuide(id);
+            if (!g)
+              return reply(
+                  jsonError(http::status::not_found,
+                            "item " + std::to_string(id) + " has no size guide (not graded)"));
+            if (!csv)
+              return reply(jsonResponse(http::status::ok, *g));
+            try {
+              reply(textResponse(http::status::ok, "text/csv; charset=utf-8", sizeGuideCsv(*g)));
+            } catch (const std::exception& e) {
+              reply(jsonError(http::status::internal_server_error,
+                              std::string("stored size guide is malformed: ") + e.what()));
+            }
+          },
+          reply);
     };
   };
   router.add(V::get, "/api/items/{id}/sizeguide.json", sizeGuide(false));
   router.add(V::get, "/api/items/{id}/sizeguide.csv", sizeGuide(true));
 
-  router.add(
-      V::get, "/api/items/{id}/result.json",
-      [st](const Request&, const RouteMatch& m, Reply reply) {
-        const auto id = m.id("id");
-        st->withCatalog([reply, id](Catalog& c) {
-          auto r = c.result(id);
-          reply(r ? jsonResponse(http::status::ok, *r)
-                  : jsonError(http::status::not_found, "no result for item " + std::to_string(id)));
-        });
-      });
+  router.add(V::get, "/api/items/{id}/result.json",
+             [st](const Request&, const RouteMatch& m, Reply reply) {
+               const auto id = m.id("id");
+               st->withCatalog(
+                   [reply, id](Catalog& c) {
+                     auto r = c.result(id);
+                     reply(r ? jsonResponse(http::status::ok, *r)
+                             : jsonError(http::status::not_found,
+                                         "no result for item " + std::to_string(id)));
+                   },
+                   reply);
+             });
 
   router.add(V::get, "/api/calibration", [st](const Request&, const RouteMatch&, Reply reply) {
-    st->withCatalog([reply](Catalog& c) {
-      auto cal = c.latestCalibration();
-      if (!cal)
-        return reply(jsonError(http::status::not_found, "the station is not calibrated"));
-      reply(jsonResponse(http::status::ok, {{"id", cal->id},
-                                            {"created_at", cal->createdAt},
-                                            {"empty_sha256", cal->emptySha256},
-                                            {"calibration", cal->json}}));
-    });
+    st->withCatalog(
+        [reply](Catalog& c) {
+          auto cal = c.latestCalibration();
+          if (!cal)
+            return reply(jsonError(http::status::not_found, "the station is not calibrated"));
+          reply(jsonResponse(http::status::ok, {{"id", cal->id},
+                                                {"created_at", cal->createdAt},
+                                                {"empty_sha256", cal->emptySha256},
+                                                {"calibration", cal->json}}));
+        },
+        reply);
   });
 
   // The simulated rig's camera faults: {"present": bool} unplugs or replugs it,

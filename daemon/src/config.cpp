@@ -146,7 +146,23 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
         {"token", stringKey(&Config::token)},
         {"body_limit_bytes", intKey(&Config::bodyLimitBytes, 1024, 256LL << 20)},
         {"request_timeout_s", intKey(&Config::requestTimeoutS, 1, 3600)},
-        {"max_connections", intKey(&Config::maxConnections, 1, 10000)}}},
+        {"header_timeout_s", intKey(&Config::headerTimeoutS, 1, 600)},
+        {"max_connections", intKey(&Config::maxConnections, 1, 10000)},
+        {"server_names",
+         [](const toml::value& v, Config& c, const std::string& key) {
+           if (!v.is_array())
+             bad(key, "must be an array of host names, e.g. [\"station.local\"]");
+           std::vector<std::string> names;
+           for (const auto& n : v.as_array()) {
+             const std::string s = n.is_string() ? n.as_string().str : "";
+             if (s.empty() || s.size() > 253 || !std::all_of(s.begin(), s.end(), [](char ch) {
+                   return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '.';
+                 }))
+               bad(key, "must hold host names (letters, digits, '-', '.')");
+             names.push_back(s);
+           }
+           c.serverNames = names;
+         }}}},
       {"pipeline",
        {{"product_images", boolKey(&Config::makeProductImages)},
         {"texture", boolKey(&Config::makeTexture)},

@@ -23,6 +23,7 @@
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/daemon/export_shop.h"
 #include "garmcap/daemon/export_zip.h"
+#include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
 #include "garmcap/drafts/export_dxf_aama.h"
 #include "garmcap/drafts/export_garmentcode.h"
@@ -64,7 +65,8 @@ std::string urlOption(const RouteMatch& m, const std::string& key, const std::st
   if (s.size() > 500)
     throw BadRequest("query '" + key + "' is longer than 500 bytes");
   if (s.rfind("http://", 0) != 0 && s.rfind("https://", 0) != 0)
-    throw BadRequest("query '" + key + "' must start with http:// or https://, got '" + s + "'");
+    throw BadRequest("query '" + key + "' must start with http:// or https://, got '" +
+                     quoteInput(s) + "'");
   for (unsigned char c : s)
     if (c <= 32 || c >= 127 || c == '"' || c == '\'' || c == '<' || c == '>' || c == '\\')
       throw BadRequest("query '" + key + "' holds a character not allowed in a URL");
@@ -282,24 +284,28 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
           std::function<ShopFile(const std::vector<ExportItem>&, const ShopOptions&)> build) {
         return [c, name, type, build](const Request& req, const RouteMatch& m, Reply reply) {
           const ShopOptions o = shopOptions(req, m, c->shopConfig());
-          c->withCatalog([c, reply, o, name, type, build](Catalog& cat) {
-            auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, false));
-            c->offload([reply, o, name, type, build, snap] {
-              try {
-                std::vector<std::string> warnings;
-                const auto items = shopItems(*snap, warnings);
-                ShopFile f = build(items, o);
-                warnings.insert(warnings.end(), f.warnings.begin(), f.warnings.end());
-                Response r = fileResponse(type, std::move(f.bytes), name);
-                setWarnings(r, warnings);
-                reply(std::move(r));
-              } catch (const ExportError& e) {
-                reply(jsonError(http::status::unprocessable_entity, e.what()));
-              } catch (const std::exception& e) {
-                reply(jsonError(http::status::internal_server_error, e.what()));
-              }
-            });
-          });
+          c->withCatalog(
+              [c, reply, o, name, type, build](Catalog& cat) {
+                auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, false));
+                c->offload(
+                    [reply, o, name, type, build, snap] {
+                      try {
+                        std::vector<std::string> warnings;
+                        const auto items = shopItems(*snap, warnings);
+                        ShopFile f = build(items, o);
+                        warnings.insert(warnings.end(), f.warnings.begin(), f.warnings.end());
+                        Response r = fileResponse(type, std::move(f.bytes), name);
+                        setWarnings(r, warnings);
+                        reply(std::move(r));
+                      } catch (const ExportError& e) {
+                        reply(jsonError(http::status::unprocessable_entity, e.what()));
+                      } catch (const std::exception& e) {
+                        reply(jsonError(http::status::internal_server_error, e.what()));
+                      }
+                    },
+                    reply);
+              },
+              reply);
         };
       };
   router.add(V::get, "/api/export/shopify.csv",
@@ -312,80 +318,91 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
   router.add(
       V::get, "/api/export/catalog.zip", [c](const Request& req, const RouteMatch& m, Reply reply) {
         const ShopOptions o = shopOptions(req, m, c->shopConfig());
-        c->withCatalog([c, reply, o](Catalog& cat) {
-          auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, true));
-          c->offload([c, reply, o, snap] {
-            try {
-              std::vector<std::string> notes;
-              const std::vector<ExportItem> items = shopItems(*snap, notes);
-              std::vector<ZipEntry> files;
-              for (size_t i = 0; i < snap->items.size(); ++i) {
-                const Item& it = snap->items[i];
-                const std::string style = it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
-                for (const auto& im : it.images) {
-                  const std::string ext = extensionOf(im.mediaType);
-                  if (ext.empty() || std::find(kShopImageKinds.begin(), kShopImageKinds.end(),
-                                               im.kind) == kShopImageKinds.end())
-                    continue;
-                  auto bytes = c->store().read(im.sha256);
-                  if (!bytes)
-                    throw ExportError("image " + im.sha256 + " is missing from the store");
-                  files.push_back({imagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
-                }
-                const std::string dir = "patterns/" + std::to_string(it.id) + "/";
-                const auto& pats = snap->patterns[i];
-                for (const auto& [size, json] : pats) {
-                  try {
-                    auto p = drafts::patternFromJsonValue(json, "item " + std::to_string(it.id));
-                    const PieceText t{style, sizeLabel(it, size)};
-                    files.push_back({dir + size + ".dxf", patternDxf(p, t)});
-                    files.push_back({dir + size + ".svg", patternSvg(p, t)});
-                    if (size == "base")
-                      files.push_back({dir + "garmentcode.json", garmentCodeJson(p, t)});
-                  } catch (const std::exception& e) {
-                    notes.push_back("item " + std::to_string(it.id) + " size " + size + ": " +
-                                    e.what());
-                  }
-                }
-                try {
-                  if (auto run = gradedRun(it, snap->sizeGuides[i], pats)) {
-                    files.push_back({dir + "graded.dxf", gradedDxf(*run)});
-                    files.push_back({dir + "graded.rul", gradeRuleTable(*run)});
-                  }
-                  auto base = pats.find("base");
-                  auto vm = vitMeasurements(
-                      it, base == pats.end() ? std::nullopt : std::optional(base->second));
-                  if (!vm.empty())
-                    files.push_back({dir + "measurements.vit", drafts::measurementsToVit(vm)});
-                } catch (const std::exception& e) {
-                  notes.push_back("item " + std::to_string(it.id) + ": " + e.what());
-                }
-              }
-              for (auto [file, build] : {std::pair{"shopify.csv", &shopifyCsv},
-                                         std::pair{"woocommerce.csv", &wooCommerceCsv},
-                                         std::pair{"merchant.tsv", &merchantTsv}}) {
-                ShopFile f = build(items, o);
-                for (const auto& w : f.warnings)
-                  notes.push_back(std::string(file) + ": " + w);
-                files.push_back({file, std::move(f.bytes)});
-              }
-              std::string readme =
-                  "GarmCap Station catalog export: " + std::to_string(items.size()) +
-                  " approved items.\nUpload the folder so that images/ is reachable at " +
-                  o.publicBaseUrl +
-                  "/images/ before importing the CSVs.\nPatterns: patterns/<item id>/ (DXF in mm, "
-                  "SVG 1:1, GarmentCode JSON, Valentina .vit, graded DXF + RUL when graded).\n";
-              for (const auto& n : notes)
-                readme += "Note: " + n + "\n";
-              files.push_back({"README.txt", readme});
-              reply(fileResponse("application/zip", storeZip(files), "catalog.zip"));
-            } catch (const ExportError& e) {
-              reply(jsonError(http::status::unprocessable_entity, e.what()));
-            } catch (const std::exception& e) {
-              reply(jsonError(http::status::internal_server_error, e.what()));
-            }
-          });
-        });
+        c->withCatalog(
+            [c, reply, o](Catalog& cat) {
+              auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, true));
+              c->offload(
+                  [c, reply, o, snap] {
+                    try {
+                      std::vector<std::string> notes;
+                      const std::vector<ExportItem> items = shopItems(*snap, notes);
+                      std::vector<ZipEntry> files;
+                      for (size_t i = 0; i < snap->items.size(); ++i) {
+                        const Item& it = snap->items[i];
+                        const std::string style =
+                            it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
+                        for (const auto& im : it.images) {
+                          const std::string ext = extensionOf(im.mediaType);
+                          if (ext.empty() ||
+                              std::find(kShopImageKinds.begin(), kShopImageKinds.end(), im.kind) ==
+                                  kShopImageKinds.end())
+                            continue;
+                          auto bytes = c->store().read(im.sha256);
+                          if (!bytes)
+                            throw ExportError("image " + im.sha256 + " is missing from the store");
+                          files.push_back(
+                              {imagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
+                        }
+                        const std::string dir = "patterns/" + std::to_string(it.id) + "/";
+                        const auto& pats = snap->patterns[i];
+                        for (const auto& [size, json] : pats) {
+                          try {
+                            auto p =
+                                drafts::patternFromJsonValue(json, "item " + std::to_string(it.id));
+                            const PieceText t{style, sizeLabel(it, size)};
+                            files.push_back({dir + size + ".dxf", patternDxf(p, t)});
+                            files.push_back({dir + size + ".svg", patternSvg(p, t)});
+                            if (size == "base")
+                              files.push_back({dir + "garmentcode.json", garmentCodeJson(p, t)});
+                          } catch (const std::exception& e) {
+                            notes.push_back("item " + std::to_string(it.id) + " size " + size +
+                                            ": " + e.what());
+                          }
+                        }
+                        try {
+                          if (auto run = gradedRun(it, snap->sizeGuides[i], pats)) {
+                            files.push_back({dir + "graded.dxf", gradedDxf(*run)});
+                            files.push_back({dir + "graded.rul", gradeRuleTable(*run)});
+                          }
+                          auto base = pats.find("base");
+                          auto vm = vitMeasurements(
+                              it, base == pats.end() ? std::nullopt : std::optional(base->second));
+                          if (!vm.empty())
+                            files.push_back(
+                                {dir + "measurements.vit", drafts::measurementsToVit(vm)});
+                        } catch (const std::exception& e) {
+                          notes.push_back("item " + std::to_string(it.id) + ": " + e.what());
+                        }
+                      }
+                      for (auto [file, build] : {std::pair{"shopify.csv", &shopifyCsv},
+                                                 std::pair{"woocommerce.csv", &wooCommerceCsv},
+                                                 std::pair{"merchant.tsv", &merchantTsv}}) {
+                        ShopFile f = build(items, o);
+                        for (const auto& w : f.warnings)
+                          notes.push_back(std::string(file) + ": " + w);
+                        files.push_back({file, std::move(f.bytes)});
+                      }
+                      std::string readme =
+                          "GarmCap Station catalog export: " + std::to_string(items.size()) +
+                          " approved items.\nUpload the folder so that images/ is reachable at " +
+                          o.publicBaseUrl +
+                          "/images/ before importing the CSVs.\nPatterns: patterns/<item id>/ (DXF "
+                          "in mm, "
+                          "SVG 1:1, GarmentCode JSON, Valentina .vit, graded DXF + RUL when "
+                          "graded).\n";
+                      for (const auto& n : notes)
+                        readme += "Note: " + n + "\n";
+                      files.push_back({"README.txt", readme});
+                      reply(fileResponse("application/zip", storeZip(files), "catalog.zip"));
+                    } catch (const ExportError& e) {
+                      reply(jsonError(http::status::unprocessable_entity, e.what()));
+                    } catch (const std::exception& e) {
+                      reply(jsonError(http::status::internal_server_error, e.what()));
+                    }
+                  },
+                  reply);
+            },
+            reply);
       });
 
   // The images the default base URL links to: "<id>-<kind>" names only, resolved through the
@@ -395,32 +412,37 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
       const std::string name = m.param("name");
       const auto dash = name.find('-');
       if (dash == std::string::npos || dash == 0)
-        throw BadRequest("image name must be <item id>-<kind>, got '" + name + "'");
+        throw BadRequest("image name must be <item id>-<kind>, got '" + quoteInput(name) + "'");
       RouteMatch idOnly;
       idOnly.params["id"] = name.substr(0, dash);
       const std::int64_t id = idOnly.id("id");
       const std::string kind = name.substr(dash + 1);
-      c->withCatalog([c, reply, id, kind, ext](Catalog& cat) {
-        auto it = cat.item(id);
-        if (!it || it->status != kStatusApproved)
-          return reply(
-              jsonError(http::status::not_found, "no approved item " + std::to_string(id)));
-        for (const auto& im : it->images)
-          if (im.kind == kind && extensionOf(im.mediaType) == ext) {
-            const ImageRef ref = im;
-            return c->offload([c, reply, ref] {
-              auto bytes = c->store().read(ref.sha256);
-              if (!bytes)
-                return reply(jsonError(http::status::internal_server_error,
-                                       "image " + ref.sha256 + " is missing from the store"));
-              Response r = textResponse(http::status::ok, ref.mediaType, std::move(*bytes));
-              r.set(http::field::cache_control, "public, max-age=86400");
-              reply(std::move(r));
-            });
-          }
-        reply(jsonError(http::status::not_found,
-                        "item " + std::to_string(id) + " has no " + ext + " image '" + kind + "'"));
-      });
+      c->withCatalog(
+          [c, reply, id, kind, ext](Catalog& cat) {
+            auto it = cat.item(id);
+            if (!it || it->status != kStatusApproved)
+              return reply(
+                  jsonError(http::status::not_found, "no approved item " + std::to_string(id)));
+            for (const auto& im : it->images)
+              if (im.kind == kind && extensionOf(im.mediaType) == ext) {
+                const ImageRef ref = im;
+                return c->offload(
+                    [c, reply, ref] {
+                      auto bytes = c->store().read(ref.sha256);
+                      if (!bytes)
+                        return reply(
+                            jsonError(http::status::internal_server_error,
+                                      "image " + ref.sha256 + " is missing from the store"));
+                      Response r = textResponse(http::status::ok, ref.mediaType, std::move(*bytes));
+                      r.set(http::field::cache_control, "public, max-age=86400");
+                      reply(std::move(r));
+                    },
+                    reply);
+              }
+            reply(jsonError(http::status::not_found, "item " + std::to_string(id) + " has no " +
+                                                         ext + " image '" + kind + "'"));
+          },
+          reply);
     };
   };
   router.add(V::get, "/api/export/files/images/{name}.jpg", imageFile("jpg"));
@@ -434,29 +456,33 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
     return [c, build](const Request&, const RouteMatch& m, Reply reply) {
       const auto id = m.id("id");
       const std::string size = patternSizeParam(m);
-      c->withCatalog([c, reply, id, size, build](Catalog& cat) {
-        auto it = cat.item(id);
-        if (!it)
-          return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
-        auto guide = cat.sizeGuide(id);
-        std::map<std::string, nlohmann::json> pats;
-        for (const auto& s : it->sizes)
-          if (auto p = cat.pattern(id, s))
-            pats[s] = *p;
-        if (auto p = pats.find(size); p != pats.end() && patternIsEmpty(p->second))
-          return reply(noDraftedPattern(*it, size));
-        c->offload([reply, item = *it, guide, pats, size, build] {
-          try {
-            reply(build(item, guide, pats, size));
-          } catch (const ExportError& e) {
-            reply(jsonError(http::status::unprocessable_entity, e.what()));
-          } catch (const drafts::PatternExportError& e) {
-            reply(jsonError(http::status::unprocessable_entity, e.what()));
-          } catch (const std::exception& e) {
-            reply(jsonError(http::status::internal_server_error, e.what()));
-          }
-        });
-      });
+      c->withCatalog(
+          [c, reply, id, size, build](Catalog& cat) {
+            auto it = cat.item(id);
+            if (!it)
+              return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+            auto guide = cat.sizeGuide(id);
+            std::map<std::string, nlohmann::json> pats;
+            for (const auto& s : it->sizes)
+              if (auto p = cat.pattern(id, s))
+                pats[s] = *p;
+            if (auto p = pats.find(size); p != pats.end() && patternIsEmpty(p->second))
+              return reply(noDraftedPattern(*it, size));
+            c->offload(
+                [reply, item = *it, guide, pats, size, build] {
+                  try {
+                    reply(build(item, guide, pats, size));
+                  } catch (const ExportError& e) {
+                    reply(jsonError(http::status::unprocessable_entity, e.what()));
+                  } catch (const drafts::PatternExportError& e) {
+                    reply(jsonError(http::status::unprocessable_entity, e.what()));
+                  } catch (const std::exception& e) {
+                    reply(jsonError(http::status::internal_server_error, e.what()));
+                  }
+                },
+                reply);
+          },
+          reply);
     };
   };
   auto onePattern = [](const Item& it, const std::map<std::string, nlohmann::json>& pats,

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "garmcap/daemon/http_guard.h"
 #include "garmcap/drafts/file_io.h"
 
 namespace garmcap::daemon {
@@ -15,7 +16,6 @@ namespace garmcap::daemon {
 namespace {
 
 constexpr std::size_t kMaxParamLength = 64;
-constexpr std::size_t kMaxTargetLength = 2048;
 
 bool isParamChar(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
@@ -67,8 +67,7 @@ std::optional<std::string> percentDecode(std::string_view in) {
   return out;
 }
 
-std::map<std::string, std::string> parseQuery(std::string_view query) {
-  std::map<std::string, std::string> out;
+void parseQuery(std::string_view query, RouteMatch& m) {
   std::size_t start = 0;
   while (start < query.size()) {
     std::size_t amp = query.find('&', start);
@@ -79,11 +78,21 @@ std::map<std::string, std::string> parseQuery(std::string_view query) {
     auto key = percentDecode(pair.substr(0, eq));
     auto value = eq == std::string_view::npos ? std::optional<std::string>("")
                                               : percentDecode(pair.substr(eq + 1));
-    if (key && value && !key->empty())
-      out[*key] = *value;
     start = amp + 1;
+    // A name that does not decode cannot be asked for by a route: it is ignored like any
+    // unknown parameter.
+    if (!key || key->empty() || !validUtf8(*key))
+      continue;
+    if (!value)
+      m.badQuery[*key] = "is not valid percent-encoding";
+    else if (!validUtf8(*value))
+      m.badQuery[*key] = "is not valid UTF-8";
+    else if (std::any_of(value->begin(), value->end(),
+                         [](unsigned char c) { return c < 0x20 || c == 0x7F; }))
+      m.badQuery[*key] = "holds a control character";
+    else
+      m.query[*key] = *value;
   }
-  return out;
 }
 
 }  // namespace
@@ -175,6 +184,8 @@ const std::string& RouteMatch::param(const std::string& name) const {
 }
 
 std::optional<std::string> RouteMatch::queryValue(const std::string& name) const {
+  if (auto bad = badQuery.find(name); bad != badQuery.end())
+    throw BadRequest("query '" + name + "' " + bad->second);
   auto it = query.find(name);
   if (it == query.end())
     return std::nullopt;
@@ -195,7 +206,7 @@ void Router::addStream(http::verb verb, std::string pattern, StreamHandler handl
 
 Router::Match Router::find(http::verb verb, std::string_view target) const {
   Match result;
-  if (target.empty() || target.size() > kMaxTargetLength || target[0] != '/')
+  if (target.empty() || target.size() > kMaxTargetBytes || target[0] != '/')
     return result;
   const std::size_t q = target.find('?');
   const std::string_view path = target.substr(0, q);
@@ -211,7 +222,7 @@ Router::Match Router::find(http::verb verb, std::string_view target) const {
       continue;
     }
     if (q != std::string_view::npos)
-      m.query = parseQuery(target.substr(q + 1));
+      parseQuery(target.substr(q + 1), m);
     result.match = std::move(m);
     result.handler = route->handler ? &route->handler : nullptr;
     result.stream = route->stream ? &route->stream : nullptr;
@@ -240,8 +251,17 @@ void Router::dispatch(const Request& request, Reply reply) const {
   } catch (const BadRequest& e) {
     reply(jsonError(http::status::bad_request, e.what()));
   } catch (const std::exception& e) {
-    spdlog::error("http: handler for {} failed: {}", std::string(request.target()), e.what());
-    reply(jsonError(http::status::internal_server_error, e.what()));
+    // The details (SQL text, paths) go to the log, not to the client.
+    spdlog::error("http: {} {} failed: {}", std::string(request.method_string()),
+                  quoteInput(std::string_view(target.data(), target.size()), 200), e.what());
+    reply(jsonError(http::status::internal_server_error,
+                    "internal error; the station's log has the details"));
+  } catch (...) {
+    spdlog::error("http: {} {} failed with a non-standard exception",
+                  std::string(request.method_string()),
+                  quoteInput(std::string_view(target.data(), target.size()), 200));
+    reply(jsonError(http::status::internal_server_error,
+                    "internal error; the station's log has the details"));
   }
 }
 
@@ -265,13 +285,32 @@ Response jsonResponse(http::status status, const nlohmann::json& body) {
   Response res{status, 11};
   res.set(http::field::content_type, "application/json");
   res.set(http::field::cache_control, "no-store");
-  res.body() = body.dump();
+  // Replace, never throw: a message quoting a client's invalid UTF-8 must not take the daemon
+  // down (nlohmann's default throws type_error.316 from dump()).
+  res.body() = body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   res.prepare_payload();
   return res;
 }
 
 Response jsonError(http::status status, const std::string& message) {
   return jsonResponse(status, nlohmann::json{{"error", message}});
+}
+
+void replyFailure(const Reply& failed, const std::string& what, std::exception_ptr error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const BadRequest& e) {
+    if (failed)
+      failed(jsonError(http::status::bad_request, e.what()));
+    return;
+  } catch (const std::exception& e) {
+    spdlog::error("station: {} failed: {}", what, e.what());
+  } catch (...) {
+    spdlog::error("station: {} failed with a non-standard exception", what);
+  }
+  if (failed)
+    failed(jsonError(http::status::internal_server_error,
+                     "internal error; the station's log has the details"));
 }
 
 Response textResponse(http::status status, std::string contentType, std::string body) {
@@ -286,7 +325,7 @@ nlohmann::json parseJsonBody(const Request& request) {
   try {
     return drafts::parseJson(request.body(), "request body");
   } catch (const std::exception& e) {
-    throw BadRequest(std::string("malformed JSON body: ") + e.what());
+    throw BadRequest("malformed JSON body: " + quoteInput(e.what(), 300));
   }
 }
 

@@ -29,10 +29,16 @@ bool authorized(const Request& request, const std::string& token) {
       diff |= static_cast<unsigned>(token[i] ^ (i < given.size() ? given[i] : 0));
     return diff == 0;
   };
+  // RFC 7235: the scheme is case-insensitive ("bearer", "BEARER"), one or more spaces follow.
   auto auth = request[http::field::authorization];
-  const std::string_view a(auth.data(), auth.size());
-  if (a.rfind("Bearer ", 0) == 0 && equal(a.substr(7)))
-    return true;
+  std::string_view a(auth.data(), auth.size());
+  if (a.size() > 7 && beast::iequals(beast::string_view(a.data(), 6), "Bearer") && a[6] == ' ') {
+    a.remove_prefix(7);
+    while (!a.empty() && a.front() == ' ')
+      a.remove_prefix(1);
+    if (equal(a))
+      return true;
+  }
   if (request.method() == http::verb::get) {
     const auto target = request.target();
     const std::string_view t(target.data(), target.size());
@@ -91,7 +97,10 @@ class Listener : public std::enable_shared_from_this<Listener> {
     if (ec == asio::error::operation_aborted || !acceptor_.is_open())
       return;
     if (!ec) {
-      if (shared_->sessions.load() >= shared_->config.maxConnections) {
+      // Full: the new client takes the slot of the one that has waited longest for its own
+      // request's header; only when every slot is busy serving is the answer 503.
+      if (shared_->sessions.load() >= shared_->config.maxConnections &&
+          !shared_->waiting.evictOldest()) {
         // Over the limit: a short answer instead of silently queueing the client.
         static const char kBusy[] =
             "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\n"

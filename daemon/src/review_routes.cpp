@@ -10,6 +10,7 @@
 #include <set>
 
 #include "garmcap/daemon/catalog.h"
+#include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
 
 namespace garmcap::daemon {
@@ -27,14 +28,14 @@ ReviewRequest parseReview(const nlohmann::json& body) {
     throw BadRequest("body must be an object {\"ids\": [...], \"status\": ...}");
   for (const auto& [k, v] : body.items())
     if (k != "ids" && k != "status")
-      throw BadRequest("unknown field '" + k + "'");
+      throw BadRequest("unknown field '" + quoteInput(k) + "'");
   ReviewRequest r;
   if (!body.contains("status") || !body["status"].is_string())
     throw BadRequest("field 'status' must be approved, rejected or needs_review");
   r.status = body["status"].get<std::string>();
   if (r.status != kStatusApproved && r.status != kStatusRejected && r.status != kStatusNeedsReview)
-    throw BadRequest("field 'status' must be approved, rejected or needs_review, got '" + r.status +
-                     "'");
+    throw BadRequest("field 'status' must be approved, rejected or needs_review, got '" +
+                     quoteInput(r.status) + "'");
   if (!body.contains("ids") || !body["ids"].is_array() || body["ids"].empty() ||
       body["ids"].size() > kMaxIds)
     throw BadRequest("field 'ids' must be an array of 1.." + std::to_string(kMaxIds) + " item ids");
@@ -54,19 +55,21 @@ void addReviewRoutes(Router& router, RouteContext& ctx) {
       http::verb::post, "/api/items/review",
       [c](const Request& req, const RouteMatch&, Reply reply) {
         const ReviewRequest r = parseReview(parseJsonBody(req));
-        c->withCatalog([reply, r](Catalog& cat) {
-          nlohmann::json updated = nlohmann::json::array();
-          nlohmann::json missing = nlohmann::json::array();
-          ItemPatch patch;
-          patch.status = r.status;
-          try {
-            for (const auto id : r.ids)
-              (cat.patchItem(id, patch) ? updated : missing).push_back(id);
-          } catch (const CatalogError& e) {
-            return reply(jsonError(http::status::bad_request, e.what()));
-          }
-          reply(jsonResponse(http::status::ok, {{"updated", updated}, {"missing", missing}}));
-        });
+        c->withCatalog(
+            [reply, r](Catalog& cat) {
+              nlohmann::json updated = nlohmann::json::array();
+              nlohmann::json missing = nlohmann::json::array();
+              ItemPatch patch;
+              patch.status = r.status;
+              try {
+                for (const auto id : r.ids)
+                  (cat.patchItem(id, patch) ? updated : missing).push_back(id);
+              } catch (const CatalogError& e) {
+                return reply(jsonError(http::status::bad_request, e.what()));
+              }
+              reply(jsonResponse(http::status::ok, {{"updated", updated}, {"missing", missing}}));
+            },
+            reply);
       });
 }
 

@@ -186,12 +186,17 @@ Station::Station(asio::io_context& io, Config config, std::unique_ptr<capture::C
       buttonTimer_(strand_),
       previewTimer_(strand_),
       keepAliveTimer_(strand_),
-      graceTimer_(strand_) {
+      graceTimer_(strand_),
+      cameraRetryTimer_(strand_) {
   if (camera && simulated())
     camera_ = std::make_unique<UnpluggableCamera>(std::move(camera), unplugged_, stillDelayMs_);
   else
     camera_ = std::move(camera);
   pool_ = std::make_unique<asio::thread_pool>(static_cast<std::size_t>(config_.workerThreads));
+  // Downloads (blob reads, exports, pattern files) run apart from the pipeline, so a capture's
+  // latency does not depend on how many catalog.zip are being built; two threads, so one long
+  // export does not hold up every image.
+  servePool_ = std::make_unique<asio::thread_pool>(2);
 }
 
 Station::~Station() {
@@ -201,6 +206,7 @@ Station::~Station() {
     sd->release();  // the Button owns the fd
   }
   cameraThread_.join();
+  servePool_->join();
   pool_->join();
   if (camera_)
     camera_->close();
@@ -306,10 +312,34 @@ void Station::openCamera() {
         spdlog::error("station: camera {} unavailable: {}", camera_->device(), error);
         if (!running_ && !stopping_)
           setState(StationState::kError);
-      } else {
-        spdlog::info("station: camera {} ({}) open", camera_->device(), camera_->backend());
+        scheduleCameraRetry();
+        return;
+      }
+      spdlog::info("station: camera {} ({}) open", camera_->device(), camera_->backend());
+      cameraRetryDelay_ = std::chrono::milliseconds(0);
+      if (state_ == StationState::kError && !running_ && !stopping_) {
+        lastError_.clear();
+        setState(calibrated_ ? StationState::kReady : StationState::kUncalibrated);
+        startNext();
       }
     });
+  });
+}
+
+void Station::scheduleCameraRetry() {
+  if (!camera_ || stopping_ || cameraRetryPending_)
+    return;
+  using std::chrono::milliseconds;
+  cameraRetryDelay_ = cameraRetryDelay_.count() == 0
+                          ? milliseconds(500)
+                          : std::min(cameraRetryDelay_ * 2, milliseconds(5000));
+  cameraRetryPending_ = true;
+  spdlog::info("station: trying the camera again in {} ms", cameraRetryDelay_.count());
+  cameraRetryTimer_.expires_after(cameraRetryDelay_);
+  cameraRetryTimer_.async_wait([this](boost::system::error_code ec) {
+    cameraRetryPending_ = false;
+    if (!ec && !stopping_ && state_ == StationState::kError)
+      openCamera();
   });
 }
 
@@ -732,6 +762,7 @@ void Station::failJob(const Pending& req, const std::string& error, bool cameraF
     if (auto j = catalog_->job(req.jobId))
       broadcast("job", jobJson(*j));
     setState(StationState::kError);
+    scheduleCameraRetry();
     maybeFinishShutdown();
     startNext();
     return;
@@ -875,6 +906,21 @@ void Station::previewTick() {
           cv::imencode(".jpg", f->bgr, buf, {cv::IMWRITE_JPEG_QUALITY, 75});
           jpeg.assign(buf.begin(), buf.end());
         }
+      } catch (const capture::CameraError& e) {
+        spdlog::warn("station: preview frame failed: {}", e.what());
+        if (e.kind() == capture::CameraErrorKind::kDisconnected ||
+            e.kind() == capture::CameraErrorKind::kNotFound) {
+          camera_->close();
+          postToStrand([this, msg = std::string("camera: ") + e.what()] {
+            cameraOpen_ = false;
+            cameraError_ = msg;
+            if (!running_ && !stopping_) {
+              lastError_ = msg;
+              setState(StationState::kError);
+            }
+            scheduleCameraRetry();
+          });
+        }
       } catch (const std::exception& e) {
         spdlog::warn("station: preview frame failed: {}", e.what());
       }
@@ -949,6 +995,7 @@ void Station::maybeFinishShutdown() {
   previewTimer_.cancel();
   keepAliveTimer_.cancel();
   graceTimer_.cancel();
+  cameraRetryTimer_.cancel();
   if (buttonDescriptor_)
     static_cast<asio::posix::stream_descriptor*>(buttonDescriptor_.get())->cancel();
   for (auto& w : eventSinks_)
@@ -1017,22 +1064,22 @@ std::string Station::statusLine() const {
   return s;
 }
 
-void Station::withCatalog(std::function<void(Catalog&)> fn) {
-  postToStrand([this, fn = std::move(fn)] {
+void Station::withCatalog(std::function<void(Catalog&)> fn, Reply failed) {
+  postToStrand([this, fn = std::move(fn), failed = std::move(failed)] {
     try {
       fn(*catalog_);
-    } catch (const std::exception& e) {
-      spdlog::error("station: catalog task failed: {}", e.what());
+    } catch (...) {
+      replyFailure(failed, "catalog task", std::current_exception());
     }
   });
 }
 
-void Station::offload(std::function<void()> fn) {
-  asio::post(*pool_, [fn = std::move(fn)] {
+void Station::offload(std::function<void()> fn, Reply failed) {
+  asio::post(*servePool_, [fn = std::move(fn), failed = std::move(failed)] {
     try {
       fn();
-    } catch (const std::exception& e) {
-      spdlog::error("station: worker task failed: {}", e.what());
+    } catch (...) {
+      replyFailure(failed, "worker task", std::current_exception());
     }
   });
 }

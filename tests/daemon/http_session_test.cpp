@@ -55,6 +55,7 @@ class SessionRig {
     Config c;
     c.token = std::move(token);
     c.bodyLimitBytes = bodyLimit;
+    c.serverNames = {"t"};  // the Host the raw requests below carry
     shared_.reset(new ServerShared{c, rig.router, *files_});
   }
 

@@ -223,3 +223,70 @@ TEST(DaemonE2E, CaptureBareFormAndFiveGarments) {
 }
 
 }  // namespace
+
+namespace {
+
+// Issue 16: the simulated station is one fixed rig. A new user captures the bare form once and
+// presses the button twenty times; every garment is filed (none refused as "the camera moved"),
+// and an item re-runs against the same bare frame.
+TEST(SimulatedStation, TwentyCapturesAfterOneBareFormAreAllFiled) {
+  TempDir dir;
+  DaemonOptions o;
+  o.synthetic = true;
+  Daemon d(dir.path(), o);
+  auto cal = d.waitJob(d.post("/api/button").json()["job"]);
+  ASSERT_EQ(cal["state"], "done") << cal.dump();
+  ASSERT_EQ(d.get("/api/status").json()["state"], "ready");
+  std::vector<std::int64_t> items;
+  std::set<std::string> types;
+  for (int i = 0; i < 20; ++i) {
+    auto r = i % 2 ? d.post("/api/capture", R"({"sku": "SIM-)" + std::to_string(i) + "\"}")
+                   : d.post("/api/button");
+    ASSERT_EQ(r.status, 202) << "press " << i << ": " << r.body;
+    auto job = d.waitJob(r.json()["job"]);
+    ASSERT_EQ(job["state"], "done") << "press " << i << ": " << job.dump();
+    items.push_back(job["item_id"]);
+    auto item = d.get("/api/items/" + std::to_string(items.back())).json();
+    types.insert(item.value("type", ""));
+    EXPECT_FALSE(item["measurements"].empty()) << "press " << i << ": " << item.dump();
+  }
+  EXPECT_EQ(d.get("/api/items?limit=50").json()["total"], 20);
+  // Different garments, not one scene served twenty times.
+  EXPECT_GE(types.size(), 2u);
+  auto rerun = d.post("/api/items/" + std::to_string(items.front()) + "/rerun");
+  ASSERT_EQ(rerun.status, 202) << rerun.body;
+  EXPECT_EQ(d.waitJob(rerun.json()["job"])["state"], "done");
+  EXPECT_EQ(d.terminate(), 0);
+}
+
+}  // namespace
+
+namespace {
+
+// Issue 16: after an unplug the station tries the camera again by itself (backoff up to 5 s) and
+// is back to a usable state without any request once the camera is back.
+TEST(DaemonE2E, CameraReplugReturnsToReadyByItself) {
+  TempDir dir;
+  Daemon d(dir.path());
+  ASSERT_EQ(d.post("/api/sim/camera", R"({"present": false})").status, 200);
+  auto job = d.waitJob(d.post("/api/capture/empty").json()["job"]);
+  ASSERT_EQ(job["state"], "failed") << job.dump();
+  ASSERT_EQ(d.get("/api/status").json()["state"], "error");
+  // Several retries fail while it is away (the state stays error, the daemon answers).
+  std::this_thread::sleep_for(2500ms);
+  EXPECT_EQ(d.get("/api/status").json()["state"], "error");
+  ASSERT_EQ(d.post("/api/sim/camera", R"({"present": true})").status, 200);
+  const auto back = std::chrono::steady_clock::now();
+  std::string state = "error";
+  while (state == "error" && std::chrono::steady_clock::now() - back < 15s) {
+    std::this_thread::sleep_for(100ms);
+    state = d.get("/api/status").json()["state"];
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - back).count();
+  EXPECT_EQ(state, "uncalibrated");
+  EXPECT_LT(seconds, 7.0) << "the retry interval is at most 5 s";
+  EXPECT_EQ(d.terminate(), 0);
+}
+
+}  // namespace

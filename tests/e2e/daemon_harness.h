@@ -49,6 +49,36 @@ struct Reply {
   Json json() const { return Json::parse(body, nullptr, false); }
 };
 
+/// A request with the given header fields as they are (Host included), for the attacks a
+/// browser or a hostile client makes. A HEAD's answer is read without a body.
+inline Reply httpCallWith(int port, http::verb verb, const std::string& target,
+                          const std::vector<std::pair<std::string, std::string>>& fields,
+                          const std::string& body = "") {
+  asio::io_context io;
+  beast::tcp_stream stream(io);
+  stream.expires_after(30s);
+  stream.connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"),
+                                         static_cast<unsigned short>(port)));
+  http::request<http::string_body> req{verb, target, 11};
+  for (const auto& [k, v] : fields)
+    req.set(k, v);
+  req.body() = body;
+  req.prepare_payload();
+  beast::error_code ec;
+  http::write(stream, req, ec);
+  beast::flat_buffer buf;
+  http::response_parser<http::string_body> parser;
+  parser.body_limit(256u << 20);
+  if (verb == http::verb::head)
+    parser.skip(true);
+  http::read(stream, buf, parser, ec);
+  if (ec)
+    return {0, ec.message(), ""};
+  auto res = parser.release();
+  return {static_cast<int>(res.result_int()), res.body(),
+          std::string(res[http::field::content_type])};
+}
+
 inline Reply httpCall(int port, http::verb verb, const std::string& target,
                       const std::string& body = "", const std::string& token = "") {
   asio::io_context io;
@@ -125,6 +155,7 @@ struct DaemonOptions {
   // The kernel's memory-deny-write-execute (prctl PR_SET_MDWE, Linux >= 6.3), what the unit's
   // MemoryDenyWriteExecute=yes asks of systemd; the daemon fails to start if it cannot be set.
   bool denyWriteExecute = false;
+  bool synthetic = false;  // the simulated station's own camera (scenes rendered on demand)
 };
 
 #ifndef PR_SET_MDWE  // Debian 12's kernel headers (6.1) predate it
@@ -146,7 +177,7 @@ class Daemon {
                   std::filesystem::path rigDir = {})
       : Daemon(data, DaemonOptions{std::move(extra), std::move(rigDir), {}, {}}) {}
   Daemon(const std::filesystem::path& data, const DaemonOptions& o) {
-    const auto rig = o.rig.empty() ? makeRig(data) : o.rig;
+    const auto rig = o.synthetic ? std::filesystem::path() : o.rig.empty() ? makeRig(data) : o.rig;
     int out[2];
     if (pipe(out) != 0)
       throw std::runtime_error("pipe");
@@ -168,9 +199,10 @@ class Daemon {
         setenv(k.c_str(), v.c_str(), 1);
       if (o.denyWriteExecute && !denyWriteExecute())
         _exit(126);
-      std::vector<std::string> args = {kBin,       "--simulated", "--data",   data.string(),
-                                       "--listen", "127.0.0.1:0", "--camera", "replay",
-                                       "--device", rig.string()};
+      std::vector<std::string> args = {kBin,          "--simulated", "--data",
+                                       data.string(), "--listen",    "127.0.0.1:0"};
+      if (!o.synthetic)
+        args.insert(args.end(), {"--camera", "replay", "--device", rig.string()});
       args.insert(args.end(), o.args.begin(), o.args.end());
       std::vector<char*> argv;
       for (auto& a : args)

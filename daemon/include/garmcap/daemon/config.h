@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace garmcap::daemon {
 
@@ -56,8 +57,13 @@ struct Config {
   std::uint16_t listenPort = 8080;
   std::string token;  // bearer token; required when the address is not loopback
   std::size_t bodyLimitBytes = 1 << 20;
-  int requestTimeoutS = 30;
+  int requestTimeoutS = 30;  // a request's body; a response gets this plus 1 s per 32 KiB
+  int headerTimeoutS = 10;   // a request's header, counted from the connection or last answer
   int maxConnections = 256;
+  // Host names the station answers to besides IP literals and "localhost" (a tablet's
+  // "station.local"); requests for any other name are refused (DNS rebinding). garmcapd adds the
+  // machine's own host name and <hostname>.local at start-up.
+  std::vector<std::string> serverNames;
   // [pipeline]
   bool makeProductImages = true;
   bool makeTexture = true;

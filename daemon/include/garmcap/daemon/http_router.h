@@ -78,11 +78,15 @@ class BadRequest : public std::runtime_error {
 
 struct RouteMatch {
   std::map<std::string, std::string> params;  // from `{name}` segments, charset-checked
-  std::map<std::string, std::string> query;   // percent-decoded
+  std::map<std::string, std::string> query;   // percent-decoded, valid UTF-8
+  // Query names whose value was not valid percent-encoded UTF-8, and why: queryValue() refuses
+  // them by name, so one bad byte is a 400 for that parameter, never a crash or a silent drop.
+  std::map<std::string, std::string> badQuery;
 
   /// The parameter as a positive 63-bit integer id; throws BadRequest naming it otherwise.
   std::int64_t id(const std::string& name) const;
   const std::string& param(const std::string& name) const;
+  /// The decoded value; throws BadRequest naming the parameter when it was malformed.
   std::optional<std::string> queryValue(const std::string& name) const;
 };
 
@@ -132,10 +136,12 @@ class Router {
 class RouteContext {
  public:
   virtual ~RouteContext() = default;
-  /// Runs `fn` on the strand that owns the catalog. Exceptions thrown by `fn` are logged.
-  virtual void withCatalog(std::function<void(Catalog&)> fn) = 0;
-  /// Runs `fn` on the worker pool (OpenCV, PDF, zip work).
-  virtual void offload(std::function<void()> fn) = 0;
+  /// Runs `fn` on the strand that owns the catalog. An exception thrown by `fn` is logged and
+  /// answered on `failed` (BadRequest as 400, anything else as a 500 without its text: SQL and
+  /// paths stay in the log), so the client is never left without an answer.
+  virtual void withCatalog(std::function<void(Catalog&)> fn, Reply failed) = 0;
+  /// Runs `fn` on the worker pool (OpenCV, PDF, zip work); exceptions as for withCatalog.
+  virtual void offload(std::function<void()> fn, Reply failed) = 0;
   /// The content-addressed image store (thread-safe, read-only use from handlers).
   virtual const ContentStore& store() const = 0;
   /// The file-naming template from the config, e.g. "{sku}_{kind}" (see naming.h).
@@ -158,6 +164,10 @@ const std::vector<std::pair<std::string, RouteModule>>& routeModules();
 Response jsonResponse(http::status status, const nlohmann::json& body);
 /// `{"error": message}` with the status.
 Response jsonError(http::status status, const std::string& message);
+
+/// Answers `failed` for an exception a deferred handler threw (withCatalog, offload): 400 for
+/// BadRequest, else a 500 whose details go only to the log under `what`.
+void replyFailure(const Reply& failed, const std::string& what, std::exception_ptr error);
 Response textResponse(http::status status, std::string contentType, std::string body);
 /// Parses a JSON request body; throws BadRequest ("malformed JSON body: ...") otherwise.
 nlohmann::json parseJsonBody(const Request& request);

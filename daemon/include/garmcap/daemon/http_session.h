@@ -20,11 +20,14 @@
 #include <boost/beast/http.hpp>
 #include <chrono>
 #include <deque>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
 #include "garmcap/daemon/config.h"
+#include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
 
 namespace garmcap::daemon {
@@ -33,13 +36,66 @@ namespace garmcap::daemon {
 bool authorized(const Request& request, const std::string& token);
 bool needsToken(std::string_view path);
 
+/// A session that can be told to go away (the listener makes room for a new client).
+class Evictable {
+ public:
+  virtual ~Evictable() = default;
+  virtual void evict() = 0;
+};
+
+/// The sessions waiting for a request's header, oldest first. When every connection slot is
+/// taken, a new client takes the slot of the one that has waited longest: clients that connect
+/// and then send nothing (or a byte a second) cannot lock out one that sends its request at once.
+class WaitingSessions {
+ public:
+  using Handle = std::uint64_t;  // removing a handle twice, or after an eviction, is harmless
+  Handle add(std::weak_ptr<Evictable> s) {
+    std::lock_guard lock(mutex_);
+    const Handle h = next_++;
+    waiting_.emplace(h, std::move(s));
+    return h;
+  }
+  void remove(Handle h) {
+    std::lock_guard lock(mutex_);
+    waiting_.erase(h);
+  }
+  /// Evicts the oldest waiting session still alive; false when none waits.
+  bool evictOldest() {
+    std::shared_ptr<Evictable> victim;
+    {
+      std::lock_guard lock(mutex_);
+      while (!waiting_.empty() && !victim) {
+        victim = waiting_.begin()->second.lock();
+        waiting_.erase(waiting_.begin());
+      }
+    }
+    if (!victim)
+      return false;
+    victim->evict();
+    return true;
+  }
+
+ private:
+  std::mutex mutex_;
+  Handle next_ = 0;
+  std::map<Handle, std::weak_ptr<Evictable>> waiting_;  // oldest first
+};
+
 /// What every session of one server shares. The router and files outlive the server.
 struct ServerShared {
   Config config;
   const Router& router;
   const StaticFiles& files;
   std::atomic<int> sessions{0};
+  WaitingSessions waiting{};
 };
+
+/// The longest a response of `bytes` may take to write: the request timeout plus the time at
+/// `kMinSendRate`, so a large download to a slow (not stalled) client is not cut.
+inline constexpr std::size_t kMinSendRate = 32 * 1024;  // bytes per second
+inline std::chrono::seconds writeDeadline(std::size_t bytes, int requestTimeoutS) {
+  return std::chrono::seconds(requestTimeoutS + static_cast<long>(bytes / kMinSendRate));
+}
 
 namespace detail {
 
@@ -57,13 +113,20 @@ class SessionSinkBase : public StreamSink {
 };
 
 template <class Stream>
-class Session : public std::enable_shared_from_this<Session<Stream>> {
+class Session : public Evictable, public std::enable_shared_from_this<Session<Stream>> {
  public:
   Session(Stream&& stream, std::shared_ptr<ServerShared> shared)
       : stream_(std::move(stream)), shared_(std::move(shared)) {
     ++shared_->sessions;
   }
-  ~Session() { --shared_->sessions; }
+  ~Session() override {
+    stopWaiting();
+    --shared_->sessions;
+  }
+
+  void evict() override {
+    asio::post(stream_.get_executor(), [self = this->shared_from_this()] { self->closeNow(); });
+  }
 
   void run() {
     asio::dispatch(stream_.get_executor(),
@@ -137,13 +200,43 @@ class Session : public std::enable_shared_from_this<Session<Stream>> {
       stream_.expires_never();
   }
 
+  // A request is read in two steps: the header within header_timeout_s of the connection (or of
+  // the previous answer: the keep-alive idle time), then the body within request_timeout_s.
   void doRead() {
     parser_.emplace();
     parser_->body_limit(shared_->config.bodyLimitBytes);
     parser_->header_limit(16 * 1024);
+    expiresAfter(std::chrono::seconds(shared_->config.headerTimeoutS));
+    if (!waitingHandle_)
+      waitingHandle_ = shared_->waiting.add(this->weak_from_this());
+    http::async_read_header(
+        stream_, buffer_, *parser_,
+        beast::bind_front_handler(&Session::onHeader, this->shared_from_this()));
+  }
+
+  void onHeader(beast::error_code ec, std::size_t n) {
+    stopWaiting();
+    if (ec || parser_->is_done())
+      return onRead(ec, n);
     expiresAfter(std::chrono::seconds(shared_->config.requestTimeoutS));
     http::async_read(stream_, buffer_, *parser_,
                      beast::bind_front_handler(&Session::onRead, this->shared_from_this()));
+  }
+
+  void stopWaiting() {
+    if (waitingHandle_) {
+      shared_->waiting.remove(*waitingHandle_);
+      waitingHandle_.reset();
+    }
+  }
+
+  void closeNow() {
+    if constexpr (requires(Stream & st) { st.socket(); }) {
+      beast::error_code ec;
+      stream_.socket().close(ec);
+    } else {
+      stream_.close();
+    }
   }
 
   void onRead(beast::error_code ec, std::size_t) {
@@ -170,7 +263,24 @@ class Session : public std::enable_shared_from_this<Session<Stream>> {
     handle(std::move(req));
   }
 
+  // No exception may leave a completion handler: it would escape io.run() and stop the daemon.
   void handle(Request req) {
+    try {
+      route(std::move(req));
+    } catch (const std::exception& e) {
+      spdlog::error("http: request failed before an answer: {}", e.what());
+      sendError(http::status::internal_server_error,
+                "internal error; the station's log has the details", false);
+    } catch (...) {
+      spdlog::error("http: request failed before an answer (non-standard exception)");
+      sendError(http::status::internal_server_error,
+                "internal error; the station's log has the details", false);
+    }
+  }
+
+  void route(Request req) {
+    if (auto refusal = refuseRequest(req, shared_->config.serverNames))
+      return sendError(refusal->status, refusal->message, false);
     const auto target = req.target();
     const std::string_view t(target.data(), target.size());
     const std::string_view path = t.substr(0, t.find('?'));
@@ -197,8 +307,22 @@ class Session : public std::enable_shared_from_this<Session<Stream>> {
       }
       auto self = this->shared_from_this();
       const unsigned version = req.version();
-      shared_->router.dispatch(req, [self, keepAlive, version](Response res) {
+      const bool head = req.method() == http::verb::head;
+      // A handler answers once; a second answer (a handler that replied, then threw) would be a
+      // second write racing the first on this stream, so it is dropped and logged.
+      auto answered = std::make_shared<std::atomic<bool>>(false);
+      shared_->router.dispatch(req, [self, keepAlive, version, head, answered](Response res) {
+        if (answered->exchange(true)) {
+          spdlog::error("http: a handler answered twice; the second answer ({}) is dropped",
+                        res.result_int());
+          return;
+        }
         res.version(version);
+        if (head) {
+          const auto n = res.body().size();
+          res.body().clear();
+          res.content_length(n);
+        }
         asio::post(self->stream_.get_executor(), [self, res = std::move(res), keepAlive]() mutable {
           self->send(std::move(res), keepAlive);
         });
@@ -229,7 +353,7 @@ class Session : public std::enable_shared_from_this<Session<Stream>> {
     if (!res.has_content_length())
       res.prepare_payload();
     auto sp = std::make_shared<Response>(std::move(res));
-    expiresAfter(std::chrono::seconds(shared_->config.requestTimeoutS));
+    expiresAfter(writeDeadline(sp->body().size(), shared_->config.requestTimeoutS));
     http::async_write(stream_, *sp,
                       [self = this->shared_from_this(), sp](beast::error_code ec, std::size_t) {
                         if (ec)
@@ -292,6 +416,7 @@ class Session : public std::enable_shared_from_this<Session<Stream>> {
   bool rawWriting_ = false;
   bool streamClosed_ = false;
   std::shared_ptr<Sink> sink_;
+  std::optional<WaitingSessions::Handle> waitingHandle_;
 };
 
 }  // namespace detail

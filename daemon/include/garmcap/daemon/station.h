@@ -114,8 +114,8 @@ class Station : public RouteContext {
   StationState state() const { return state_; }
 
   // RouteContext
-  void withCatalog(std::function<void(Catalog&)> fn) override;
-  void offload(std::function<void()> fn) override;
+  void withCatalog(std::function<void(Catalog&)> fn, Reply failed) override;
+  void offload(std::function<void()> fn, Reply failed) override;
   const ContentStore& store() const override { return *store_; }
   std::string namingTemplate() const override { return config_.namingTemplate; }
   ShopConfig shopConfig() const override { return config_.shop; }
@@ -165,6 +165,9 @@ class Station : public RouteContext {
   nlohmann::json jobJson(const Job& job) const;
   nlohmann::json statusJson();
   void openCamera();
+  // While the camera is away: open it again after 0.5, 1, 2, 4, then every 5 s, and go back to
+  // ready by itself when it answers (the UI follows the state events).
+  void scheduleCameraRetry();
   void startGpio();
   void armButtonTimer();
   void waitButton();
@@ -198,7 +201,8 @@ class Station : public RouteContext {
   std::unique_ptr<Catalog> catalog_;
   std::unique_ptr<ContentStore> store_;
   boost::asio::thread_pool cameraThread_{1};
-  std::unique_ptr<boost::asio::thread_pool> pool_;
+  std::unique_ptr<boost::asio::thread_pool> pool_;       // the pipeline
+  std::unique_ptr<boost::asio::thread_pool> servePool_;  // RouteContext::offload
 
   StationState state_ = StationState::kUncalibrated;
   bool calibrated_ = false;
@@ -223,6 +227,9 @@ class Station : public RouteContext {
   boost::asio::steady_timer previewTimer_;
   boost::asio::steady_timer keepAliveTimer_;
   boost::asio::steady_timer graceTimer_;
+  boost::asio::steady_timer cameraRetryTimer_;
+  std::chrono::milliseconds cameraRetryDelay_{0};
+  bool cameraRetryPending_ = false;
   std::chrono::steady_clock::time_point lastLoopTick_;
 };
 
