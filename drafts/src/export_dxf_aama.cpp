@@ -119,7 +119,8 @@ void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std
   d.code(3, name);
 
   // Layer 1 is the cut line (allowance included), layer 14 the sew line (the net outline).
-  d.polyline("1", detail::cutLine<DxfExportError>(panel, pattern), true);
+  const Polyline cut = detail::cutLine<DxfExportError>(panel, pattern);
+  d.polyline("1", cut, true);
   d.polyline("14", panel.outline, true);
   if (auto fold = foldEdge(panel, pattern))  // layer 6: the mirror line of a piece cut on fold
     d.line("6", panel.outline[static_cast<size_t>(fold->from)],
@@ -136,9 +137,9 @@ void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std
     if (!turnSet.count(static_cast<int>(i)))
       d.point("3", panel.outline[i]);
 
-  for (const auto& n : panel.notches) {
-    Point2 in = inwardNormal(panel.outline, n.position);
-    d.line("4", n.position, n.position + 0.5 * in);  // 5 mm slit notch
+  for (const auto& n : panel.notches) {  // 5 mm slit from the cut line
+    const auto slit = detail::notchSlit(panel.outline, cut, n.position);
+    d.line("4", slit.from, slit.to);
   }
   d.line("7", panel.grainline.start, panel.grainline.end);
   for (const auto& dart : panel.darts) {

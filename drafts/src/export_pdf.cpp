@@ -106,8 +106,8 @@ std::string patternPdfA4(const Pattern& pattern, const PieceText& text) {
             << (k + 1 == l.points.size() ? " S\n" : "\n");
     geo << "[] 0 d 0.8 w\n";
     for (const auto& n : p.notches) {
-      Point2 in = inwardNormal(p.outline, n.position);
-      geo << P(n.position + off) << " m " << P(n.position + 0.5 * in + off) << " l S\n";
+      const auto slit = detail::notchSlit(p.outline, cutLine, n.position);
+      geo << P(slit.from + off) << " m " << P(slit.to + off) << " l S\n";
     }
     geo << P(p.grainline.start + off) << " m " << P(p.grainline.end + off) << " l S\n";
     Box bx = panelBox(p);

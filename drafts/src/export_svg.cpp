@@ -77,11 +77,10 @@ std::string patternSvg(const Pattern& pattern, const PieceText& text) {
       os << "\"/>\n";
     }
     for (const auto& n : p.notches) {
-      Point2 in = inwardNormal(p.outline, n.position);
-      os << "<line class=\"notch\" x1=\"" << fixed((n.position + off).x() * 10, 2) << "\" y1=\""
-         << fixed((n.position + off).y() * 10, 2) << "\" x2=\""
-         << fixed((n.position + 0.5 * in + off).x() * 10, 2) << "\" y2=\""
-         << fixed((n.position + 0.5 * in + off).y() * 10, 2) << "\"/>\n";
+      const auto slit = detail::notchSlit(p.outline, cutLine, n.position);
+      os << "<line class=\"notch\" x1=\"" << fixed((slit.from + off).x() * 10, 2) << "\" y1=\""
+         << fixed((slit.from + off).y() * 10, 2) << "\" x2=\"" << fixed((slit.to + off).x() * 10, 2)
+         << "\" y2=\"" << fixed((slit.to + off).y() * 10, 2) << "\"/>\n";
     }
     // Grainline with an arrowhead at each end.
     Point2 a = p.grainline.start + off, b = p.grainline.end + off;

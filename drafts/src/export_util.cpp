@@ -166,6 +166,23 @@ CutSheet cutSheet(const Pattern& pattern, double gapCm, double maxRowWidthCm) {
   return sheet;
 }
 
+NotchSlit notchSlit(const Polyline& outline, const Polyline& cut, const Point2& notch) {
+  constexpr double kSlitCm = 0.5;
+  const Point2 in = inwardNormal(outline, notch);
+  // The first crossing of the cut line going out from the notch (none on a fold: the notch).
+  Point2 from = notch;
+  double best = 1e300;
+  for (const auto& hit :
+       intersectPolylineLine(joined(cut, Polyline{cut.front()}), Line{notch, Point2(-in)})) {
+    const double t = (hit.point - notch).dot(-in);
+    if (t >= -kGeometryEpsCm && t < best) {
+      best = t;
+      from = hit.point;
+    }
+  }
+  return {from, from + kSlitCm * in};
+}
+
 std::optional<FoldMark> foldMark(const Panel& p, const Pattern& pattern) {
   const auto fold = foldEdge(p, pattern);
   if (!fold)

@@ -57,6 +57,14 @@ struct CutSheet {
 template <class E>
 CutSheet cutSheet(const Pattern& pattern, double gapCm, double maxRowWidthCm);
 
+/// A notch as the cutter cuts it: a 5 mm slit from the cut line inward, on the sew line's
+/// normal through the notch (so that it points at the notch on the sew line).
+struct NotchSlit {
+  Point2 from;  // on the cut line
+  Point2 to;    // 5 mm inside
+};
+NotchSlit notchSlit(const Polyline& outline, const Polyline& cut, const Point2& notch);
+
 /// The "place on fold" bracket of a piece cut on the fold (foldEdge): a line 2 cm inside the
 /// fold over its middle 70 %, legs back to the fold ending in arrowheads on it, and where to
 /// write "PLACE ON FOLD" (reading along the fold).

@@ -9,7 +9,8 @@ writes the DXF; ezdxf audits it (no errors allowed) and, for every piece block, 
 line must be one closed polyline enclosing the layer-14 sew line (also one closed polyline)
 by the allowance the piece's own text states ("seam allowance 10.0 mm included, hem 30.0 mm,
 none on fold"): each sew-line edge's midpoint lies at the seam allowance, the hem allowance,
-or 0 on the layer-6 fold line from the cut line, or nearer only beside a fold or a dart.
+or 0 on the layer-6 fold line from the cut line, or nearer only beside a fold or a dart; every
+layer-4 notch is a 5 mm slit from the cut line inward.
 Prints one line per file; exits 1 on any failure.
 """
 import json
@@ -100,6 +101,11 @@ def check_block(block, problems):
     for p in cut:
         if inside(p, sew) and ring_dist(p, sew) > 1e-3:
             problems.append(f"{name}: cut-line vertex {p} inside the piece")
+            return
+    for e in block.query('LINE[layer=="4"]'):
+        a, b = (e.dxf.start.x, e.dxf.start.y), (e.dxf.end.x, e.dxf.end.y)
+        if ring_dist(a, cut) > 1e-3 or not inside(b, cut) or abs(math.hypot(b[0] - a[0], b[1] - a[1]) - 5) > 1e-3:
+            problems.append(f"{name}: notch at {a} is no 5 mm slit from the cut line inward")
             return
     n = len(sew)
     # Corners of the sew line (a turn over 30 degrees): where one allowance steps to another.

@@ -51,9 +51,21 @@ function checkPieces(dxf, expected, label) {
     check(`${label}: ${blockName} grainline on layer 7`, grain.length === 1 &&
       dist([grain[0].vertices[0].x, grain[0].vertices[0].y], want.grainline[0]) <= TOL_MM &&
       dist([grain[0].vertices[1].x, grain[0].vertices[1].y], want.grainline[1]) <= TOL_MM);
-    const notches = ents.filter((e) => e.layer === '4' && e.type === 'LINE').map((e) => [e.vertices[0].x, e.vertices[0].y]);
-    check(`${label}: ${blockName} notches on layer 4`, notches.length === want.notches.length &&
-      want.notches.every((n) => notches.some((g) => dist(g, n) <= TOL_MM)));
+    // A notch is a 5 mm slit cut from the cut line inward, on the line through the sew line's
+    // notch (its normal there).
+    const cutRing = cut.length === 1 ? cut[0].vertices.map((v) => [v.x, v.y]) : [];
+    const segDist = (p, a, b) => {
+      const d = [b[0] - a[0], b[1] - a[1]], l2 = d[0] * d[0] + d[1] * d[1];
+      const t = l2 ? Math.max(0, Math.min(1, ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2)) : 0;
+      return dist(p, [a[0] + t * d[0], a[1] + t * d[1]]);
+    };
+    const onCut = (p) => cutRing.some((a, i) => segDist(p, a, cutRing[(i + 1) % cutRing.length]) <= TOL_MM);
+    const lineDist = (p, a, b) => Math.abs((b[0] - a[0]) * (a[1] - p[1]) - (a[0] - p[0]) * (b[1] - a[1])) / dist(a, b);
+    const slits = ents.filter((e) => e.layer === '4' && e.type === 'LINE').map((e) => [[e.vertices[0].x, e.vertices[0].y], [e.vertices[1].x, e.vertices[1].y]]);
+    check(`${label}: ${blockName} notches on layer 4: 5 mm slits from the cut line toward the sew line's notches`,
+      slits.length === want.notches.length &&
+      slits.every(([a, b]) => onCut(a) && Math.abs(dist(a, b) - 5) <= TOL_MM) &&
+      want.notches.every((n) => slits.some(([a, b]) => lineDist(n, a, b) <= TOL_MM)));
   }
 }
 
