@@ -31,6 +31,8 @@ PACKAGES=(
   # tests: unit tests, benchmarks, CGAL peer check, SVG and PDF rendering checks, XML 1.0
   # well-formedness check of escaped text
   libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev librsvg2-bin poppler-utils libxml2-utils
+  # pattern DXF audited and measured by an independent reader (tests/drafts/dxf_ezdxf_check.py)
+  python3-ezdxf
   # web UI browser test (headless chromium), Valentina .vit interop test, ZIP check
   chromium valentina unzip
 )

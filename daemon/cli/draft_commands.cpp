@@ -8,6 +8,10 @@
 #include <vector>
 
 #include "commands.h"
+#include "garmcap/drafts/export_dxf_aama.h"
+#include "garmcap/drafts/export_pdf.h"
+#include "garmcap/drafts/export_svg.h"
+#include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/measurements.h"
 #include "garmcap/drafts/panel_measure.h"
 #include "garmcap/drafts/pattern_io.h"
@@ -31,6 +35,10 @@ struct DraftOptions {
   std::string out;
   std::string svg;
   bool pointNames = false;
+  std::string dxf;         // DXF-AAMA pattern file (cut line with allowance, sew line)
+  std::string patternPdf;  // tiled A4 PDF
+  std::string patternSvg;  // pattern pieces at 1:1 with cut and sew lines
+  std::string style = "DRAFT";
 };
 
 std::map<std::string, double> parseSet(const std::vector<std::string>& items) {
@@ -103,6 +111,13 @@ void runDraft(const DraftOptions& o) {
     svg.drawPointNames = o.pointNames;
     gd::writePatternSvg(o.svg, pattern, svg);
   }
+  const gd::PieceText text{o.style, o.size.empty() ? "base" : o.size};
+  if (!o.dxf.empty())
+    gd::writeFileAtomic(o.dxf, gd::patternDxf(pattern, text));
+  if (!o.patternPdf.empty())
+    gd::writeFileAtomic(o.patternPdf, gd::patternPdfA4(pattern, text));
+  if (!o.patternSvg.empty())
+    gd::writeFileAtomic(o.patternSvg, gd::patternSvg(pattern, text));
 }
 
 }  // namespace
@@ -123,6 +138,12 @@ void addDraftCommands(CLI::App& app) {
   draft->add_option("--out", opts->out, "Pattern JSON to write");
   draft->add_option("--svg", opts->svg, "SVG to write (true scale, cm)");
   draft->add_flag("--point-names", opts->pointNames, "Label the draft points in the SVG");
+  draft->add_option("--dxf", opts->dxf,
+                    "DXF-AAMA pattern file to write (layer 1 cut line, layer 14 sew line)");
+  draft->add_option("--pattern-pdf", opts->patternPdf, "Tiled A4 pattern PDF to write");
+  draft->add_option("--pattern-svg", opts->patternSvg,
+                    "Pattern pieces SVG to write (1:1 mm, cut and sew lines)");
+  draft->add_option("--style", opts->style, "Style name printed on the pieces (default DRAFT)");
   draft->callback([opts] { runDraft(*opts); });
 
   auto pattern = std::make_shared<std::string>();

@@ -182,6 +182,21 @@ Response noPatternForSize(const Item& item, const std::string& size) {
                        (have.empty() ? " (it has no pattern at all)" : " (sizes: " + have + ")"));
 }
 
+bool patternIsEmpty(const nlohmann::json& pattern) {
+  const auto panels = pattern.find("panels");
+  return !pattern.is_object() || panels == pattern.end() || !panels->is_array() || panels->empty();
+}
+
+Response noDraftedPattern(const Item& item, const std::string& size) {
+  std::string why;
+  for (const auto& w : item.warnings)
+    why += (why.empty() ? "" : "; ") + w;
+  return jsonError(http::status::unprocessable_entity,
+                   "item " + std::to_string(item.id) + " has no pattern for size '" + size +
+                       "': its garment could not be drafted" +
+                       (why.empty() ? std::string() : " (" + why + ")"));
+}
+
 std::string sizeGuideCsv(const nlohmann::json& guide) {
   return dsw::sizeGuideCsv(dsw::sizeGuideFromJson(guide.dump(), "stored size guide"));
 }
@@ -393,7 +408,10 @@ void addApiRoutes(Router& router, Station& station) {
               if (!it)
                 return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
               auto p = c.pattern(id, size);
-              reply(p ? jsonResponse(http::status::ok, *p) : noPatternForSize(*it, size));
+              if (!p)
+                return reply(noPatternForSize(*it, size));
+              reply(patternIsEmpty(*p) ? noDraftedPattern(*it, size)
+                                       : jsonResponse(http::status::ok, *p));
             },
             reply);
       });
@@ -411,6 +429,8 @@ void addApiRoutes(Router& router, Station& station) {
               auto p = c.pattern(id, size);
               if (!p)
                 return reply(noPatternForSize(*it, size));
+              if (patternIsEmpty(*p))
+                return reply(noDraftedPattern(*it, size));
               st->offload(
                   [reply, json = *p, id, size] {
                     try {

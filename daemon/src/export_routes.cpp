@@ -466,6 +466,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
             for (const auto& s : it->sizes)
               if (auto p = cat.pattern(id, s))
                 pats[s] = *p;
+            if (auto p = pats.find(size); p != pats.end() && patternIsEmpty(p->second))
+              return reply(noDraftedPattern(*it, size));
             c->offload(
                 [reply, item = *it, guide, pats, size, build] {
                   try {

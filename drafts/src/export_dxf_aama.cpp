@@ -5,6 +5,8 @@
 #include <set>
 
 #include "export_util.h"
+#include "garmcap/drafts/panel_edges.h"
+#include "garmcap/drafts/seam_allowance.h"
 
 namespace garmcap::drafts {
 namespace {
@@ -87,7 +89,7 @@ void dxfHeader(Dxf& d) {
   d.code(2, "TABLES");
   d.code(0, "TABLE");
   d.code(2, "LAYER");
-  const std::vector<std::string> layers = {"1", "2", "3", "4", "7", "8", "13", "15"};
+  const std::vector<std::string> layers = {"1", "2", "3", "4", "6", "7", "8", "13", "14", "15"};
   d.code(70, std::to_string(layers.size()));
   for (const auto& l : layers) {
     d.code(0, "LAYER");
@@ -116,7 +118,13 @@ void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std
   d.code(30, "0.0");
   d.code(3, name);
 
-  d.polyline("1", panel.outline, true);
+  // Layer 1 is the cut line (allowance included), layer 14 the sew line (the net outline).
+  const Polyline cut = detail::cutLine<DxfExportError>(panel, pattern);
+  d.polyline("1", cut, true);
+  d.polyline("14", panel.outline, true);
+  if (auto fold = foldEdge(panel, pattern))  // layer 6: the mirror line of a piece cut on fold
+    d.line("6", panel.outline[static_cast<size_t>(fold->from)],
+           panel.outline[static_cast<size_t>(fold->to)]);
 
   std::set<int> turnSet(turns.begin(), turns.end());
   for (size_t k = 0; k < turns.size(); ++k) {
@@ -129,13 +137,13 @@ void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std
     if (!turnSet.count(static_cast<int>(i)))
       d.point("3", panel.outline[i]);
 
-  for (const auto& n : panel.notches) {
-    Point2 in = inwardNormal(panel.outline, n.position);
-    d.line("4", n.position, n.position + 0.5 * in);  // 5 mm slit notch
+  for (const auto& n : panel.notches) {  // 5 mm slit from the cut line
+    const auto slit = detail::notchSlit(panel.outline, cut, n.position);
+    d.line("4", slit.from, slit.to);
   }
   d.line("7", panel.grainline.start, panel.grainline.end);
   for (const auto& dart : panel.darts) {
-    d.polyline("8", {dart.leg1, dart.apex, dart.leg2}, false);
+    d.polyline("8", dartPath(panel, dart), false);
     d.point("13", dart.apex);
   }
   for (const auto& l : panel.internalLines)
@@ -151,8 +159,7 @@ void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std
                                     "Category: " + pattern.type};
   if (panel.cutOnFold)
     lines.push_back("Annotation: cut on fold");
-  lines.push_back("Annotation: seam allowance " + fixed(panel.seamAllowanceCm * 10, 1) +
-                  " mm not included");
+  lines.push_back("Annotation: " + detail::allowanceNote(panel));
   if (sample)
     lines.push_back("Sample Size: " + size);
   for (size_t i = 0; i < lines.size(); ++i)
@@ -188,8 +195,8 @@ std::string patternDxf(const Pattern& pattern, const PieceText& text) {
   d.code(0, "ENDSEC");
   d.code(0, "SECTION");
   d.code(2, "ENTITIES");
-  dxfStyleText(d, {"Style Name: " + text.style, "Units: METRIC", "Size: " + text.size,
-                   "Author: GarmCap Station"});
+  dxfStyleText(d, {kAstmVersionLine, "Style Name: " + text.style, "Units: METRIC",
+                   "Size: " + text.size, "Author: GarmCap Station"});
   for (const auto& p : pattern.panels)
     dxfInsert(d, blockName(p.name, text.size));
   d.code(0, "ENDSEC");
@@ -232,9 +239,10 @@ std::string gradedDxf(const GradedRun& run) {
   std::string list;
   for (const auto& s : run.sizes)
     list += (list.empty() ? "" : " ") + s;
-  dxfStyleText(d, {"Style Name: " + run.style, "Units: METRIC", "Grade Rule Table: " + run.style,
-                   "Number of Sizes: " + std::to_string(run.sizes.size()), "Size List: " + list,
-                   "Sample Size: " + run.sampleSize, "Author: GarmCap Station"});
+  dxfStyleText(
+      d, {kAstmVersionLine, "Style Name: " + run.style, "Units: METRIC",
+          "Grade Rule Table: " + run.style, "Number of Sizes: " + std::to_string(run.sizes.size()),
+          "Size List: " + list, "Sample Size: " + run.sampleSize, "Author: GarmCap Station"});
   for (size_t s = 0; s < run.sizes.size(); ++s)
     for (const auto& p : run.patterns[s].panels)
       dxfInsert(d, blockName(p.name, run.sizes[s]));

@@ -41,7 +41,8 @@ std::string patternPdfA4(const Pattern& pattern, const PieceText& text) {
   constexpr double kPt = 72.0 / 2.54;  // points per cm
   constexpr double kPageW = 21.0, kPageH = 29.7, kMargin = 1.0;
   constexpr double kTileW = kPageW - 2 * kMargin, kTileH = kPageH - 2 * kMargin;
-  Layout lay = layoutPanels(pattern, 2.0, 120.0);
+  const detail::CutSheet sheet = detail::cutSheet<PdfExportError>(pattern, 2.0, 120.0);
+  const Layout& lay = sheet.layout;
   // Room for the 10 cm test square above the panels on the first tile.
   const double shiftY = 13.0;
   const int cols = std::max(1, static_cast<int>(std::ceil(lay.widthCm / kTileW)));
@@ -67,13 +68,36 @@ std::string patternPdfA4(const Pattern& pattern, const PieceText& text) {
   geo << "BT /F1 12 Tf " << P({2.5, 7.2}) << " Td " << pdfString("10 cm test square") << " Tj ET\n";
   geo << "BT /F1 10 Tf " << P({2.5, 8.0}) << " Td " << pdfString("print at 100% / actual size")
       << " Tj ET\n";
+  // What the lines are: cut on the solid line, sew on the dashed one.
+  geo << "BT /F1 9 Tf " << P({2.0, 12.8}) << " Td "
+      << pdfString("Cut on the solid line: " + detail::allowanceNote(pattern.panels.front()) + ".")
+      << " Tj ET\n";
+  geo << "BT /F1 9 Tf " << P({2.0, 13.4}) << " Td "
+      << pdfString("Sew on the dashed line (the net seam line).") << " Tj ET\n";
   for (size_t i = 0; i < pattern.panels.size(); ++i) {
     const auto& p = pattern.panels[i];
     const Point2 off = lay.offsets[i] + Point2(0, shiftY);
+    const Polyline& cutLine = sheet.cuts[i];
     geo << "1.2 w\n";
+    for (size_t k = 0; k < cutLine.size(); ++k)
+      geo << P(cutLine[k] + off) << (k ? " l\n" : " m\n");
+    geo << "h S\n0.6 w [6 3] 0 d\n";
     for (size_t k = 0; k < p.outline.size(); ++k)
       geo << P(p.outline[k] + off) << (k ? " l\n" : " m\n");
-    geo << "h S\n0.6 w [3 2] 0 d\n";
+    geo << "h S\n[] 0 d\n";
+    if (const auto fold = detail::foldMark(p, pattern)) {
+      geo << "0.8 w\n";
+      for (const Polyline* pl : {&fold->bracket, &fold->arrows[0], &fold->arrows[1]})
+        for (size_t k = 0; k < pl->size(); ++k)
+          geo << P((*pl)[k] + off) << (k ? " l" : " m") << (k + 1 == pl->size() ? " S\n" : "\n");
+      // Text along the fold: PDF angles turn counter-clockwise with y up, ours with y down.
+      const double rad = -fold->labelAngleDeg * 3.14159265358979323846 / 180.0;
+      const Point2 at = fold->label + off;
+      geo << "BT /F1 10 Tf " << fixed(std::cos(rad), 6) << " " << fixed(std::sin(rad), 6) << " "
+          << fixed(-std::sin(rad), 6) << " " << fixed(std::cos(rad), 6) << " " << P(at) << " Tm "
+          << pdfString("PLACE ON FOLD") << " Tj ET\n";
+    }
+    geo << "0.6 w [3 2] 0 d\n";
     for (const auto& d : p.darts)
       geo << P(d.leg1 + off) << " m " << P(d.apex + off) << " l " << P(d.leg2 + off) << " l S\n";
     for (const auto& l : p.internalLines)
@@ -82,8 +106,8 @@ std::string patternPdfA4(const Pattern& pattern, const PieceText& text) {
             << (k + 1 == l.points.size() ? " S\n" : "\n");
     geo << "[] 0 d 0.8 w\n";
     for (const auto& n : p.notches) {
-      Point2 in = inwardNormal(p.outline, n.position);
-      geo << P(n.position + off) << " m " << P(n.position + 0.5 * in + off) << " l S\n";
+      const auto slit = detail::notchSlit(p.outline, cutLine, n.position);
+      geo << P(slit.from + off) << " m " << P(slit.to + off) << " l S\n";
     }
     geo << P(p.grainline.start + off) << " m " << P(p.grainline.end + off) << " l S\n";
     Box bx = panelBox(p);
@@ -92,6 +116,8 @@ std::string patternPdfA4(const Pattern& pattern, const PieceText& text) {
     geo << "BT /F1 10 Tf " << P(c + Point2(-3, 0.7)) << " Td "
         << pdfString(text.style + "  size " + text.size + "  cut " + std::to_string(p.cutCount) +
                      (p.cutOnFold ? " on fold" : ""))
+        << " Tj ET\n";
+    geo << "BT /F1 8 Tf " << P(c + Point2(-3, 1.3)) << " Td " << pdfString(detail::allowanceNote(p))
         << " Tj ET\n";
   }
   const std::string geometry = geo.str();

@@ -19,7 +19,7 @@ std::string gradeRuleTable(const GradedRun& run) {
   const size_t si = sampleIndex(run);
   const auto& sample = run.patterns[si];
   std::ostringstream os;
-  os << "ASTM/D13Proposal 1 Version: D 6673-04\r\n"
+  os << kAstmVersionLine << "\r\n"
      << "AUTHOR: GarmCap Station\r\nPRODUCT: GarmCap Station\r\nVERSION: 1\r\n"
      << "UNITS: METRIC\r\n"
      << "GRADE RULE TABLE: " << asciiText(run.style) << "\r\n"

@@ -17,7 +17,8 @@ using detail::panelBox;
 
 std::string patternSvg(const Pattern& pattern, const PieceText& text) {
   detail::checkPattern<SvgExportError>(pattern);
-  Layout lay = layoutPanels(pattern, 2.0, 160.0);
+  const detail::CutSheet sheet = detail::cutSheet<SvgExportError>(pattern, 2.0, 160.0);
+  const Layout& lay = sheet.layout;
   const double extraCm = 2.0;  // title line
   std::ostringstream os;
   auto pt = [](const Point2& p) { return fixed(p.x() * 10, 2) + "," + fixed(p.y() * 10, 2); };
@@ -30,19 +31,42 @@ std::string patternSvg(const Pattern& pattern, const PieceText& text) {
      << "<style>.cut{fill:#fdfcf8;stroke:#111;stroke-width:0.5}.dart{fill:none;stroke:#c33;"
         "stroke-width:0.4;stroke-dasharray:3 2}.int{fill:none;stroke:#36c;stroke-width:0.4;"
         "stroke-dasharray:4 2}.grain{stroke:#111;stroke-width:0.4}.notch{stroke:#111;"
-        "stroke-width:0.6}text{font-family:sans-serif;fill:#111}</style>\n";
+        "stroke-width:0.6}.sew{fill:none;stroke:#111;stroke-width:0.35;stroke-dasharray:4 2}"
+        ".fold{fill:none;stroke:#111;stroke-width:0.4}text{font-family:sans-serif;fill:#111}</"
+        "style>\n";
   os << "<text x=\"20\" y=\"" << fixed((lay.heightCm + 1.2) * 10, 2) << "\" font-size=\"5\">"
      << xmlEscape(text.style + " · " + pattern.type + " · size " + text.size +
-                  " · 1:1, units mm · seam allowance not included")
+                  " · 1:1, units mm · cut line (solid) " +
+                  detail::allowanceNote(pattern.panels.front()) + " · sew line dashed")
      << "</text>\n";
   for (size_t i = 0; i < pattern.panels.size(); ++i) {
     const auto& p = pattern.panels[i];
     const Point2 off = lay.offsets[i];
     auto q = [&](const Point2& a) { return pt(a + off); };
+    const Polyline& cutLine = sheet.cuts[i];
     os << "<g id=\"" << xmlEscape(p.name) << "\">\n<polygon class=\"cut\" points=\"";
+    for (size_t k = 0; k < cutLine.size(); ++k)
+      os << (k ? " " : "") << q(cutLine[k]);
+    os << "\"/>\n<polygon class=\"sew\" points=\"";
     for (size_t k = 0; k < p.outline.size(); ++k)
       os << (k ? " " : "") << q(p.outline[k]);
     os << "\"/>\n";
+    if (const auto fold = detail::foldMark(p, pattern)) {
+      auto polyline = [&](const Polyline& pl) {
+        os << "<polyline class=\"fold\" points=\"";
+        for (size_t k = 0; k < pl.size(); ++k)
+          os << (k ? " " : "") << q(pl[k]);
+        os << "\"/>\n";
+      };
+      polyline(fold->bracket);
+      for (const auto& arrow : fold->arrows)
+        polyline(arrow);
+      const Point2 at = fold->label + off;
+      os << "<text class=\"foldlabel\" x=\"" << fixed(at.x() * 10, 2) << "\" y=\""
+         << fixed(at.y() * 10, 2) << "\" font-size=\"5\" transform=\"rotate("
+         << fixed(fold->labelAngleDeg, 2) << " " << fixed(at.x() * 10, 2) << " "
+         << fixed(at.y() * 10, 2) << ")\">PLACE ON FOLD</text>\n";
+    }
     for (const auto& d : p.darts)
       os << "<polyline class=\"dart\" points=\"" << q(d.leg1) << " " << q(d.apex) << " "
          << q(d.leg2) << "\"/>\n";
@@ -53,11 +77,10 @@ std::string patternSvg(const Pattern& pattern, const PieceText& text) {
       os << "\"/>\n";
     }
     for (const auto& n : p.notches) {
-      Point2 in = inwardNormal(p.outline, n.position);
-      os << "<line class=\"notch\" x1=\"" << fixed((n.position + off).x() * 10, 2) << "\" y1=\""
-         << fixed((n.position + off).y() * 10, 2) << "\" x2=\""
-         << fixed((n.position + 0.5 * in + off).x() * 10, 2) << "\" y2=\""
-         << fixed((n.position + 0.5 * in + off).y() * 10, 2) << "\"/>\n";
+      const auto slit = detail::notchSlit(p.outline, cutLine, n.position);
+      os << "<line class=\"notch\" x1=\"" << fixed((slit.from + off).x() * 10, 2) << "\" y1=\""
+         << fixed((slit.from + off).y() * 10, 2) << "\" x2=\"" << fixed((slit.to + off).x() * 10, 2)
+         << "\" y2=\"" << fixed((slit.to + off).y() * 10, 2) << "\"/>\n";
     }
     // Grainline with an arrowhead at each end.
     Point2 a = p.grainline.start + off, b = p.grainline.end + off;

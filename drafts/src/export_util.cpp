@@ -12,6 +12,8 @@
 #include "garmcap/drafts/export_rul.h"
 #include "garmcap/drafts/export_svg.h"
 #include "garmcap/drafts/geometry.h"
+#include "garmcap/drafts/panel_edges.h"
+#include "garmcap/drafts/seam_allowance.h"
 
 namespace garmcap::drafts::detail {
 namespace {
@@ -143,15 +145,89 @@ void checkPattern(const Pattern& p) {
     checkPanel<E>(panel);
 }
 
-#define GARMCAP_EXPORT_CHECKS(E)               \
-  template void checkPanel<E>(const Panel& p); \
-  template void checkPattern<E>(const Pattern& p);
+template <class E>
+Polyline cutLine(const Panel& p, const Pattern& pattern) {
+  try {
+    return cutOutline(p, pattern);
+  } catch (const SeamAllowanceError& e) {
+    throw E(e.what());
+  }
+}
+
+template <class E>
+CutSheet cutSheet(const Pattern& pattern, double gapCm, double maxRowWidthCm) {
+  CutSheet sheet;
+  Pattern cut = pattern;
+  for (size_t i = 0; i < pattern.panels.size(); ++i) {
+    sheet.cuts.push_back(cutLine<E>(pattern.panels[i], pattern));
+    cut.panels[i].outline = sheet.cuts.back();
+  }
+  sheet.layout = layoutPanels(cut, gapCm, maxRowWidthCm);
+  return sheet;
+}
+
+NotchSlit notchSlit(const Polyline& outline, const Polyline& cut, const Point2& notch) {
+  constexpr double kSlitCm = 0.5;
+  const Point2 in = inwardNormal(outline, notch);
+  // The first crossing of the cut line going out from the notch (none on a fold: the notch).
+  Point2 from = notch;
+  double best = 1e300;
+  for (const auto& hit :
+       intersectPolylineLine(joined(cut, Polyline{cut.front()}), Line{notch, Point2(-in)})) {
+    const double t = (hit.point - notch).dot(-in);
+    if (t >= -kGeometryEpsCm && t < best) {
+      best = t;
+      from = hit.point;
+    }
+  }
+  return {from, from + kSlitCm * in};
+}
+
+std::optional<FoldMark> foldMark(const Panel& p, const Pattern& pattern) {
+  const auto fold = foldEdge(p, pattern);
+  if (!fold)
+    return std::nullopt;
+  FoldMark m;
+  m.foldStart = p.outline[static_cast<size_t>(fold->from)];
+  m.foldEnd = p.outline[static_cast<size_t>(fold->to)];
+  const Point2 along = m.foldEnd - m.foldStart;
+  if (along.norm() < 1.0)
+    return std::nullopt;
+  const Point2 u = along.normalized();
+  const Point2 in = inwardNormal(p.outline, (m.foldStart + m.foldEnd) / 2);
+  constexpr double kInsideCm = 2.0, kArrowCm = 0.6;
+  const Point2 a = m.foldStart + 0.15 * along, b = m.foldStart + 0.85 * along;
+  m.bracket = {a, a + kInsideCm * in, b + kInsideCm * in, b};
+  for (const Point2& tip : {a, b})
+    m.arrows.push_back({tip + kArrowCm * in + 0.3 * u, tip, tip + kArrowCm * in - 0.3 * u});
+  // Text just inside the bracket's long side, reading downward or upward along the fold so
+  // that it is never upside down (angle in (-90, 90]).
+  Point2 dir = u;
+  if (dir.x() < -1e-9 || (std::abs(dir.x()) <= 1e-9 && dir.y() < 0))
+    dir = -dir;
+  m.labelAngleDeg = std::atan2(dir.y(), dir.x()) * 180.0 / 3.14159265358979323846;
+  const Point2 centre = (a + b) / 2 + (kInsideCm + 0.4) * in;
+  m.label = centre - 2.2 * dir;
+  return m;
+}
+
+std::string allowanceNote(const Panel& p) {
+  return "seam allowance " + fixed(p.seamAllowanceCm * 10, 1) + " mm included, hem " +
+         fixed(kHemAllowanceCm * 10, 1) + " mm, none on fold";
+}
+
+#define GARMCAP_EXPORT_CHECKS(E)                                        \
+  template void checkPanel<E>(const Panel& p);                          \
+  template void checkPattern<E>(const Pattern& p);                      \
+  template Polyline cutLine<E>(const Panel& p, const Pattern& pattern); \
+  template CutSheet cutSheet<E>(const Pattern& pattern, double gapCm, double maxRowWidthCm);
 GARMCAP_EXPORT_CHECKS(PatternExportError)
 GARMCAP_EXPORT_CHECKS(DxfExportError)
 GARMCAP_EXPORT_CHECKS(RulExportError)
 GARMCAP_EXPORT_CHECKS(GarmentCodeExportError)
 GARMCAP_EXPORT_CHECKS(PdfExportError)
 GARMCAP_EXPORT_CHECKS(SvgExportError)
+GARMCAP_EXPORT_CHECKS(SeamAllowanceError)
 #undef GARMCAP_EXPORT_CHECKS
 
 }  // namespace garmcap::drafts::detail

@@ -13,7 +13,9 @@
 namespace garmcap::drafts {
 namespace {
 
-std::string errnoText() { return std::strerror(errno); }
+std::string errnoText() {
+  return std::strerror(errno);
+}
 
 // Finds the 1-based line and column of a byte offset so JSON errors point at the place.
 std::pair<std::size_t, std::size_t> lineColumn(std::string_view text, std::size_t offset) {
@@ -36,7 +38,8 @@ void writeAll(int fd, std::string_view data, const std::filesystem::path& path) 
   while (left > 0) {
     const ssize_t n = ::write(fd, p, left);
     if (n < 0) {
-      if (errno == EINTR) continue;
+      if (errno == EINTR)
+        continue;
       throw FileError("cannot write " + path.string() + ": " + errnoText());
     }
     p += n;
@@ -48,14 +51,17 @@ void writeAll(int fd, std::string_view data, const std::filesystem::path& path) 
 
 std::string readFile(const std::filesystem::path& path) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw FileError("file not found: " + path.string());
+  if (!std::filesystem::exists(path, ec))
+    throw FileError("file not found: " + path.string());
   if (std::filesystem::is_directory(path, ec))
     throw FileError("expected a file but found a directory: " + path.string());
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError("cannot open " + path.string() + ": " + errnoText());
+  if (!in)
+    throw FileError("cannot open " + path.string() + ": " + errnoText());
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  if (in.bad()) throw FileError("cannot read " + path.string());
+  if (in.bad())
+    throw FileError("cannot read " + path.string());
   return buffer.str();
 }
 
@@ -72,10 +78,12 @@ void writeFileAtomic(const std::filesystem::path& path, std::string_view data) {
   const std::filesystem::path tmp =
       dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd()));
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) throw FileError("cannot create " + tmp.string() + ": " + errnoText());
+  if (fd < 0)
+    throw FileError("cannot create " + tmp.string() + ": " + errnoText());
   try {
     writeAll(fd, data, tmp);
-    if (::fsync(fd) != 0) throw FileError("cannot fsync " + tmp.string() + ": " + errnoText());
+    if (::fsync(fd) != 0)
+      throw FileError("cannot fsync " + tmp.string() + ": " + errnoText());
   } catch (...) {
     ::close(fd);
     ::unlink(tmp.c_str());
@@ -122,25 +130,30 @@ void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& valu
 
 const nlohmann::json& requireField(const nlohmann::json& object, const std::string& key,
                                    const std::string& what) {
-  if (!object.is_object()) throw ParseError(what + ": expected a JSON object");
+  if (!object.is_object())
+    throw ParseError(what + ": expected a JSON object");
   const auto it = object.find(key);
-  if (it == object.end()) throw ParseError(what + ": missing field '" + key + "'");
+  if (it == object.end())
+    throw ParseError(what + ": missing field '" + key + "'");
   return *it;
 }
 
 double requireNumber(const nlohmann::json& object, const std::string& key,
                      const std::string& what) {
   const auto& v = requireField(object, key, what);
-  if (!v.is_number()) throw ParseError(what + ": field '" + key + "' must be a number");
+  if (!v.is_number())
+    throw ParseError(what + ": field '" + key + "' must be a number");
   const double d = v.get<double>();
-  if (!std::isfinite(d)) throw ParseError(what + ": field '" + key + "' is not finite");
+  if (!std::isfinite(d))
+    throw ParseError(what + ": field '" + key + "' is not finite");
   return d;
 }
 
 std::string requireString(const nlohmann::json& object, const std::string& key,
                           const std::string& what) {
   const auto& v = requireField(object, key, what);
-  if (!v.is_string()) throw ParseError(what + ": field '" + key + "' must be a string");
+  if (!v.is_string())
+    throw ParseError(what + ": field '" + key + "' must be a string");
   return v.get<std::string>();
 }
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -15,6 +16,7 @@
 #include "garmcap/drafts/export_pdf.h"
 #include "garmcap/drafts/export_rul.h"
 #include "garmcap/drafts/export_svg.h"
+#include "garmcap/drafts/seam_allowance.h"
 
 namespace garmcap::drafts {
 namespace {
@@ -33,23 +35,34 @@ std::vector<std::pair<int, std::string>> dxfPairs(const std::string& dxf) {
   return out;
 }
 
+// The pattern as laid out on paper: each piece's cut line (allowance included).
+Pattern withCutLines(Pattern pat) {
+  const Pattern net = pat;
+  for (auto& p : pat.panels)
+    p.outline = cutOutline(p, net);
+  return pat;
+}
+
 TEST(PatternDxf, BlockPerPieceWithTextAndClosedBoundary) {
   const auto pat = exports_test::skirtPattern(96, 72, 61);
   const auto pairs = dxfPairs(patternDxf(pat, {"SK-1001", "M"}));
   ASSERT_FALSE(pairs.empty());
   EXPECT_EQ(pairs.back(), std::make_pair(0, std::string("EOF")));
-  int blocks = 0, closed = 0;
+  int blocks = 0;
+  std::map<std::string, int> closed;
   std::vector<std::string> texts;
   for (size_t i = 0; i + 1 < pairs.size(); ++i) {
     if (pairs[i] == std::make_pair(0, std::string("BLOCK")))
       ++blocks;
     if (pairs[i].first == 1)
       texts.push_back(pairs[i].second);
-    if (pairs[i] == std::make_pair(70, std::string("1")) && pairs[i - 4].second == "1")
-      ++closed;
+    // A closed POLYLINE: layer (8), 66, 10, 20, 30, then flag 70 = 1.
+    if (pairs[i] == std::make_pair(70, std::string("1")) && i >= 5 && pairs[i - 5].first == 8)
+      ++closed[pairs[i - 5].second];
   }
   EXPECT_EQ(blocks, 2);
-  EXPECT_EQ(closed, 2);
+  EXPECT_EQ(closed["1"], 2) << "cut line (allowance included) per piece";
+  EXPECT_EQ(closed["14"], 2) << "sew line per piece";
   for (const char* t : {"Piece Name: skirt_front", "Size: M", "Quantity: 1", "Units: METRIC"})
     EXPECT_NE(std::find(texts.begin(), texts.end(), t), texts.end()) << t;
 }
@@ -160,7 +173,7 @@ TEST(GarmentCode, ClockwiseFoldPiecesUnfoldedWithDartsAndBothSideSeams) {
 TEST(PatternSvg, OneToOneInMillimetres) {
   const auto pat = exports_test::skirtPattern(96, 72, 61);
   const std::string svg = patternSvg(pat, {"SK-1001", "M"});
-  const Layout lay = layoutPanels(pat, 2.0, 160.0);
+  const Layout lay = layoutPanels(withCutLines(pat), 2.0, 160.0);
   char want[64];
   std::snprintf(want, sizeof want, "width=\"%.2fmm\"", lay.widthCm * 10);
   EXPECT_NE(svg.find(want), std::string::npos) << svg.substr(0, 300);
@@ -215,7 +228,7 @@ TEST(PatternPdf, TiledA4AtTrueScale) {
   std::ifstream in(info);
   std::string all((std::istreambuf_iterator<char>(in)), {});
   EXPECT_NE(all.find("595.276 x 841.89 pts (A4)"), std::string::npos) << all;
-  const Layout lay = layoutPanels(pat, 2.0, 120.0);
+  const Layout lay = layoutPanels(withCutLines(pat), 2.0, 120.0);
   const int cols = static_cast<int>(std::ceil(lay.widthCm / 19.0));
   const int rows = static_cast<int>(std::ceil((lay.heightCm + 13.0) / 27.7));
   const size_t pagesAt = all.find("Pages:");

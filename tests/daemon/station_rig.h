@@ -81,12 +81,20 @@ class FakeProcessor : public CaptureProcessor {
     r.type = "skirt";
     r.confidence = confidence;
     r.measurementsCm = {{"waist_circ", 60.0 + dressed.at<cv::Vec3b>(0, 0)[0]}};
-    r.patterns["base"] = {{"type", "skirt"}};
+    if (undraftable) {
+      // The pipeline keeps the measurements and an empty pattern when the draft fails.
+      r.patterns["base"] = {{"type", "dress"}, {"panels", nlohmann::json::array()}};
+      r.warnings.push_back("no pattern: sleeve shorter than its cap");
+    } else {
+      r.patterns["base"] = {{"type", "skirt"},
+                            {"panels", nlohmann::json::array({{{"name", "skirt_front"}}})}};
+    }
     r.images["cutout"] = cv::Mat(8, 8, CV_8UC4, cv::Scalar(1, 2, 3, 255));
     r.result = {{"type", "skirt"}};
     return r;
   }
   std::atomic<bool> fail{false};
+  std::atomic<bool> undraftable{false};  // measured, but no pattern could be drafted
   double confidence = 0.95;
 };
 

@@ -62,6 +62,29 @@ TEST(Station, CalibrateThenCaptureFilesAnItem) {
   EXPECT_EQ(list["total"], 1);
 }
 
+TEST(Station, AnItemWithoutADraftedPatternAnswers422NotAnEmptyPattern) {
+  Rig rig;
+  // The pattern file routes too (route modules: export_routes.cpp).
+  for (const auto& [name, module] : routeModules())
+    module(rig.router, *rig.station);
+  rig.processor->undraftable = true;
+  rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"]);
+  auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  const std::string item = "/api/items/" + job["item_id"].dump();
+  for (const char* route : {"/pattern.json", "/pattern.svg", "/pattern.dxf", "/pattern.pdf",
+                            "/garmentcode.json", "/pattern.json?size=base"}) {
+    auto r = rig.call(http::verb::get, item + route);
+    EXPECT_EQ(r.result(), http::status::unprocessable_entity) << route << ": " << r.body();
+    const std::string error = rig.json(r).value("error", "");
+    EXPECT_NE(error.find("could not be drafted"), std::string::npos) << route << ": " << error;
+    EXPECT_NE(error.find("sleeve shorter than its cap"), std::string::npos) << route;
+  }
+  // A size the item does not have stays a 404.
+  EXPECT_EQ(rig.call(http::verb::get, item + "/pattern.json?size=XL").result(),
+            http::status::not_found);
+}
+
 TEST(Station, LowConfidenceWaitsForReview) {
   Rig rig;
   rig.processor->confidence = 0.3;

@@ -30,11 +30,15 @@ function checkPieces(dxf, expected, label) {
     if (!block) continue;
     check(`${label}: block ${blockName} is inserted`, inserted.has(blockName));
     const ents = block.entities || [];
-    const boundary = ents.filter((e) => e.layer === '1' && (e.type === 'POLYLINE' || e.type === 'LWPOLYLINE'));
-    check(`${label}: ${blockName} has one layer-1 boundary`, boundary.length === 1, `found ${boundary.length}`);
+    // Layer 1 is the cut line (seam allowance included), layer 14 the sew line: the piece.
+    const poly = (layer) => ents.filter((e) => e.layer === layer && (e.type === 'POLYLINE' || e.type === 'LWPOLYLINE'));
+    const cut = poly('1');
+    check(`${label}: ${blockName} has one closed layer-1 cut line`, cut.length === 1 && cut[0].shape === true, `found ${cut.length}`);
+    const boundary = poly('14');
+    check(`${label}: ${blockName} has one layer-14 sew line`, boundary.length === 1, `found ${boundary.length}`);
     if (boundary.length !== 1) continue;
     const b = boundary[0];
-    check(`${label}: ${blockName} boundary closed`, b.shape === true);
+    check(`${label}: ${blockName} sew line closed`, b.shape === true);
     const got = b.vertices.map((v) => [v.x, v.y]);
     check(`${label}: ${blockName} vertex count`, got.length === want.outline.length, `${got.length} vs ${want.outline.length}`);
     let maxErr = 0;
@@ -47,9 +51,21 @@ function checkPieces(dxf, expected, label) {
     check(`${label}: ${blockName} grainline on layer 7`, grain.length === 1 &&
       dist([grain[0].vertices[0].x, grain[0].vertices[0].y], want.grainline[0]) <= TOL_MM &&
       dist([grain[0].vertices[1].x, grain[0].vertices[1].y], want.grainline[1]) <= TOL_MM);
-    const notches = ents.filter((e) => e.layer === '4' && e.type === 'LINE').map((e) => [e.vertices[0].x, e.vertices[0].y]);
-    check(`${label}: ${blockName} notches on layer 4`, notches.length === want.notches.length &&
-      want.notches.every((n) => notches.some((g) => dist(g, n) <= TOL_MM)));
+    // A notch is a 5 mm slit cut from the cut line inward, on the line through the sew line's
+    // notch (its normal there).
+    const cutRing = cut.length === 1 ? cut[0].vertices.map((v) => [v.x, v.y]) : [];
+    const segDist = (p, a, b) => {
+      const d = [b[0] - a[0], b[1] - a[1]], l2 = d[0] * d[0] + d[1] * d[1];
+      const t = l2 ? Math.max(0, Math.min(1, ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2)) : 0;
+      return dist(p, [a[0] + t * d[0], a[1] + t * d[1]]);
+    };
+    const onCut = (p) => cutRing.some((a, i) => segDist(p, a, cutRing[(i + 1) % cutRing.length]) <= TOL_MM);
+    const lineDist = (p, a, b) => Math.abs((b[0] - a[0]) * (a[1] - p[1]) - (a[0] - p[0]) * (b[1] - a[1])) / dist(a, b);
+    const slits = ents.filter((e) => e.layer === '4' && e.type === 'LINE').map((e) => [[e.vertices[0].x, e.vertices[0].y], [e.vertices[1].x, e.vertices[1].y]]);
+    check(`${label}: ${blockName} notches on layer 4: 5 mm slits from the cut line toward the sew line's notches`,
+      slits.length === want.notches.length &&
+      slits.every(([a, b]) => onCut(a) && Math.abs(dist(a, b) - 5) <= TOL_MM) &&
+      want.notches.every((n) => slits.some(([a, b]) => lineDist(n, a, b) <= TOL_MM)));
   }
 }
 
@@ -84,14 +100,14 @@ for (let i = 0; i < rul.length; i++) {
 let ruleChecks = 0, ruleErr = 0;
 for (const piece of truth.pieces) {
   const sample = graded.blocks[`${piece}_${truth.sample_size}`];
-  const outline = sample.entities.find((e) => e.layer === '1' && e.type === 'POLYLINE').vertices.map((v) => [v.x, v.y]);
+  const outline = sample.entities.find((e) => e.layer === '14' && e.type === 'POLYLINE').vertices.map((v) => [v.x, v.y]);
   for (const t of sample.entities.filter((e) => e.type === 'TEXT' && e.layer === '2' && /^# \d+$/.test(e.text))) {
     const n = t.text.slice(2);
     const at = [t.startPoint.x, t.startPoint.y];
     const idx = outline.findIndex((p) => dist(p, at) < 1e-6);
     if (idx < 0 || !rules[n] || rules[n].length !== truth.sizes.length) { ruleErr = Infinity; continue; }
     truth.sizes.forEach((s, k) => {
-      const o = graded.blocks[`${piece}_${s}`].entities.find((e) => e.layer === '1' && e.type === 'POLYLINE').vertices;
+      const o = graded.blocks[`${piece}_${s}`].entities.find((e) => e.layer === '14' && e.type === 'POLYLINE').vertices;
       const d = [o[idx].x - outline[idx][0], o[idx].y - outline[idx][1]];
       ruleErr = Math.max(ruleErr, dist(d, rules[n][k]));
     });

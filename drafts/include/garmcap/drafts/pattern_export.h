@@ -23,6 +23,11 @@ class PatternExportError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The standard the pattern files follow, as AccuMark's own ASTM exports name it: the first line
+/// of the .RUL and a style text of the DXF. The DXF itself is R12 (AC1009), as in AccuMark's
+/// D6673-04 files and ezdxf's Gerber D6673 exporter (docs/exports.md, "DXF version").
+inline constexpr const char* kAstmVersionLine = "ASTM/D13Proposal 1 Version: D 6673-04";
+
 /// What is printed on each piece besides the geometry.
 struct PieceText {
   std::string style;             // style name, usually the SKU
