@@ -21,6 +21,7 @@
 #include "garmcap/dsw/grading.h"
 #include "garmcap/dsw/size_guide.h"
 #include "garmcap/dsw/size_run.h"
+#include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 
 #ifdef GARMCAP_HAVE_ZBAR
@@ -53,7 +54,13 @@ class PipelineProcessor : public CaptureProcessor {
     const calib::Calibration c =
         calib::makeCalibration(model, reg, formPath_, "empty.png", std::nullopt);
     spdlog::info("calibration: IoU {:.3f} after {} iterations", reg.iou, reg.iterations);
-    return nlohmann::json::parse(calib::calibrationToJson(c));
+    nlohmann::json calibration = nlohmann::json::parse(calib::calibrationToJson(c));
+    // The per-calibration context (the form seen in this pose, the classifier's references:
+    // about 1 s) is built now, while staff dress the form, not on the first garment's capture.
+    // A calibration the pipeline cannot use fails here, with the reason, instead of every capture.
+    progress("preparing the pipeline", 0.95);
+    pipeline::cachedCaptureContext(calibration);
+    return calibration;
   }
 
   ProcessedCapture process(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
