@@ -21,6 +21,7 @@
 #include "garmcap/daemon/http_server.h"
 #include "garmcap/daemon/station.h"
 #include "garmcap/pipeline/capture_pipeline.h"
+#include "garmcap/sim/synthetic_camera.h"
 
 namespace asio = boost::asio;
 using namespace garmcap;
@@ -127,7 +128,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<capture::Camera> camera;
     std::string cameraProblem;
     try {
-      camera = capture::makeCamera(co);
+      camera = sim::makeCamera(co);  // the synthetic camera too (the simulated station)
     } catch (const capture::CameraError& e) {
       cameraProblem = e.what();
       spdlog::error("garmcapd: no camera: {}", cameraProblem);

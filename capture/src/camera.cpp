@@ -62,7 +62,7 @@ PixelFormat parsePixelFormat(const std::string& text) {
 }
 
 std::vector<std::string> cameraBackends() {
-  return {"libcamera", "v4l2", "replay", "synthetic"};
+  return {"libcamera", "v4l2", "replay"};
 }
 
 std::unique_ptr<Camera> makeCamera(const CameraOptions& options) {
@@ -82,10 +82,12 @@ std::unique_ptr<Camera> makeCamera(const CameraOptions& options) {
     return camera;
   }
   if (options.backend == "synthetic") {
-    return std::make_unique<ReplayCamera>(
-        makeSyntheticSceneSource(options.formPath, options.seed, options.syntheticSize,
-                                 options.device),
-        "synthetic", options.loop);
+    // The synthetic camera needs the scene simulator, which capture does not link
+    // (docs/architecture.md): it is made by sim::makeCamera (garmcap/sim/synthetic_camera.h).
+    throw CameraError(CameraErrorKind::kNotAvailable,
+                      "synthetic camera: not made by capture::makeCamera; it is part of the "
+                      "scene simulator (garmcap::sim), use sim::makeCamera "
+                      "(garmcap/sim/synthetic_camera.h)");
   }
   std::string known;
   for (const auto& b : cameraBackends()) {

@@ -2,23 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
-#include <random>
 
-#include "garmcap/calib/form_generator.h"
-#include "garmcap/calib/mesh.h"
-#include "garmcap/capture/scene.h"
-#include "garmcap/capture/sim.h"
+#include "garmcap/capture/file_io.h"
 #include "garmcap/capture/v4l2_decode.h"
-#include "garmcap/drafts/file_io.h"
-#include "garmcap/drafts/size_charts.h"
 
 namespace garmcap::capture {
-
-using calib::garmentTypeNames;
 
 namespace {
 
@@ -98,12 +88,11 @@ std::filesystem::path writeRigFrame(const std::filesystem::path& caseDir, const 
       ok = cv::imencode(".png", bgr, buf, {cv::IMWRITE_PNG_COMPRESSION, 9});
     }
   } catch (const cv::Exception& e) {
-    throw drafts::FileError(path.string() + ": encoding failed (" + e.what() + ")");
+    throw FileError(path.string() + ": encoding failed (" + e.what() + ")");
   }
   if (!ok)
-    throw drafts::FileError(path.string() + ": encoding failed");
-  drafts::writeFileAtomic(path,
-                          std::string_view(reinterpret_cast<const char*>(buf.data()), buf.size()));
+    throw FileError(path.string() + ": encoding failed");
+  writeFileAtomic(path, std::string_view(reinterpret_cast<const char*>(buf.data()), buf.size()));
   for (const RigImageFormat other : kFormats) {
     if (other != format)
       std::filesystem::remove(caseDir / frameFile(frame, other));
@@ -125,7 +114,7 @@ Rig readRig(const std::filesystem::path& dir) {
   Rig rig;
   rig.dir = dir;
   try {
-    rig.index = drafts::readJsonFile(indexPath);
+    rig.index = readJsonFile(indexPath);
   } catch (const std::exception& e) {
     throw RigError(e.what());
   }
@@ -134,36 +123,36 @@ Rig readRig(const std::filesystem::path& dir) {
             "image_format", "jpeg_quality", "cases"},
            what);
   try {
-    if (drafts::requireString(rig.index, "format", what) != "garmcap-rig") {
+    if (requireString(rig.index, "format", what) != "garmcap-rig") {
       throw RigError(what + ": field 'format' must be \"garmcap-rig\"");
     }
-    if (drafts::requireNumber(rig.index, "version", what) != 1) {
+    if (requireNumber(rig.index, "version", what) != 1) {
       throw RigError(what + ": field 'version' must be 1");
     }
     std::optional<RigImageFormat> imageFormat;
     if (rig.index.contains("image_format")) {
-      const std::string f = drafts::requireString(rig.index, "image_format", what);
+      const std::string f = requireString(rig.index, "image_format", what);
       if (f != "png" && f != "jpg")
         throw RigError(what + ": field 'image_format' must be \"png\" or \"jpg\", not \"" + f +
                        "\"");
       imageFormat = parseRigImageFormat(f);
     }
     if (rig.index.contains("jpeg_quality")) {
-      const double q = drafts::requireNumber(rig.index, "jpeg_quality", what);
+      const double q = requireNumber(rig.index, "jpeg_quality", what);
       if (!(q >= 1 && q <= 100) || q != std::floor(q))
         throw RigError(what + ": field 'jpeg_quality' must be an integer 1..100");
     }
-    const auto& cases = drafts::requireField(rig.index, "cases", what);
+    const auto& cases = requireField(rig.index, "cases", what);
     if (!cases.is_array())
       throw RigError(what + ": field 'cases' must be an array");
     for (std::size_t i = 0; i < cases.size(); ++i) {
       const std::string cw = what + ": cases[" + std::to_string(i) + "]";
       onlyKeys(cases[i], {"id", "dir", "type", "attributes", "hard", "size"}, cw);
       RigCaseInfo c;
-      c.id = drafts::requireString(cases[i], "id", cw);
-      c.dir = dir / drafts::requireString(cases[i], "dir", cw);
-      c.type = drafts::requireString(cases[i], "type", cw);
-      const auto& attrs = drafts::requireField(cases[i], "attributes", cw);
+      c.id = requireString(cases[i], "id", cw);
+      c.dir = dir / requireString(cases[i], "dir", cw);
+      c.type = requireString(cases[i], "type", cw);
+      const auto& attrs = requireField(cases[i], "attributes", cw);
       if (!attrs.is_object())
         throw RigError(cw + ": field 'attributes' must be an object");
       for (const auto& [k, v] : attrs.items()) {
@@ -171,12 +160,12 @@ Rig readRig(const std::filesystem::path& dir) {
           throw RigError(cw + ": attribute '" + k + "' must be a string");
         c.attributes[k] = v.get<std::string>();
       }
-      const auto& hard = drafts::requireField(cases[i], "hard", cw);
+      const auto& hard = requireField(cases[i], "hard", cw);
       if (!hard.is_boolean())
         throw RigError(cw + ": field 'hard' must be true or false");
       c.hard = hard.get<bool>();
       if (cases[i].contains("size"))
-        c.size = drafts::requireString(cases[i], "size", cw);
+        c.size = requireString(cases[i], "size", cw);
       const std::string ofCase = " (case '" + c.id + "' of " + what + ")";
       for (const char* frame : {"empty", "dressed"}) {
         std::filesystem::path file;
@@ -197,7 +186,7 @@ Rig readRig(const std::filesystem::path& dir) {
       }
       rig.cases.push_back(std::move(c));
     }
-  } catch (const drafts::ParseError& e) {
+  } catch (const ParseError& e) {
     throw RigError(e.what());
   }
   return rig;
@@ -208,8 +197,8 @@ cv::Mat loadRigImage(const std::filesystem::path& file) {
     throw RigError(file.string() + ": missing");
   std::string bytes;
   try {
-    bytes = drafts::readFile(file);
-  } catch (const drafts::FileError& e) {
+    bytes = readFile(file);
+  } catch (const FileError& e) {
     throw RigError(e.what());
   }
   const std::string ext = file.extension().string();
@@ -257,9 +246,9 @@ RigCase loadRigCase(const std::filesystem::path& caseDir) {
                    " (the two frames must come from the same camera setting)");
   }
   try {
-    c.truth = drafts::readJsonFile(caseDir / "truth.json");
+    c.truth = readJsonFile(caseDir / "truth.json");
     if (std::filesystem::is_regular_file(caseDir / "calibration.json")) {
-      c.calibration = drafts::readJsonFile(caseDir / "calibration.json");
+      c.calibration = readJsonFile(caseDir / "calibration.json");
     } else if (c.truth.contains("calibration")) {
       c.calibration = c.truth["calibration"];
     }
@@ -271,96 +260,12 @@ RigCase loadRigCase(const std::filesystem::path& caseDir) {
       if (form.is_relative())
         c.calibration["form"] = (caseDir / form).lexically_normal().string();
     }
-  } catch (const drafts::ParseError& e) {
+  } catch (const ParseError& e) {
     throw RigError(e.what());
-  } catch (const drafts::FileError& e) {
+  } catch (const FileError& e) {
     throw RigError(e.what());
   }
   return c;
-}
-
-Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
-            const std::filesystem::path& outDir, const RigMakeOptions& options) {
-  // Cases name their form; a relative name would later be read relative to the case folder.
-  const std::string formPath = std::filesystem::absolute(formPathArg).lexically_normal().string();
-  if (options.count < 1)
-    throw std::invalid_argument("rig make: --count must be at least 1");
-  options.images.validate();
-  if (!options.chart.empty())
-    drafts::sizeChart(options.chart);  // an unknown chart is refused before anything is written
-  std::filesystem::create_directories(outDir);
-  // With a chart every case is a size of it, body and garment: the form is the parametric form
-  // of that size's body (written once per size under forms/) and the garment is the draft for
-  // the same body. The size is drawn from the case's seed.
-  std::map<std::string, std::pair<std::string, calib::FormModel>> sizeForms;
-  auto formOfSize =
-      [&](const std::string& size) -> const std::pair<std::string, calib::FormModel>& {
-    auto it = sizeForms.find(size);
-    if (it == sizeForms.end()) {
-      const auto& chart = drafts::sizeChart(options.chart);
-      const calib::ParametricForm pf(chart.body(size));
-      const auto dir = outDir / "forms" / (chart.name + "_" + size);
-      std::filesystem::create_directories(dir);
-      calib::FormSidecar sidecar = pf.sidecar("form.obj");
-      sidecar.name = chart.name + " size " + size;
-      calib::writeObj(dir / "form.obj", pf.mesh(),
-                      "garmcap parametric dress form, " + sidecar.name);
-      calib::writeFormSidecar(dir / "form.json", sidecar);
-      const std::string path = std::filesystem::absolute(dir / "form.json").lexically_normal();
-      it = sizeForms.emplace(size, std::make_pair(path, calib::FormModel::load(path))).first;
-    }
-    return it->second;
-  };
-  nlohmann::json cases = nlohmann::json::array();
-  const auto& types = garmentTypeNames();
-  for (int i = 0; i < options.count; ++i) {
-    char id[32];
-    std::snprintf(id, sizeof id, "case_%03d", i);
-    RandomSceneOptions so;
-    so.size = options.size;
-    so.hardFraction = options.hardFraction;
-    so.type = types[static_cast<std::size_t>(i) % types.size()];
-    so.chart = options.chart;
-    const std::uint64_t caseSeed = options.seed * 1000003ULL + static_cast<std::uint64_t>(i);
-    const calib::FormModel* caseForm = &form;
-    std::string caseFormPath = formPath;
-    if (!options.chart.empty()) {
-      const auto& sizes = drafts::sizeChart(options.chart).sizes;
-      so.chartSize = sizes[std::mt19937_64(caseSeed + 0x5173)() % sizes.size()];
-      const auto& f = formOfSize(so.chartSize);
-      caseFormPath = f.first;
-      caseForm = &f.second;
-    }
-    Scene scene = randomScene(*caseForm, caseFormPath, caseSeed, so);
-    const SceneRenderer renderer(*caseForm, std::move(scene));
-    writeCase(renderer, outDir / id, options.images);
-    const auto& g = renderer.scene().garment;
-    nlohmann::json entry = {{"id", id},
-                            {"dir", id},
-                            {"type", g.type},
-                            {"attributes", g.attributes},
-                            {"hard", renderer.scene().hard}};
-    if (!renderer.scene().chartSize.empty())
-      entry["size"] = renderer.scene().chartSize;
-    cases.push_back(std::move(entry));
-    if (options.progress)
-      options.progress(i, options.count, id);
-  }
-  nlohmann::json index = {{"format", "garmcap-rig"},
-                          {"version", 1},
-                          {"generator", "garmcap rig make (scene simulator, docs/simulator.md)"},
-                          {"form", formPath},
-                          {"width", options.size.width},
-                          {"height", options.size.height},
-                          {"seed", options.seed},
-                          {"image_format", rigImageExtension(options.images.format)},
-                          {"cases", cases}};
-  if (options.images.format == RigImageFormat::kJpeg)
-    index["jpeg_quality"] = options.images.jpegQuality;
-  if (!options.chart.empty())
-    index["chart"] = options.chart;
-  drafts::writeJsonFile(outDir / "rig.json", index);
-  return readRig(outDir);
 }
 
 }  // namespace garmcap::capture

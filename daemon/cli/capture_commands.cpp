@@ -1,4 +1,4 @@
-// garmcap render / garmcap rig make: the scene simulator and rig writer (capture/).
+// garmcap render / garmcap rig make: the scene simulator and rig maker (capture/sim/).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -9,10 +9,11 @@
 #include "commands.h"
 #include "garmcap/calib/form_model.h"
 #include "garmcap/capture/rig.h"
-#include "garmcap/capture/scene.h"
-#include "garmcap/capture/sim.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/size_charts.h"
+#include "garmcap/sim/rig_maker.h"
+#include "garmcap/sim/scene.h"
+#include "garmcap/sim/sim.h"
 
 namespace garmcap::cli {
 
@@ -103,11 +104,11 @@ std::string defaultForm() {
 
 void runRender(const RenderArgs& a) {
   const auto form = calib::FormModel::load(a.form);
-  capture::RandomSceneOptions so;
+  sim::RandomSceneOptions so;
   so.size = {a.width, a.height};
   so.hardFraction = 0;
   so.type = a.type;
-  capture::Scene scene = capture::randomScene(form, a.form, a.seed, so);
+  sim::Scene scene = sim::randomScene(form, a.form, a.seed, so);
   auto& g = scene.garment;
   if (!a.sleeve.empty()) {
     if (g.type != "top" && g.type != "dress")
@@ -127,7 +128,7 @@ void runRender(const RenderArgs& a) {
   }
   // Lengths that depend on the form are taken in a small view of it (they do not depend on the
   // image size).
-  const calib::FormView probe(form, capture::fitPose(form, {300, 400}), {300, 400});
+  const calib::FormView probe(form, sim::fitPose(form, {300, 400}), {300, 400});
   std::map<std::string, double> m;
   if (!a.measurements.empty()) {
     m = readGarmentMeasurements(a.measurements, g.type);
@@ -138,7 +139,7 @@ void runRender(const RenderArgs& a) {
       m["sleeve_length"] = 0;
   } else {
     std::string recipe;
-    m = capture::draftedGarment(g, drafts::sizeChart(a.chart).body(a.size), probe, &recipe);
+    m = sim::draftedGarment(g, drafts::sizeChart(a.chart).body(a.size), probe, &recipe);
     scene.chart = a.chart;
     scene.chartSize = a.size;
     std::fprintf(stderr, "garmcap render: drafted with recipe '%s' for %s size %s\n",
@@ -150,8 +151,8 @@ void runRender(const RenderArgs& a) {
                                   " (give it in --measurements)");
   }
   g.measurements = m;
-  const capture::SceneRenderer renderer(form, scene);
-  capture::writeCase(renderer, a.out, a.images);
+  const sim::SceneRenderer renderer(form, scene);
+  sim::writeCase(renderer, a.out, a.images);
   std::printf("%s: %s %dx%d, truth.json written\n", a.out.c_str(), g.type.c_str(), a.width,
               a.height);
 }
@@ -198,7 +199,7 @@ void addCaptureCommands(CLI::App& app) {
     rig = app.add_subcommand("rig", "Rigs of replayed images: make (simulator), eval (pipeline)");
     rig->require_subcommand(1);
   }
-  auto ro = std::make_shared<capture::RigMakeOptions>();
+  auto ro = std::make_shared<sim::RigMakeOptions>();
   auto form = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   auto wh = std::make_shared<std::pair<int, int>>(960, 1280);
@@ -226,7 +227,7 @@ void addCaptureCommands(CLI::App& app) {
     ro->progress = [](int i, int n, const std::string& id) {
       std::fprintf(stderr, "rig make: %d/%d %s\n", i + 1, n, id.c_str());
     };
-    const auto r = capture::makeRig(model, formPath, *out, *ro);
+    const auto r = sim::makeRig(model, formPath, *out, *ro);
     std::printf("%s: %zu cases, rig.json written\n", out->c_str(), r.cases.size());
   });
 }

@@ -29,10 +29,10 @@
 #include <vector>
 
 #include "garmcap/calib/form_model.h"
-#include "garmcap/capture/scene.h"
-#include "garmcap/capture/sim.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 #include "garmcap/pipeline/grabcut_refine.h"
+#include "garmcap/sim/scene.h"
+#include "garmcap/sim/sim.h"
 
 namespace {
 
@@ -131,11 +131,11 @@ int main(int argc, char** argv) {
     };
     std::vector<GrabCutRow> grabRows;
     for (const cv::Size size : parseSizes(sizesArg)) {
-      capture::RandomSceneOptions o;
+      sim::RandomSceneOptions o;
       o.size = size;
       o.hardFraction = 0;
       o.type = "dress";
-      const capture::SceneRenderer renderer(form, capture::randomScene(form, formPath, 11, o));
+      const sim::SceneRenderer renderer(form, sim::randomScene(form, formPath, 11, o));
       const cv::Mat empty = renderer.renderEmpty(), dressed = renderer.renderDressed();
       const nlohmann::json cal = renderer.calibration();
 

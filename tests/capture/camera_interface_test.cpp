@@ -15,6 +15,7 @@
 #include "garmcap/capture/replay_camera.h"
 #include "garmcap/capture/v4l2_camera.h"
 #include "garmcap/capture/v4l2_fake_device.h"
+#include "garmcap/sim/synthetic_camera.h"
 #include "replay_test_rig.h"
 
 namespace garmcap::capture {
@@ -68,21 +69,14 @@ std::optional<Subject> replay(std::string&) {
   return s;
 }
 
-std::optional<Subject> synthetic(std::string& whyNot) {
+// The synthetic camera is the simulator's (garmcap::sim), made by sim::makeCamera; it must
+// behave like every other back end towards the station.
+std::optional<Subject> synthetic(std::string&) {
   CameraOptions o = options("synthetic");
   o.formPath = std::string(GARMCAP_SHARED_DIR) + "/data/forms/garmentcode_mean_female/form.json";
   o.seed = 11;
   o.syntheticSize = {240, 320};  // small: the renderer's cost grows with the pixels
-  std::unique_ptr<Camera> cam;
-  try {
-    cam = makeCamera(o);
-  } catch (const CameraError& e) {
-    if (e.kind() != CameraErrorKind::kNotAvailable) {
-      throw;
-    }
-    whyNot = e.what();  // the simulator is not in this tree
-    return std::nullopt;
-  }
+  std::unique_ptr<Camera> cam = sim::makeCamera(o);
   auto* raw = dynamic_cast<ReplayCamera*>(cam.get());
   Subject s;
   s.camera = std::move(cam);
@@ -264,13 +258,7 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<Backend>& info) { return info.param.name; });
 
 TEST(CameraFactory, SyntheticWithoutAFormSaysSo) {
-  std::unique_ptr<Camera> cam;
-  try {
-    cam = makeCamera(options("synthetic"));
-  } catch (const CameraError& e) {
-    ASSERT_EQ(e.kind(), CameraErrorKind::kNotAvailable) << e.what();
-    GTEST_SKIP() << e.what();
-  }
+  std::unique_ptr<Camera> cam = sim::makeCamera(options("synthetic"));
   EXPECT_EQ(cam->backend(), "synthetic");
   try {
     cam->open();
@@ -282,12 +270,40 @@ TEST(CameraFactory, SyntheticWithoutAFormSaysSo) {
 }
 
 TEST(CameraFactory, NamesAndPixelFormats) {
-  EXPECT_EQ(cameraBackends(),
-            (std::vector<std::string>{"libcamera", "v4l2", "replay", "synthetic"}));
+  EXPECT_EQ(cameraBackends(), (std::vector<std::string>{"libcamera", "v4l2", "replay"}));
   EXPECT_EQ(makeCamera(options("v4l2"))->device(), "/dev/video0");
   EXPECT_EQ(parsePixelFormat("MJPEG"), PixelFormat::kMjpeg);
   EXPECT_EQ(parsePixelFormat("yuyv"), PixelFormat::kYuyv);
   EXPECT_THROW(parsePixelFormat("h264"), std::invalid_argument);
+}
+
+// capture does not link the simulator: its factory refuses "synthetic" and says who makes it.
+TEST(CameraFactory, CaptureRefersSyntheticToTheSimulator) {
+  try {
+    makeCamera(options("synthetic"));
+    FAIL() << "capture::makeCamera made a synthetic camera";
+  } catch (const CameraError& e) {
+    EXPECT_EQ(e.kind(), CameraErrorKind::kNotAvailable);
+    EXPECT_NE(std::string(e.what()).find("sim::makeCamera"), std::string::npos) << e.what();
+  }
+}
+
+// sim::makeCamera adds "synthetic" and hands every other back end to capture::makeCamera.
+TEST(CameraFactory, SimulatorFactoryAddsSyntheticAndForwardsTheRest) {
+  EXPECT_EQ(sim::cameraBackends(),
+            (std::vector<std::string>{"libcamera", "v4l2", "replay", "synthetic"}));
+  const auto v4l2 = sim::makeCamera(options("v4l2"));
+  EXPECT_EQ(v4l2->backend(), "v4l2");
+  EXPECT_EQ(v4l2->device(), "/dev/video0");
+  EXPECT_THROW(sim::makeCamera(options("replay")), std::invalid_argument);  // no rig folder
+  try {
+    sim::makeCamera(options("webcam"));
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("known: libcamera, v4l2, replay, synthetic)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

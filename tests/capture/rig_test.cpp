@@ -15,12 +15,17 @@
 #include <tuple>
 
 #include "garmcap/calib/garment_model.h"
-#include "garmcap/capture/scene.h"
-#include "garmcap/capture/sim.h"
+#include "garmcap/sim/scene.h"
+#include "garmcap/sim/sim.h"
 
 namespace garmcap::capture {
 
 using calib::garmentMeasurementNames;
+// The rig cases here are rendered by the simulator (its own target, garmcap::sim).
+using sim::randomScene;
+using sim::RandomSceneOptions;
+using sim::SceneRenderer;
+using sim::writeCase;
 namespace {
 
 const std::filesystem::path kRig = std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig";

@@ -9,10 +9,10 @@
 
 #include "garmcap/calib/form_generator.h"
 #include "garmcap/calib/form_model.h"
-#include "garmcap/capture/scene.h"
 #include "garmcap/drafts/size_charts.h"
+#include "garmcap/sim/scene.h"
 
-namespace garmcap::capture {
+namespace garmcap::sim {
 namespace {
 
 TEST(SimChart, EveryChartSizeGarmentFitsTheFormOfItsSize) {
@@ -53,4 +53,4 @@ TEST(SimChart, EveryChartSizeGarmentFitsTheFormOfItsSize) {
 }
 
 }  // namespace
-}  // namespace garmcap::capture
+}  // namespace garmcap::sim

@@ -1,6 +1,6 @@
 // Scene simulator: determinism, the garment width model the pipeline inverts, lengths, and
 // refusals. Images are small (<= 0.3 MP) to keep the suite fast under sanitizers.
-#include "garmcap/capture/sim.h"
+#include "garmcap/sim/sim.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "garmcap/calib/form_model.h"
-#include "garmcap/capture/scene.h"
+#include "garmcap/sim/scene.h"
 
-namespace garmcap::capture {
+namespace garmcap::sim {
 
 using calib::garmentMeasurementNames;
 namespace {
@@ -232,4 +232,4 @@ TEST(Simulator, TruthHasTheMeasurementsOfTheType) {
 }
 
 }  // namespace
-}  // namespace garmcap::capture
+}  // namespace garmcap::sim

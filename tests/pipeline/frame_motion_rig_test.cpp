@@ -9,9 +9,9 @@
 
 #include "common/bundled_form.h"
 #include "garmcap/calib/form_model.h"
-#include "garmcap/capture/scene.h"
-#include "garmcap/capture/sim.h"
 #include "garmcap/pipeline/frame_motion.h"
+#include "garmcap/sim/scene.h"
+#include "garmcap/sim/sim.h"
 
 using namespace garmcap;
 
@@ -29,14 +29,14 @@ struct Pair {
 
 // A dressed scene at 2 MP with the given shake (the simulator's roll is counter-clockwise on
 // screen, the opposite sense of FrameMotion's).
-Pair render(const std::string& type, unsigned seed, const capture::Shake& shake) {
-  capture::RandomSceneOptions o;
+Pair render(const std::string& type, unsigned seed, const sim::Shake& shake) {
+  sim::RandomSceneOptions o;
   o.size = {1224, 1632};
   o.hardFraction = 0;
   o.type = type;
-  capture::Scene s = capture::randomScene(form(), kFormPath, seed, o);
+  sim::Scene s = sim::randomScene(form(), kFormPath, seed, o);
   s.shake = shake;
-  const capture::SceneRenderer r(form(), s);
+  const sim::SceneRenderer r(form(), s);
   return {r.renderEmpty(), r.renderDressed()};
 }
 
@@ -65,7 +65,7 @@ TEST(FrameMotion, AStillCameraReadsStill) {
 // degrees (the bands' reading scatters by 0.1-0.3 px); the roll of 0.06 degrees moves the frame's
 // ends by a pixel, which is what matters at the feet.
 TEST(FrameMotion, ReadsShiftAndRoll) {
-  const capture::Shake shakes[] = {{1.3, -0.8, 0.06}, {-0.9, 0.7, -0.05}, {2.5, 0.0, 0.0}};
+  const sim::Shake shakes[] = {{1.3, -0.8, 0.06}, {-0.9, 0.7, -0.05}, {2.5, 0.0, 0.0}};
   for (const auto& sh : shakes) {
     const auto m = motionOf(render("top", 11, sh));
     EXPECT_NEAR(m.shift.x, sh.dxPx, 0.4) << sh.dxPx << "," << sh.dyPx << " roll " << sh.rollDeg;

@@ -10,12 +10,12 @@
 
 #include "common/bundled_form.h"
 #include "garmcap/calib/form_model.h"
-#include "garmcap/capture/scene.h"
-#include "garmcap/capture/sim.h"
 #include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 #include "garmcap/pipeline/garment_measurer.h"
 #include "garmcap/pipeline/grabcut_refine.h"
+#include "garmcap/sim/scene.h"
+#include "garmcap/sim/sim.h"
 
 using namespace garmcap;
 
@@ -27,12 +27,12 @@ const calib::FormModel& form() {
   return garmcap::testing::bundledForm();
 }
 
-capture::SceneRenderer scene(const std::string& type, unsigned seed, cv::Size size) {
-  capture::RandomSceneOptions o;
+sim::SceneRenderer scene(const std::string& type, unsigned seed, cv::Size size) {
+  sim::RandomSceneOptions o;
   o.size = size;
   o.hardFraction = 0;
   o.type = type;
-  return capture::SceneRenderer(form(), capture::randomScene(form(), kFormPath, seed, o));
+  return sim::SceneRenderer(form(), sim::randomScene(form(), kFormPath, seed, o));
 }
 
 pipeline::CaptureOptions measureOnly(double workMegapixels) {
@@ -51,7 +51,7 @@ pipeline::CaptureOptions measureOnly(double workMegapixels) {
 TEST(PartedLegs, PantsPartSkirtsAndDressesDoNot) {
   for (unsigned seed = 1; seed <= 3; ++seed) {
     for (const std::string type : {"pants", "skirt", "dress"}) {
-      const capture::SceneRenderer r = scene(type, seed, {480, 640});
+      const sim::SceneRenderer r = scene(type, seed, {480, 640});
       const auto ctx = pipeline::cachedCaptureContext(r.calibration());
       const cv::Mat mask = r.garmentCoverage() > 0.5f;
       const double cm = pipeline::partedLegsCm(mask, *ctx->view);
@@ -64,7 +64,7 @@ TEST(PartedLegs, PantsPartSkirtsAndDressesDoNot) {
 }
 
 TEST(PartedLegs, RejectsAMaskOfTheWrongSize) {
-  const capture::SceneRenderer r = scene("pants", 1, {480, 640});
+  const sim::SceneRenderer r = scene("pants", 1, {480, 640});
   const auto ctx = pipeline::cachedCaptureContext(r.calibration());
   EXPECT_THROW(pipeline::partedLegsCm(cv::Mat::zeros(10, 10, CV_8UC1), *ctx->view),
                std::invalid_argument);
@@ -75,7 +75,7 @@ TEST(PartedLegs, RejectsAMaskOfTheWrongSize) {
 // measurement is more than 0.5 cm further from the truth.
 TEST(WorkFrame, AsAccurateAsFullResolutionSegmentation) {
   for (const std::string type : {"dress", "pants"}) {
-    const capture::SceneRenderer r = scene(type, 5, {1224, 1632});
+    const sim::SceneRenderer r = scene(type, 5, {1224, 1632});
     const cv::Mat empty = r.renderEmpty(), dressed = r.renderDressed();
     const auto cal = r.calibration();
     const auto small = pipeline::runCapture(empty, dressed, cal, measureOnly(1.0));
@@ -111,11 +111,11 @@ TEST(WorkFrame, AsAccurateAsFullResolutionSegmentation) {
 TEST(WorkFrame, HardScenesAreTypedAndMeasured) {
   for (const std::string type : {"top", "pants"}) {
     for (unsigned seed = 1; seed <= 5; ++seed) {
-      capture::RandomSceneOptions o;
+      sim::RandomSceneOptions o;
       o.size = {960, 1280};
       o.hardFraction = 1.0;
       o.type = type;
-      const capture::SceneRenderer r(form(), capture::randomScene(form(), kFormPath, seed, o));
+      const sim::SceneRenderer r(form(), sim::randomScene(form(), kFormPath, seed, o));
       const std::string where = type + " seed " + std::to_string(seed);
       const auto res = pipeline::runCapture(r.renderEmpty(), r.renderDressed(), r.calibration(),
                                             measureOnly(2.0));
@@ -138,11 +138,11 @@ TEST(WorkFrame, LegOpeningOnAFormWhoseLegsNearlyTouch) {
   const std::string path = std::string(GARMCAP_TEST_DATA_DIR) + "/forms/korean_women_55.json";
   const calib::FormModel narrow = calib::FormModel::load(path);
   for (const unsigned seed : {3u, 7u, 11u}) {
-    capture::RandomSceneOptions o;
+    sim::RandomSceneOptions o;
     o.size = {960, 1280};
     o.hardFraction = 0;
     o.type = "pants";
-    const capture::SceneRenderer r(narrow, capture::randomScene(narrow, path, seed, o));
+    const sim::SceneRenderer r(narrow, sim::randomScene(narrow, path, seed, o));
     const auto res =
         pipeline::runCapture(r.renderEmpty(), r.renderDressed(), r.calibration(), measureOnly(2.0));
     ASSERT_EQ(res.type, "pants") << "seed " << seed;
@@ -160,19 +160,19 @@ TEST(WorkFrame, LegOpeningOnAFormWhoseLegsNearlyTouch) {
 TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
   const std::string path = std::string(GARMCAP_TEST_DATA_DIR) + "/forms/korean_women_55.json";
   const calib::FormModel broad = calib::FormModel::load(path);
-  capture::RandomSceneOptions o;
+  sim::RandomSceneOptions o;
   o.size = {960, 1280};
   o.hardFraction = 0;
   o.type = "top";
   std::vector<unsigned> seeds = {12, 23, 27};
   for (unsigned seed = 1, shortSleeves = 0; shortSleeves < 2 && seed < 100; ++seed)
-    if (capture::randomScene(broad, path, seed, o).garment.attributes.at("sleeve") == "short") {
+    if (sim::randomScene(broad, path, seed, o).garment.attributes.at("sleeve") == "short") {
       seeds.push_back(seed);
       ++shortSleeves;
     }
   ASSERT_EQ(seeds.size(), 5u);
   for (const unsigned seed : seeds) {
-    const capture::SceneRenderer r(broad, capture::randomScene(broad, path, seed, o));
+    const sim::SceneRenderer r(broad, sim::randomScene(broad, path, seed, o));
     const auto res =
         pipeline::runCapture(r.renderEmpty(), r.renderDressed(), r.calibration(), measureOnly(2.0));
     ASSERT_EQ(res.type, "top") << "seed " << seed;
@@ -187,7 +187,7 @@ TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
 // circumference there is left out with a warning, not reported small; the rest still measures,
 // and the hem line is not lifted by the slit.
 TEST(Measure, ACircumferenceFarBelowTheFormsIsLeftOutNotInvented) {
-  const capture::SceneRenderer r = scene("top", 2, {720, 960});
+  const sim::SceneRenderer r = scene("top", 2, {720, 960});
   const auto ctx = pipeline::cachedCaptureContext(r.calibration());
   const calib::FormView& view = *ctx->view;
   const cv::Mat full = r.garmentCoverage() > 0.5f;

@@ -1,5 +1,8 @@
 #pragma once
-// The camera seen by the station: one interface, four back ends chosen by name.
+// The camera seen by the station: one interface, back ends chosen by name. capture makes the
+// device back ends (libcamera, V4L2) and the replay of recorded rigs; the fourth, "synthetic"
+// (scenes rendered on demand), belongs to the scene simulator's target and is made by
+// sim::makeCamera (garmcap/sim/synthetic_camera.h), which forwards the others here.
 //
 //   auto cam = makeCamera({.backend = "v4l2", .device = "/dev/video0"});
 //   cam->open();
@@ -159,7 +162,7 @@ class Camera {
 
 /// Options for makeCamera. Fields a back end does not use are ignored.
 struct CameraOptions {
-  /// "libcamera", "v4l2", "replay" or "synthetic".
+  /// "libcamera", "v4l2", "replay" (capture::makeCamera) or "synthetic" (sim::makeCamera).
   std::string backend = "v4l2";
   /// v4l2: device node ("/dev/video0"); libcamera: camera id, or empty for the first camera;
   /// replay: the rig folder (with rig.json); synthetic: output/cache folder (may be empty).
@@ -175,12 +178,13 @@ struct CameraOptions {
   cv::Size syntheticSize{960, 1280};
 };
 
-/// Back-end names makeCamera accepts, in a stable order.
+/// Back-end names makeCamera accepts, in a stable order: libcamera, v4l2, replay.
+/// (sim::cameraBackends() adds "synthetic".)
 std::vector<std::string> cameraBackends();
 
 /// Creates (does not open) a camera. Throws std::invalid_argument for an unknown back-end name
-/// (listing the known ones) and CameraError(kNotAvailable) for a back end that cannot be used in
-/// this build.
+/// (listing the known ones), and CameraError(kNotAvailable) for "synthetic", naming
+/// sim::makeCamera, which makes that one.
 std::unique_ptr<Camera> makeCamera(const CameraOptions& options);
 
 }  // namespace garmcap::capture

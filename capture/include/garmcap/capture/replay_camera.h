@@ -2,9 +2,10 @@
 // Cameras that serve scenes instead of photographing them: "replay" serves the cases of a rig
 // folder (ARCHITECTURE.md: case folders with empty.png, dressed.png, truth.json, indexed by
 // rig.json; the frames may be empty.jpg and dressed.jpg instead, see rig.h); "synthetic" serves
-// scenes rendered on demand by the scene simulator. Both are one ReplayCamera over a SceneSource,
-// so they behave identically towards the station, and faults (latency, corrupt frame, disconnect)
-// can be injected to exercise the daemon's error paths.
+// scenes rendered on demand by the scene simulator (its SceneSource is in the simulator's
+// target: sim::makeSyntheticSceneSource, garmcap/sim/synthetic_camera.h). Both are one
+// ReplayCamera over a SceneSource, so they behave identically towards the station, and faults
+// (latency, corrupt frame, disconnect) can be injected to exercise the daemon's error paths.
 //
 // Sequencing: a still with Shot::kEmpty serves the current case's empty frame; kDressed serves
 // its dressed frame and then moves to the next case; kAny alternates empty, dressed, next case.
@@ -53,13 +54,6 @@ class SceneSource {
 /// SceneSource over a rig folder, read with readRig (rig.h): a rig whose rig.json is missing
 /// is not found (CameraError kNotFound); one readRig refuses is kBadData with its message.
 std::unique_ptr<SceneSource> makeRigSceneSource(const std::filesystem::path& rigDir);
-
-/// SceneSource rendering scenes with the simulator (sim.h): case i is randomScene(seed + i) on
-/// the dress form `formPath` at `size`. When `outDir` is given, each case's truth.json and
-/// calibration.json are written to `outDir`/<case id>/ (FrameMetadata::truthPath names it).
-std::unique_ptr<SceneSource> makeSyntheticSceneSource(const std::filesystem::path& formPath,
-                                                      std::uint64_t seed, cv::Size size,
-                                                      const std::filesystem::path& outDir = {});
 
 class ReplayCamera final : public Camera {
  public:

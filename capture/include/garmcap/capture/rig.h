@@ -2,7 +2,8 @@
 // Rigs of replayed images (ARCHITECTURE.md "Rig case"): a folder with rig.json and one folder
 // per case holding empty.png, dressed.png and truth.json (plus calibration.json and scene.json
 // when the simulator made it). The reader is shared by the replay camera, the rig tests and
-// `garmcap rig eval`; the writer is `garmcap rig make`.
+// `garmcap rig eval`. The writer of whole rigs, `garmcap rig make`, is the simulator's
+// (sim::makeRig, garmcap/sim/rig_maker.h); writeRigFrame here stores one frame.
 //
 // Frames may also be JPEG, empty.jpg and dressed.jpg (a superset of the contract: MJPEG/UVC
 // cameras deliver JPEG, and sensor noise makes PNGs of 1 MP frames about 4 MB each). A case
@@ -20,17 +21,13 @@
 // Errors: RigError naming the file and the reason (missing, doubled or corrupt image, unknown
 // field, frames of different sizes).
 
-#include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include "garmcap/calib/form_model.h"
 
 namespace garmcap::capture {
 
@@ -69,7 +66,7 @@ std::filesystem::path rigFramePath(const std::filesystem::path& caseDir, const s
 /// Encodes an 8-bit BGR frame as `options` says (PNG at compression 9, or baseline JPEG at
 /// options.jpegQuality) and writes it atomically to `caseDir`/<frame>.<ext>; then removes the
 /// frame in the other format, if any, so the case keeps exactly one. Returns the path written.
-/// Throws std::invalid_argument for a bad quality, drafts::FileError when encoding or writing
+/// Throws std::invalid_argument for a bad quality, FileError (file_io.h) when encoding or writing
 /// fails.
 std::filesystem::path writeRigFrame(const std::filesystem::path& caseDir, const std::string& frame,
                                     const cv::Mat& bgr, const RigImageOptions& options);
@@ -117,26 +114,5 @@ RigCase loadRigCase(const std::filesystem::path& caseDir);
 /// "<file>: missing", "<file>: truncated JPEG (no FF D9 end marker)", "<file>: not a JPEG ...",
 /// "<file>: not a readable image (corrupt or truncated)".
 cv::Mat loadRigImage(const std::filesystem::path& file);
-
-struct RigMakeOptions {
-  int count = 12;
-  std::uint64_t seed = 1;
-  cv::Size size{960, 1280};
-  double hardFraction = 0.3;
-  std::string
-      chart;  // size chart the garments are drafted from (randomScene); empty = sampled ease
-  RigImageOptions images;  // how the frames are stored (recorded in rig.json)
-  /// Called after each case with (index, count, case id).
-  std::function<void(int, int, const std::string&)> progress;
-};
-
-/// Renders a rig: `count` scenes with a balanced mix of types (cycling top, dress, skirt,
-/// pants), the rest drawn from the seed; writes the case folders and rig.json. Returns the rig
-/// as readRig would. With `options.chart`, each case is a size of the chart drawn from its
-/// seed: it is rendered on the parametric form of that size's body (calib::ParametricForm,
-/// written once per size to `outDir`/forms/<chart>_<size>/form.{obj,json}; `form` is not used)
-/// wearing the garment drafted for the same body (randomScene with chartSize).
-Rig makeRig(const calib::FormModel& form, const std::string& formPath,
-            const std::filesystem::path& outDir, const RigMakeOptions& options);
 
 }  // namespace garmcap::capture

@@ -9,7 +9,7 @@
 #include <random>
 #include <string>
 
-namespace garmcap::capture {
+namespace garmcap::sim {
 
 enum class FabricKind { kSolid, kStripes, kChecks, kPrint };
 
@@ -43,4 +43,4 @@ cv::Vec3f fabricColour(const Fabric& fabric, double uCm, double vCm, double foot
 /// form's `formColour`, dark green-ish fabrics).
 Fabric randomFabric(std::mt19937_64& rng, bool hard, const cv::Vec3f& formColour);
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::sim

@@ -1,4 +1,4 @@
-#include "garmcap/capture/fabric.h"
+#include "garmcap/sim/fabric.h"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 
 #include "garmcap/drafts/file_io.h"
 
-namespace garmcap::capture {
+namespace garmcap::sim {
 
 namespace {
 
@@ -234,4 +234,4 @@ Fabric randomFabric(std::mt19937_64& rng, bool hard, const cv::Vec3f& formColour
   return f;
 }
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::sim

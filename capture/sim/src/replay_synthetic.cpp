@@ -9,26 +9,26 @@
 // something that happens on every press. (Hard cases keep their strong spill and shadow only as
 // far as the fixed studio has them; a fabric drawn form-coloured is so for the case's own form
 // cover colour, which the station's fixed cover only approaches.)
-//
-// The simulator is written alongside (another unit of capture/); until its header is in the
-// tree, makeSyntheticSceneSource says plainly that the back end is not available.
 
-#include "garmcap/capture/replay_camera.h"
-
-#if __has_include("garmcap/capture/sim.h")
-
+#include <algorithm>
 #include <map>
-#include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 
 #include "garmcap/calib/form_model.h"
-#include "garmcap/capture/scene.h"
-#include "garmcap/capture/sim.h"
 #include "garmcap/drafts/file_io.h"
+#include "garmcap/sim/scene.h"
+#include "garmcap/sim/sim.h"
+#include "garmcap/sim/synthetic_camera.h"
 
-namespace garmcap::capture {
+namespace garmcap::sim {
 namespace fs = std::filesystem;
+using capture::CameraError;
+using capture::CameraErrorKind;
+using capture::SceneImage;
+using capture::SceneSource;
+using capture::Shot;
 
 namespace {
 
@@ -143,19 +143,31 @@ std::unique_ptr<SceneSource> makeSyntheticSceneSource(const fs::path& formPath, 
   return std::make_unique<SyntheticSceneSource>(formPath, seed, size, outDir);
 }
 
-}  // namespace garmcap::capture
-
-#else  // no simulator in this tree
-
-namespace garmcap::capture {
-
-std::unique_ptr<SceneSource> makeSyntheticSceneSource(const std::filesystem::path&, std::uint64_t,
-                                                      cv::Size, const std::filesystem::path&) {
-  throw CameraError(CameraErrorKind::kNotAvailable,
-                    "synthetic back end not available: the scene simulator "
-                    "(garmcap/capture/sim.h) is not in this build; use the replay back end");
+std::vector<std::string> cameraBackends() {
+  std::vector<std::string> names = capture::cameraBackends();
+  names.push_back("synthetic");
+  return names;
 }
 
-}  // namespace garmcap::capture
+std::unique_ptr<capture::Camera> makeCamera(const capture::CameraOptions& options) {
+  if (options.backend == "synthetic") {
+    return std::make_unique<capture::ReplayCamera>(
+        makeSyntheticSceneSource(options.formPath, options.seed, options.syntheticSize,
+                                 options.device),
+        "synthetic", options.loop);
+  }
+  // capture::makeCamera lists only its own back ends when it refuses a name; here the
+  // synthetic one is also on offer, so the message names the full list.
+  const auto known = capture::cameraBackends();
+  if (std::find(known.begin(), known.end(), options.backend) == known.end()) {
+    std::string list;
+    for (const auto& b : cameraBackends()) {
+      list += (list.empty() ? "" : ", ") + b;
+    }
+    throw std::invalid_argument("unknown camera back end '" + options.backend +
+                                "' (known: " + list + ")");
+  }
+  return capture::makeCamera(options);
+}
 
-#endif
+}  // namespace garmcap::sim

@@ -19,9 +19,9 @@
 #include "garmcap/calib/form_model.h"
 #include "garmcap/calib/form_view.h"
 #include "garmcap/capture/rig.h"
-#include "garmcap/capture/scene.h"
+#include "garmcap/sim/scene.h"
 
-namespace garmcap::capture {
+namespace garmcap::sim {
 
 class SceneRenderer {
  public:
@@ -60,6 +60,6 @@ class SceneRenderer {
 /// earlier run), truth.json, calibration.json (whose "empty_frame" names the file written),
 /// scene.json. Throws std::invalid_argument for a JPEG quality outside 1..100.
 void writeCase(const SceneRenderer& renderer, const std::filesystem::path& caseDir,
-               const RigImageOptions& images = {});
+               const capture::RigImageOptions& images = {});
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::sim

@@ -1,4 +1,4 @@
-#include "garmcap/capture/scene.h"
+#include "garmcap/sim/scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "garmcap/drafts/recipes.h"
 #include "garmcap/drafts/size_charts.h"
 
-namespace garmcap::capture {
+namespace garmcap::sim {
 
 using calib::FormView;
 using calib::garmentMeasurementNames;
@@ -461,4 +461,4 @@ Scene randomScene(const calib::FormModel& form, const std::string& formPath, std
   return s;
 }
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::sim

@@ -16,10 +16,10 @@
 #include "garmcap/calib/form_model.h"
 #include "garmcap/calib/garment_model.h"
 #include "garmcap/calib/projection.h"
-#include "garmcap/capture/fabric.h"
 #include "garmcap/drafts/measurements.h"
+#include "garmcap/sim/fabric.h"
 
-namespace garmcap::capture {
+namespace garmcap::sim {
 
 /// The studio: colours are BGR reflectances in [0, 1]; the light model is ambient + Lambert.
 struct Lighting {
@@ -118,4 +118,4 @@ std::map<std::string, double> draftedGarment(const calib::GarmentSpec& garment,
                                              const calib::FormView& view,
                                              std::string* recipeUsed = nullptr);
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::sim

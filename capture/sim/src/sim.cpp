@@ -1,4 +1,4 @@
-#include "garmcap/capture/sim.h"
+#include "garmcap/sim/sim.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "garmcap/calib/registration.h"
 #include "garmcap/drafts/file_io.h"
 
-namespace garmcap::capture {
+namespace garmcap::sim {
 
 using calib::checkGarmentFits;
 using calib::GarmentHeights;
@@ -314,11 +314,11 @@ nlohmann::json SceneRenderer::truth() const {
 }
 
 void writeCase(const SceneRenderer& renderer, const std::filesystem::path& caseDir,
-               const RigImageOptions& images) {
+               const capture::RigImageOptions& images) {
   images.validate();
   std::filesystem::create_directories(caseDir);
-  const auto emptyPath = writeRigFrame(caseDir, "empty", renderer.renderEmpty(), images);
-  writeRigFrame(caseDir, "dressed", renderer.renderDressed(), images);
+  const auto emptyPath = capture::writeRigFrame(caseDir, "empty", renderer.renderEmpty(), images);
+  capture::writeRigFrame(caseDir, "dressed", renderer.renderDressed(), images);
   // The calibration names the bare-form frame it was made from: the file actually written.
   nlohmann::json calibration = renderer.calibration();
   calibration["empty_frame"] = emptyPath.filename().string();
@@ -329,4 +329,4 @@ void writeCase(const SceneRenderer& renderer, const std::filesystem::path& caseD
   drafts::writeJsonFile(caseDir / "scene.json", renderer.scene().toJson());
 }
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::sim
