@@ -83,11 +83,11 @@ std::unique_ptr<Camera> makeCamera(const CameraOptions& options) {
   }
   if (options.backend == "synthetic") {
     // The synthetic camera needs the scene simulator, which capture does not link
-    // (docs/architecture.md): it is made by sim::makeCamera (garmcap/sim/synthetic_camera.h).
+    // (docs/architecture.md): it is made by sim::makeCamera (capture/sim/.../synthetic_camera.h).
     throw CameraError(CameraErrorKind::kNotAvailable,
                       "synthetic camera: not made by capture::makeCamera; it is part of the "
                       "scene simulator (garmcap::sim), use sim::makeCamera "
-                      "(garmcap/sim/synthetic_camera.h)");
+                      "(capture/sim/.../synthetic_camera.h)");
   }
   std::string known;
   for (const auto& b : cameraBackends()) {

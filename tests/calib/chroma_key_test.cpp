@@ -15,7 +15,7 @@ const cv::Vec3f kScreen(60, 175, 70);
 
 // A subject of colour `subject` (BGR) with a 4x supersampled soft outline (an ellipse), on the
 // screen; spill of `strength` at the edge, decaying over `spillPx` inside, tints it towards the
-// screen's colour at its own luminance (the simulator's model, capture/src/sim.cpp).
+// screen's colour at its own luminance (the simulator's model, capture/sim/src/sim.cpp).
 cv::Mat3b sceneWithSpill(cv::Size size, cv::Vec3f subject, double strength, double spillPx,
                          cv::Mat1f& coverage) {
   cv::Mat1b big(size * 4, uchar(0));

@@ -2,7 +2,7 @@
 // The camera seen by the station: one interface, back ends chosen by name. capture makes the
 // device back ends (libcamera, V4L2) and the replay of recorded rigs; the fourth, "synthetic"
 // (scenes rendered on demand), belongs to the scene simulator's target and is made by
-// sim::makeCamera (garmcap/sim/synthetic_camera.h), which forwards the others here.
+// sim::makeCamera (capture/sim/.../synthetic_camera.h), which forwards the others here.
 //
 //   auto cam = makeCamera({.backend = "v4l2", .device = "/dev/video0"});
 //   cam->open();

@@ -3,7 +3,7 @@
 // folder (ARCHITECTURE.md: case folders with empty.png, dressed.png, truth.json, indexed by
 // rig.json; the frames may be empty.jpg and dressed.jpg instead, see rig.h); "synthetic" serves
 // scenes rendered on demand by the scene simulator (its SceneSource is in the simulator's
-// target: sim::makeSyntheticSceneSource, garmcap/sim/synthetic_camera.h). Both are one
+// target: sim::makeSyntheticSceneSource, capture/sim/.../synthetic_camera.h). Both are one
 // ReplayCamera over a SceneSource, so they behave identically towards the station, and faults
 // (latency, corrupt frame, disconnect) can be injected to exercise the daemon's error paths.
 //

@@ -3,7 +3,7 @@
 // per case holding empty.png, dressed.png and truth.json (plus calibration.json and scene.json
 // when the simulator made it). The reader is shared by the replay camera, the rig tests and
 // `garmcap rig eval`. The writer of whole rigs, `garmcap rig make`, is the simulator's
-// (sim::makeRig, garmcap/sim/rig_maker.h); writeRigFrame here stores one frame.
+// (sim::makeRig, capture/sim/.../rig_maker.h); writeRigFrame here stores one frame.
 //
 // Frames may also be JPEG, empty.jpg and dressed.jpg (a superset of the contract: MJPEG/UVC
 // cameras deliver JPEG, and sensor noise makes PNGs of 1 MP frames about 4 MB each). A case
