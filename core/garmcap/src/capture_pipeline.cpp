@@ -137,26 +137,43 @@ struct BareFrame {
 };
 
 // The bare-form frame is the same for every garment captured after one bare-form capture, so it
-// is prepared once and found again by a hash of its pixels and the work geometry (a few ms at
-// 12 MP against ~100 ms of downscaling, de-rolling, edges and keying). Shared read-only.
-std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyFull, double ws,
-                                                  const Eigen::Vector2d& centreW, double rollRad,
-                                                  int topBandEndRow, int bottomBandStartRow) {
+// is prepared once and found again by a hash of its pixels, the camera model and the work
+// geometry (a few ms at 12 MP against ~100 ms of undistorting, downscaling, de-rolling, edges and
+// keying). Shared read-only. `camera` is the calibration's camera model, or null.
+std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyRaw,
+                                                  const calib::CameraModel* camera,
+                                                  const calib::FrameUndistorter* undistorter,
+                                                  double ws, const Eigen::Vector2d& centreW,
+                                                  double rollRad, int topBandEndRow,
+                                                  int bottomBandStartRow) {
   static std::mutex mutex;
   static std::size_t cachedHash = 0;
   static std::shared_ptr<const BareFrame> cached;
-  const cv::Mat c = emptyFull.isContinuous() ? emptyFull : emptyFull.clone();
+  const cv::Mat c = emptyRaw.isContinuous() ? emptyRaw : emptyRaw.clone();
   std::size_t h = std::hash<std::string_view>{}(
       std::string_view(reinterpret_cast<const char*>(c.data), c.total() * c.elemSize()));
-  for (const double v : {ws, centreW.x(), centreW.y(), rollRad, static_cast<double>(c.cols),
-                         static_cast<double>(c.rows), static_cast<double>(topBandEndRow),
-                         static_cast<double>(bottomBandStartRow)})
+  std::vector<double> keyed = {ws,
+                               centreW.x(),
+                               centreW.y(),
+                               rollRad,
+                               static_cast<double>(c.cols),
+                               static_cast<double>(c.rows),
+                               static_cast<double>(topBandEndRow),
+                               static_cast<double>(bottomBandStartRow),
+                               camera ? 1.0 : 0.0};
+  if (camera) {
+    for (int i = 0; i < 9; ++i)
+      keyed.push_back(camera->cameraMatrix.val[i]);
+    keyed.insert(keyed.end(), camera->distortion.begin(), camera->distortion.end());
+  }
+  for (const double v : keyed)
     h ^= std::hash<double>{}(v) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
   {
     std::lock_guard<std::mutex> lock(mutex);
     if (cached && cachedHash == h)
       return cached;
   }
+  const cv::Mat emptyFull = undistorter ? undistorter->apply(emptyRaw) : emptyRaw;
   cv::Mat work = emptyFull;
   if (ws < 1.0)
     cv::resize(emptyFull, work, cv::Size(), ws, ws, cv::INTER_AREA);
@@ -397,20 +414,20 @@ nlohmann::json CaptureResult::toJson() const {
   return j;
 }
 
-CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
+CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
                          const nlohmann::json& calibration, const CaptureOptions& options) {
   CaptureResult result;
   StageTimer timer(result.timings);
   if (emptyBgr.empty() || emptyBgr.type() != CV_8UC3)
     throw CaptureError(Reason::kBadInput,
                        "the bare-form frame is empty or not an 8-bit colour image");
-  if (dressedBgr.empty() || dressedBgr.type() != CV_8UC3)
+  if (dressedRaw.empty() || dressedRaw.type() != CV_8UC3)
     throw CaptureError(Reason::kBadInput,
                        "the dressed frame is empty or not an 8-bit colour image");
-  if (emptyBgr.size() != dressedBgr.size())
+  if (emptyBgr.size() != dressedRaw.size())
     throw CaptureError(Reason::kBadInput,
-                       "the dressed frame is " + std::to_string(dressedBgr.cols) + "x" +
-                           std::to_string(dressedBgr.rows) + " but the bare-form frame is " +
+                       "the dressed frame is " + std::to_string(dressedRaw.cols) + "x" +
+                           std::to_string(dressedRaw.rows) + " but the bare-form frame is " +
                            std::to_string(emptyBgr.cols) + "x" + std::to_string(emptyBgr.rows));
   std::shared_ptr<const CaptureContext> ctx;
   try {
@@ -451,10 +468,15 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   // copy, edges and key come from the cache when it is the same frame as last time.
   // The motion's bands, where no garment reaches: the head above the neck and the feet.
   const int topBandEndRow = static_cast<int>(view.rowOfHeight(view.neckSideCm() + 2.0) * ws);
+  // The dressed frame undistorted with the calibration's camera model, as the bare frame was
+  // before registration (and is inside prepareBareFrame): both then share the registered
+  // geometry, and the form's and the garment's outlines are where the projection puts them.
+  const cv::Mat dressedBgr = ctx->undistorter ? ctx->undistorter->apply(dressedRaw) : dressedRaw;
   cv::Mat dressed = toWork(dressedBgr);
   const int bottomBandStartRow = static_cast<int>(dressed.rows * 0.85);
   const std::shared_ptr<const BareFrame> bare =
-      prepareBareFrame(emptyBgr, ws, centreW, cal.pose.rollRad, topBandEndRow, bottomBandStartRow);
+      prepareBareFrame(emptyBgr, cal.camera ? &*cal.camera : nullptr, ctx->undistorter.get(), ws,
+                       centreW, cal.pose.rollRad, topBandEndRow, bottomBandStartRow);
   if (std::abs(cal.pose.rollRad) > 1e-6)
     dressed = rotateAbout(dressed, centreW, cal.pose.rollRad, cv::INTER_LINEAR);
 
