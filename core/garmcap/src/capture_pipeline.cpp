@@ -58,6 +58,17 @@ constexpr double kAveragedDifferenceCm = 0.5;
 // screen (sensor noise leaves well under 1 cm2).
 constexpr double kScreenColouredCm2 = 1.0;
 
+// The garment's shadow on the form (shadowOnForm): at least this much darker in Lab lightness
+// (0-255), with a chroma change of at most this fraction of the darkening plus a constant.
+constexpr float kShadowMinDarkening = 8.0f;
+constexpr float kShadowChromaPerLightness = 0.2f;
+constexpr float kShadowChroma = 4.0f;
+constexpr double kShadowBlurCm = 0.2;
+// A shadow band is at least this wide (thinner is a garment's stripe or print, shaded).
+constexpr double kShadowMinWidthCm = 0.8;
+// More of the changed form than this looking like shadow is a dark neutral garment.
+constexpr double kShadowMaxShareOfChange = 0.4;
+
 class StageTimer {
  public:
   explicit StageTimer(std::vector<StageTiming>& out) : out_(out), start_(Clock::now()) {}
@@ -370,6 +381,41 @@ ScreenChange changedScreen(const cv::Mat& bareW, const cv::Mat& dressedW, const 
   return out;
 }
 
+// Form pixels that look like the bare form in shadow: darker in the dressed frame, with little
+// change of chroma for the change of lightness. The garment throws its shadow on the form below
+// its hem (a band on the thighs under a top, on the shins under a skirt, in the gap between the
+// legs) and that band is no garment; a garment over the form changes its colour as well, unless
+// it is a dark neutral one, where GrabCut's colour models (not this test) decide. Both Lab
+// frames are averaged over about 0.2 cm first (sensor noise).
+cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form,
+                     double pxPerCm) {
+  const double sigma = std::max(0.8, kShadowBlurCm * pxPerCm);
+  cv::Mat e, d;
+  cv::GaussianBlur(labE, e, cv::Size(), sigma);
+  cv::GaussianBlur(labD, d, cv::Size(), sigma);
+  cv::Mat out(labE.size(), CV_8UC1, cv::Scalar(0));
+  cv::parallel_for_(cv::Range(0, labE.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const cv::Vec3b* pe = e.ptr<cv::Vec3b>(y);
+      const cv::Vec3b* pd = d.ptr<cv::Vec3b>(y);
+      const uchar* f = form.ptr(y);
+      uchar* o = out.ptr(y);
+      for (int x = 0; x < labE.cols; ++x) {
+        if (!f[x])
+          continue;
+        const float dl = static_cast<float>(pd[x][0]) - pe[x][0];
+        const float da = static_cast<float>(pd[x][1]) - pe[x][1];
+        const float db = static_cast<float>(pd[x][2]) - pe[x][2];
+        const float dab = std::sqrt(da * da + db * db);
+        o[x] = dl <= -kShadowMinDarkening && dab <= kShadowChromaPerLightness * -dl + kShadowChroma
+                   ? 255
+                   : 0;
+      }
+    }
+  });
+  return out;
+}
+
 void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeasurement& m,
                  const calib::Calibration& cal) {
   std::vector<std::vector<cv::Point>> contours;
@@ -617,7 +663,40 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
   }
   cv::morphologyEx(exposed, exposed, cv::MORPH_CLOSE, kernel);
   exposed &= formOrOutline & fgD;
-  cv::Mat base = fgD & ~exposed;
+  // The garment's shadow on the form is not sure garment: it is GrabCut's to decide (below). A
+  // shadow is a smooth band that fades into the exposed form beside the garment: what looks like
+  // shadow is opened (a stripe or print of the garment shaded darker than the form is thin) and
+  // kept only where it touches the exposed form. When most of what changed over the form still
+  // looks like shadow, the garment itself is dark and neutral, and the test is not used.
+  cv::Mat shadow = shadowOnForm(labE, labD, formInside, sw) & fgD & ~exposed;
+  {
+    const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
+    cv::morphologyEx(
+        shadow, shadow, cv::MORPH_OPEN,
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1)));
+    cv::Mat touching;
+    cv::dilate(exposed, touching, cv::Mat(), cv::Point(-1, -1), 2);
+    cv::Mat labels;
+    const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
+    std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      const uchar* t = touching.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        if (l[x] > 0 && t[x])
+          keep[static_cast<std::size_t>(l[x])] = 1;
+    }
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      uchar* m = shadow.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
+    }
+    const double changedOverForm = cv::countNonZero(formInside & fgD & ~exposed);
+    if (cv::countNonZero(shadow) > kShadowMaxShareOfChange * changedOverForm)
+      shadow.setTo(0);
+  }
+  cv::Mat base = fgD & ~exposed & ~shadow;
   cv::morphologyEx(base, base, cv::MORPH_OPEN, kernel);
   cv::Mat sure;
   cv::erode(base, sure, kernel);
@@ -658,7 +737,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
   cv::Mat settled, settledForm;
   {
     cv::Mat1f distToExposed, distToGarment;
-    cv::distanceTransform(~exposed, distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
+    cv::distanceTransform(~(exposed | shadow), distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
     settled = (distToExposed > static_cast<float>(kSettledCm * sw)) & fgD;
     cv::distanceTransform(~(fgD & ~exposed), distToGarment, cv::DIST_L2, cv::DIST_MASK_3);
     settledForm =
@@ -670,7 +749,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
   trimap.setTo(cv::GC_PR_FGD + 0, screenChange.recoloured);
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
   trimap.setTo(cv::GC_FGD + 0, settled);
-  trimap.setTo(cv::GC_PR_BGD + 0, exposed);
+  trimap.setTo(cv::GC_PR_BGD + 0, exposed | shadow);
   trimap.setTo(cv::GC_BGD + 0, settledForm);
   trimap.setTo(cv::GC_FGD + 0, sure);
   timer.done("masks");
@@ -682,6 +761,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
     diff.convertTo(d8, CV_8U, 4.0);
     cv::imwrite(std::string(dir) + "/diff.png", d8);
     cv::imwrite(std::string(dir) + "/exposed.png", exposed);
+    cv::imwrite(std::string(dir) + "/shadow.png", shadow);
     cv::imwrite(std::string(dir) + "/key_bare.png", formMask);
     cv::imwrite(std::string(dir) + "/key_dressed.png", keyD.mask);
   }

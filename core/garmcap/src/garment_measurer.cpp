@@ -26,6 +26,8 @@ constexpr double kBandCm = 1.0;
 constexpr double kSleeveStepCm = 0.6;
 // Hem circumference is read this far above the hem edge.
 constexpr double kAboveHemCm = 1.25;
+// The garment's top is read this far outside the form's neck (see garment_length).
+constexpr double kOutsideNeckCm = 0.5;
 // Gaps in a mask run up to this many pixels are bridged (GrabCut specks, printed motifs).
 constexpr int kMaxGapPx = 2;
 
@@ -452,21 +454,31 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
   if (wants("skirt_length"))
     put("skirt_length", view.waistCm() - hemH);
   if (wants("garment_length")) {
-    // The garment's highest point (the side neck): the first covered row near the body axis.
-    const int halfNeck =
-        static_cast<int>(std::ceil(view.neckHalfWidthPx())) + static_cast<int>(3 * c.s);
-    int top = -1;
-    for (int r = 0; r < garmentMask.rows && top < 0; ++r)
-      for (int x = std::max(0, axisCol - halfNeck);
-           x <= std::min(garmentMask.cols - 1, axisCol + halfNeck); ++x)
-        if (on(garmentMask, r, x)) {
-          top = r;
+    // The garment's highest point is its neckline at the side neck. It is read just outside the
+    // form's neck on both sides, where the silhouette can only be garment: over the neck itself
+    // the form under the chin, shadowed by the head and tinted by light the garment throws back
+    // on it, differs from the bare frame and joins the silhouette (a physical rig read
+    // garment lengths 6-14 cm long so). The higher of the two sides' first covered rows: a
+    // garment the colour of the form can lose a notch of its shoulder on one side.
+    const int offset = static_cast<int>(std::ceil(view.neckHalfWidthPx() + kOutsideNeckCm * c.s));
+    const int fromRow =
+        std::max(0, static_cast<int>(std::lround(view.rowOfHeight(view.neckSideCm() + 15.0))));
+    std::vector<double> tops;
+    for (const int col : {axisCol - offset, axisCol + offset}) {
+      if (col < 0 || col >= garmentMask.cols)
+        continue;
+      for (int r = fromRow; r < hemEdge; ++r)
+        if (on(garmentMask, r, col)) {
+          tops.push_back(static_cast<double>(r));
+          out.landmarks.push_back({col < axisCol ? "neck_left" : "neck_right",
+                                   {static_cast<double>(col), static_cast<double>(r)}});
           break;
         }
-    if (top >= 0) {
-      put("garment_length", view.heightOfRow(static_cast<double>(top)) - hemH);
-      out.landmarks.push_back({"neck", {static_cast<double>(axisCol), static_cast<double>(top)}});
     }
+    if (!tops.empty())
+      put("garment_length", view.heightOfRow(*std::min_element(tops.begin(), tops.end())) - hemH);
+    else
+      out.warnings.push_back("garment_length: the garment does not reach the side neck");
   }
   if (wants("sleeve_length")) {
     std::vector<double> lengths;
