@@ -37,6 +37,9 @@ constexpr double kMinShiftPx = 1.0;
 constexpr double kDenoiseSigmaPx = 0.7;
 // Below the hip, pants part into legs for at least this long (the shortest shorts' inseam).
 constexpr double kPartedLegsCm = 5.0;
+// A dress's skirt covers the centre line at least this far below the crotch (the shortest
+// dress the type database draws ends 4 cm below it on the bundled form).
+constexpr double kSkirtBelowCrotchCm = 3.0;
 // Dressed foreground this far from the exposed form is garment without asking GrabCut.
 constexpr double kSettledCm = 2.0;
 // Exposed form whose difference is below this fraction of the noise thresholds is sure form from
@@ -838,6 +841,17 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
       else
         result.attributes["skirt"] = "h_line";  // a_line or h_line from the hem below
     }
+  }
+  // Top or dress: a dress's skirt hangs across the gap between the legs below the crotch; a
+  // garment that ends at the crotch is a top, however its outline compares (a top's hem near the
+  // crotch, with what is left of its shadow in the gap, matched short dresses on a physical rig).
+  if (result.type == "dress" && view.crotchCm() &&
+      coveredBelowCrotchCm(garment, view) < kSkirtBelowCrotchCm) {
+    result.warnings.push_back(
+        "type: the silhouette is closest to dress, but it ends at the crotch; taken for top");
+    result.runnerUp = "dress";
+    result.type = "top";
+    result.attributes.erase("skirt");
   }
   timer.done("type");
 

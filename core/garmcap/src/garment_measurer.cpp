@@ -526,4 +526,28 @@ double partedLegsCm(const cv::Mat& garmentMask, const FormView& view) {
   return parted / s;
 }
 
+double coveredBelowCrotchCm(const cv::Mat& garmentMask, const FormView& view) {
+  if (garmentMask.size() != view.size() || garmentMask.type() != CV_8UC1)
+    throw std::invalid_argument(
+        "coveredBelowCrotch: the garment mask must be CV_8UC1 of the frame's size");
+  if (!view.crotchCm())
+    return 0.0;
+  const double s = view.pose().pxPerCm;
+  const int axis = static_cast<int>(std::lround(view.axisXPx()));
+  const int crotchRow = static_cast<int>(std::lround(view.rowOfHeight(*view.crotchCm())));
+  const int maxGap = std::max(1, static_cast<int>(std::lround(0.5 * s)));
+  if (crotchRow < 0 || crotchRow >= garmentMask.rows)
+    return 0.0;
+  int last = -1, gap = 0;
+  for (int r = crotchRow; r < garmentMask.rows; ++r) {
+    if (on(garmentMask, r, axis)) {
+      last = r;
+      gap = 0;
+    } else if (++gap > maxGap) {
+      break;
+    }
+  }
+  return last < 0 ? 0.0 : (last + 1 - crotchRow) / s;
+}
+
 }  // namespace garmcap::pipeline
