@@ -29,13 +29,14 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 // They record today's state so that a change for the worse shows; they are no acceptance.
 // Per measurement {mean, max} absolute error in cm.
 // The garment's shadow on the form left to GrabCut and the garment's top read beside the neck
-// (h/acc): 17 of 24 types, 45 readings missing. Two skirts and a top are now typed right, so
-// their readings count: case_023's waist (12 cm small, as before, when it read as a dress)
-// raised waist_circ's bound.
-constexpr int kMinTypesRight = 16;
-constexpr int kMaxMissing = 50;
+// (h/acc): 17 of 24 types, 45 readings missing; with a dress that ends at the crotch taken for
+// a top, 21 of 24 and 26 missing. Skirts and tops are now typed right, so their readings count:
+// case_023's waist (12 cm small, as before, when it read as a dress) raised waist_circ's bound,
+// the tops' busts (3-6 cm large) bust_circ's.
+constexpr int kMinTypesRight = 20;
+constexpr int kMaxMissing = 30;
 const std::map<std::string, std::pair<double, double>> kBounds = {
-    {"bust_circ", {3.6, 5.5}},        {"waist_circ", {2.7, 13.0}},
+    {"bust_circ", {4.4, 7.2}},        {"waist_circ", {2.7, 13.0}},
     {"hip_circ", {1.3, 2.3}},         {"hem_circ", {6.0, 16.0}},
     {"garment_length", {25.0, 60.0}}, {"skirt_length", {23.0, 64.0}},
     {"sleeve_length", {6.8, 30.0}},   {"outseam", {5.0, 8.0}},
