@@ -491,7 +491,10 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
     if (lengths.empty())
       out.warnings.push_back("sleeve_length: the form has no arms");
     else
-      put("sleeve_length", median(lengths));
+      // The longer of the two: a sleeve is lost from the silhouette in parts (a fabric the
+      // colour of the form reads as exposed form, a notch cuts the arm off), but is not found
+      // where there is none, and garments are symmetric.
+      put("sleeve_length", *std::max_element(lengths.begin(), lengths.end()));
   }
   return out;
 }
