@@ -26,6 +26,10 @@ constexpr double kBandCm = 1.0;
 constexpr double kSleeveStepCm = 0.6;
 // Hem circumference is read this far above the hem edge.
 constexpr double kAboveHemCm = 1.25;
+// Legs that part this far below the form's crotch touch above (crotchHeightCm), and the gap
+// between them is fitted over this height.
+constexpr double kTouchingLegsCm = 4.0;
+constexpr double kGapFitCm = 8.0;
 // The garment's top is read this far outside the form's neck (see garment_length).
 constexpr double kOutsideNeckCm = 0.5;
 // Gaps in a mask run up to this many pixels are bridged (GrabCut specks, printed motifs).
@@ -346,6 +350,61 @@ std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
   return SleeveEnd{(tEnd + 0.5) / c.s, {e.x(), e.y()}};
 }
 
+// Width in px of the gap between the legs at `row`: the run of uncovered pixels around the
+// axis column, between the nearest garment pixels on either side; nullopt when the axis is
+// covered or a side has no garment within 25 cm.
+std::optional<double> gapBetweenLegsPx(const Context& c, int row, int axisCol) {
+  if (row < 0 || row >= c.mask.rows || on(c.mask, row, axisCol))
+    return std::nullopt;
+  const int reach = static_cast<int>(std::lround(25.0 * c.s));
+  int left = -1, right = -1;
+  for (int x = axisCol - 1; x >= std::max(0, axisCol - reach) && left < 0; --x)
+    if (on(c.mask, row, x))
+      left = x;
+  for (int x = axisCol + 1; x <= std::min(c.mask.cols - 1, axisCol + reach) && right < 0; ++x)
+    if (on(c.mask, row, x))
+      right = x;
+  if (left < 0 || right < 0)
+    return std::nullopt;
+  return static_cast<double>(right - left - 1);
+}
+
+// The crotch height from the first row where the legs part (`partRow`). Pants legs whose inner
+// edges touch below the crotch part only lower down (7-8 cm below the form's crotch on a
+// physical rig, inseams 4-6 cm short): when the parting starts more than kTouchingLegsCm below
+// the form's crotch, the gap's V over the next kGapFitCm is fitted (width against row) and
+// followed up to where it closes, but never above the form's crotch.
+double crotchHeightCm(const Context& c, int partRow, int axisCol) {
+  const double partH = c.view.heightOfRow(partRow);
+  const auto formCrotch = c.view.crotchCm();
+  if (!formCrotch || *formCrotch - partH <= kTouchingLegsCm)
+    return partH;
+  const int rows = static_cast<int>(std::lround(kGapFitCm * c.s));
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int n = 0;
+  for (int k = 0; k <= rows; ++k) {
+    const auto w = gapBetweenLegsPx(c, partRow + k, axisCol);
+    if (!w)
+      break;  // the gap must be one piece below the parting
+    sx += k;
+    sy += *w;
+    sxx += static_cast<double>(k) * k;
+    sxy += k * *w;
+    ++n;
+  }
+  if (n < rows / 2)
+    return partH;
+  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  const double at0 = (sy - slope * sx) / n;
+  if (!(slope > 0.05))
+    return partH;  // no V: a gap of parallel edges says nothing about where it closes
+  const double apexRow = partRow - at0 / slope;
+  c.out.warnings.push_back(
+      "inseam: the legs touch below the crotch; the crotch is where the gap between them, "
+      "followed up, closes");
+  return std::min(*formCrotch, c.view.heightOfRow(apexRow));
+}
+
 }  // namespace
 
 // The pipeline reports exactly what the simulator's truth.json holds: one vocabulary, in calib.
@@ -423,7 +482,7 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       out.landmarks.push_back(
           {"crotch", {static_cast<double>(axisCol), static_cast<double>(*crotchRow)}});
       put("outseam", view.waistCm() - hemH);
-      put("inseam", view.heightOfRow(*crotchRow) - hemH);
+      put("inseam", crotchHeightCm(c, *crotchRow, axisCol) - hemH);
       if (!openings.empty())
         put("leg_opening_circ", median(openings));
     }
