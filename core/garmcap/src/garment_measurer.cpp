@@ -30,6 +30,10 @@ constexpr double kAboveHemCm = 1.25;
 // between them is fitted over this height.
 constexpr double kTouchingLegsCm = 4.0;
 constexpr double kGapFitCm = 8.0;
+// A pants leg's hem: its run across the leg narrows by no more than this share within this
+// height (legHemRow).
+constexpr double kHemTailShare = 0.6;
+constexpr double kHemTailCm = 4.0;
 // The garment's top is read this far outside the form's neck (see garment_length).
 constexpr double kOutsideNeckCm = 0.5;
 // Gaps in a mask run up to this many pixels are bridged (GrabCut specks, printed motifs).
@@ -350,6 +354,36 @@ std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
   return SleeveEnd{(tEnd + 0.5) / c.s, {e.x(), e.y()}};
 }
 
+// The lowest row of one pants leg, going down from `fromRow` along the form's leg: the run
+// across the leg (on its side of the axis) must stay at least kHemTailShare of its widest in the
+// kHemTailCm above. The garment's shadow on the shin below the hem joins the silhouette as a
+// narrow tail (a physical rig's leg openings read 7-13 cm small, measured across the tail).
+std::optional<int> legHemRow(const Context& c, int side, int fromRow, int axisCol) {
+  const int window = std::max(2, static_cast<int>(std::lround(kHemTailCm * c.s)));
+  std::vector<double> widths;
+  std::optional<int> last;
+  for (int r = fromRow; r < c.mask.rows; ++r) {
+    const auto leg = c.view.legAtRow(r, side);
+    if (!leg)
+      break;
+    const auto run = runAt(c.mask, r, static_cast<int>(std::lround(leg->centrePx())),
+                           side == 0 ? -1 : axisCol, side == 0 ? axisCol : -1);
+    if (!run)
+      break;
+    const double w = run->second - run->first;
+    const std::size_t from =
+        widths.size() > static_cast<std::size_t>(window) ? widths.size() - window : 0;
+    const double widest =
+        widths.empty() ? w
+                       : *std::max_element(widths.begin() + static_cast<long>(from), widths.end());
+    if (w < kHemTailShare * widest)
+      break;
+    widths.push_back(w);
+    last = r;
+  }
+  return last;
+}
+
 // Width in px of the gap between the legs at `row`: the run of uncovered pixels around the
 // axis column, between the nearest garment pixels on either side; nullopt when the axis is
 // covered or a side has no garment within 25 cm.
@@ -451,8 +485,7 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       const auto leg = view.legAtRow(*crotchRow + static_cast<int>(5 * c.s), side);
       if (!leg)
         continue;
-      const auto low = lowestRow(garmentMask, static_cast<int>(std::lround(leg->centrePx())),
-                                 *crotchRow + static_cast<int>(5 * c.s));
+      const auto low = legHemRow(c, side, *crotchRow + static_cast<int>(5 * c.s), axisCol);
       if (!low)
         continue;
       hems.push_back(*low + 1.0);  // bottom edge of the last covered row
