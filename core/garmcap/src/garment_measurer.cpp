@@ -28,8 +28,10 @@ constexpr double kSleeveStepCm = 0.6;
 constexpr double kAboveHemCm = 1.25;
 // Legs that part this far below the form's crotch touch above (crotchHeightCm), and the gap
 // between them is fitted over this height.
-constexpr double kTouchingLegsCm = 4.0;
+constexpr double kTouchingLegsCm = 5.5;
 constexpr double kGapFitCm = 8.0;
+// The hem's width is read over this height above its centre-front row (frontHemHeightCm).
+constexpr double kHemWidthBandCm = 6.0;
 // A pants leg's hem: its run across the leg narrows by no more than this share within this
 // height (legHemRow).
 constexpr double kHemTailShare = 0.6;
@@ -354,6 +356,47 @@ std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
   return SleeveEnd{(tEnd + 0.5) / c.s, {e.x(), e.y()}};
 }
 
+// The height of a hem whose centre front is seen at image row `hemRow`. In perspective the
+// silhouette's lowest point at the centre is the hem's front, in front of the form's axis
+// plane, which a camera above it sees lower than a point of the same height on the axis (a
+// physical rig's skirts read 1-2 cm long so; 12-15 cm in front of the axis at 3 m moves a hem
+// about 3 cm). The hem section is taken as the form's hip section scaled to the garment's width
+// just above the hem (the similar-section model the circumferences use), which places its front;
+// the height is then where the camera's ray through the row meets that depth. Orthographic
+// views read the row as it is.
+double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
+  const calib::FormPose& pose = c.view.pose();
+  const double axisHeight = c.view.heightOfRow(hemRow);
+  if (!pose.perspective)
+    return axisHeight;
+  const calib::FormSection hip = c.view.form().section(c.view.hipCm());
+  double minZ = 0, maxZ = 0;
+  bool any = false;
+  for (const auto& loop : hip.torsoLoops)
+    for (const auto& p : loop) {
+      minZ = any ? std::min(minZ, p.y()) : p.y();
+      maxZ = any ? std::max(maxZ, p.y()) : p.y();
+      any = true;
+    }
+  const auto hipRow = c.view.torsoAtHeight(c.view.hipCm());
+  if (!any || !hipRow || hipRow->widthPx() <= 1)
+    return axisHeight;
+  // The garment's widest run in the kHemWidthBandCm above the hem row.
+  double widest = 0;
+  const int band = static_cast<int>(std::lround(kHemWidthBandCm * c.s));
+  for (int r = static_cast<int>(hemRow) - band; r < static_cast<int>(hemRow); ++r)
+    if (const auto run = runAt(c.mask, r, axisCol))
+      widest = std::max(widest, run->second - run->first);
+  if (widest <= 0)
+    return axisHeight;
+  const double centreZ = 0.5 * (minZ + maxZ);
+  const double frontZ = centreZ + (maxZ - centreZ) * widest / hipRow->widthPx();
+  const calib::Intrinsics& k = *pose.perspective;
+  const double d = *pose.distanceCm();
+  const double cameraY = (pose.offsetPx.y() - k.cy) * d / k.fy;
+  return cameraY + (k.cy - hemRow) * (d - frontZ) / k.fy;
+}
+
 // The lowest row of one pants leg, going down from `fromRow` along the form's leg: the run
 // across the leg (on its side of the axis) must stay at least kHemTailShare of its widest in the
 // kHemTailCm above. The garment's shadow on the shin below the hem joins the silhouette as a
@@ -404,10 +447,12 @@ std::optional<double> gapBetweenLegsPx(const Context& c, int row, int axisCol) {
 }
 
 // The crotch height from the first row where the legs part (`partRow`). Pants legs whose inner
-// edges touch below the crotch part only lower down (7-8 cm below the form's crotch on a
+// edges touch below the crotch part only lower down (6.5-8.5 cm below the form's crotch on a
 // physical rig, inseams 4-6 cm short): when the parting starts more than kTouchingLegsCm below
 // the form's crotch, the gap's V over the next kGapFitCm is fitted (width against row) and
-// followed up to where it closes, but never above the form's crotch.
+// followed up to where it closes, but never above the form's crotch. The simulator's pants part
+// where their crotch is, 3.9 cm below the bundled form's: there the V, followed up, read the
+// crotch 1.2 cm high, so the parting row stands.
 double crotchHeightCm(const Context& c, int partRow, int axisCol) {
   const double partH = c.view.heightOfRow(partRow);
   const auto formCrotch = c.view.crotchCm();
@@ -539,7 +584,7 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       lowest.push_back(static_cast<double>(*low));
   }
   const double hemEdge = median(lowest) + 1.0;  // lower edge of the last covered row
-  const double hemH = view.heightOfRow(hemEdge);
+  const double hemH = frontHemHeightCm(c, hemEdge, axisCol);
   out.landmarks.push_back({"hem_centre", {static_cast<double>(axisCol), hemEdge}});
   if (wants("hem_circ"))
     put("hem_circ", circumferenceAt(c, hemH + kAboveHemCm, "hem_circ"));
