@@ -24,23 +24,25 @@ namespace {
 
 const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 
-// Regression bounds: what the pipeline reached on this rig when it was made (41c8482: 14 of 24
-// types, 56 readings missing; the table in docs/physical_rig.md), plus about 15 % and 0.5 cm.
-// They record today's state so that a change for the worse shows; they are no acceptance.
+// Regression bounds: what the pipeline reaches on this rig today plus about 15 % and 0.5 cm
+// (the max bounds of the readings that are one case's segmentation failure, 50-55 cm, plus
+// 10 %). They record today's state so that a change for the worse shows; they are no
+// acceptance. History: when the rig was made (41c8482) 14 of 24 types, 56 readings missing, the
+// table in docs/physical_rig.md. h/acc: frames undistorted, the garment's shadow on the form left
+// to GrabCut, the garment's top read beside the neck, a "dress" that ends at the crotch taken for
+// a top, sleeves from the longer arm, the touching-legs crotch, the pants hem above the shadow's
+// tail and the hem in perspective: 21 of 24 types, 26 readings missing. Tops and skirts now
+// typed right count readings that were left out before: case_023's waist (12 cm small, as
+// before, when it read as a dress), the tops' busts (3-6 cm large).
 // Per measurement {mean, max} absolute error in cm.
-// The garment's shadow on the form left to GrabCut and the garment's top read beside the neck
-// (h/acc): 17 of 24 types, 45 readings missing; with a dress that ends at the crotch taken for
-// a top, 21 of 24 and 26 missing. Skirts and tops are now typed right, so their readings count:
-// case_023's waist (12 cm small, as before, when it read as a dress) raised waist_circ's bound,
-// the tops' busts (3-6 cm large) bust_circ's.
-constexpr int kMinTypesRight = 20;
-constexpr int kMaxMissing = 30;
+constexpr int kMinTypesRight = 21;
+constexpr int kMaxMissing = 28;
 const std::map<std::string, std::pair<double, double>> kBounds = {
-    {"bust_circ", {4.4, 7.2}},        {"waist_circ", {2.7, 13.0}},
-    {"hip_circ", {1.3, 2.3}},         {"hem_circ", {6.0, 16.0}},
-    {"garment_length", {25.0, 60.0}}, {"skirt_length", {23.0, 64.0}},
-    {"sleeve_length", {6.8, 30.0}},   {"outseam", {5.0, 8.0}},
-    {"inseam", {26.0, 60.0}},         {"leg_opening_circ", {42.0, 72.0}},
+    {"bust_circ", {4.4, 7.2}},       {"waist_circ", {2.7, 13.0}},
+    {"hip_circ", {1.3, 2.3}},        {"hem_circ", {5.0, 15.2}},
+    {"garment_length", {7.0, 60.0}}, {"skirt_length", {8.7, 59.0}},
+    {"sleeve_length", {1.2, 2.7}},   {"outseam", {2.4, 6.7}},
+    {"inseam", {17.5, 56.0}},        {"leg_opening_circ", {20.3, 61.0}},
 };
 
 // Issue 15's acceptance on a rig: type >= 95 %, every measurement mean <= 1.0 cm, max <= 3.0 cm,
