@@ -32,6 +32,10 @@ constexpr double kTouchingLegsCm = 5.5;
 constexpr double kGapFitCm = 8.0;
 // The hem's width is read over this height above its centre-front row (frontHemHeightCm).
 constexpr double kHemWidthBandCm = 6.0;
+// Legs narrower than this share of the garment kLegStepCm above where they part are no pants'
+// legs (partedLegsCm).
+constexpr double kLegStepShare = 0.8;
+constexpr double kLegStepCm = 1.0;
 // A pants leg's hem: its run across the leg narrows by no more than this share within this
 // height (legHemRow).
 constexpr double kHemTailShare = 0.6;
@@ -427,6 +431,23 @@ std::optional<int> legHemRow(const Context& c, int side, int fromRow, int axisCo
   return last;
 }
 
+// Distance in px between the garment's outermost pixels within `reach` of the axis at `row`;
+// nullopt when the row holds none.
+std::optional<double> outerWidthPx(const cv::Mat& mask, int row, int axis, int reach) {
+  if (row < 0 || row >= mask.rows)
+    return std::nullopt;
+  const uchar* m = mask.ptr(row);
+  int lo = -1, hi = -1;
+  for (int x = std::max(0, axis - reach); x <= std::min(mask.cols - 1, axis + reach); ++x)
+    if (m[x]) {
+      lo = lo < 0 ? x : lo;
+      hi = x;
+    }
+  if (lo < 0)
+    return std::nullopt;
+  return static_cast<double>(hi - lo + 1);
+}
+
 // Width in px of the gap between the legs at `row`: the run of uncovered pixels around the
 // axis column, between the nearest garment pixels on either side; nullopt when the axis is
 // covered or a side has no garment within 25 cm.
@@ -647,7 +668,7 @@ double partedLegsCm(const cv::Mat& garmentMask, const FormView& view) {
   const int reach = static_cast<int>(std::lround(25.0 * s));
   const int minLeg = static_cast<int>(std::lround(2.0 * s));
   const int hipRow = std::max(0, static_cast<int>(std::lround(view.rowOfHeight(view.hipCm()))));
-  int parted = 0;
+  int parted = 0, firstParted = 0;
   for (int r = hipRow; r < garmentMask.rows; ++r) {
     const uchar* m = garmentMask.ptr(r);
     bool centre = false;
@@ -660,8 +681,22 @@ double partedLegsCm(const cv::Mat& garmentMask, const FormView& view) {
       left += m[x] != 0;
     for (int x = axis + half + 1; x <= std::min(garmentMask.cols - 1, axis + reach); ++x)
       right += m[x] != 0;
-    if (left >= minLeg && right >= minLeg)
+    if (left >= minLeg && right >= minLeg) {
+      if (parted == 0)
+        firstParted = r;
       ++parted;
+    }
+  }
+  if (parted > 0) {
+    // Pants' legs continue the seat: just below where they part, their outer edges are about as
+    // far apart as just above. "Legs" much narrower than the garment just above them are the
+    // form's legs below a skirt's hem, in the skirt's shadow (a physical rig's A-line skirt read
+    // as pants so).
+    const int step = std::max(1, static_cast<int>(std::lround(kLegStepCm * s)));
+    const auto above = outerWidthPx(garmentMask, firstParted - step, axis, reach);
+    const auto below = outerWidthPx(garmentMask, firstParted + step, axis, reach);
+    if (above && below && *below < kLegStepShare * *above)
+      return 0.0;
   }
   return parted / s;
 }
