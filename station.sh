@@ -6,6 +6,7 @@
 #   ./station.sh deps    install the Debian packages only (apt-get; idempotent)
 #   ./station.sh build   configure and build into build/ (Release, -Wall -Wextra -Werror)
 #   ./station.sh asan    build into build-asan/ with ASan+UBSan and run every test
+#   ./station.sh fuzz    build the libFuzzer targets (tests/fuzz, clang) and run each FUZZ_SECONDS (60)
 #   ./station.sh physrig OUT [ARGS]  install Blender (not in PACKAGES: CI never needs it), build,
 #                        render a physical rig into OUT and calibrate it (docs/physical_rig.md)
 #
@@ -33,6 +34,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev librsvg2-bin poppler-utils libxml2-utils
   # pattern DXF audited and measured by an independent reader (tests/drafts/dxf_ezdxf_check.py)
   python3-ezdxf
+  # libFuzzer targets (tests/fuzz, ./station.sh fuzz): clang and its sanitizer/fuzzer runtime
+  clang libclang-rt-14-dev
   # web UI browser test (headless chromium), Valentina .vit interop test, ZIP check
   chromium valentina unzip
 )
@@ -103,12 +106,33 @@ run_station() {
   done
 }
 
+# libFuzzer targets (tests/fuzz/, built with clang into build-fuzz/), each run for FUZZ_SECONDS
+# (60 by default) from its seed corpus; a crash or sanitizer finding fails the run and leaves the
+# input in build-fuzz/ (crash-*). FUZZ_RUNS=N runs N executions instead.
+fuzz() {
+  cmake -S "$ROOT/tests/fuzz" -B "$ROOT/build-fuzz" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  cmake --build "$ROOT/build-fuzz" -j"$(nproc)"
+  local name corpus limit
+  for name in http_request pattern_json config_toml; do
+    corpus="$ROOT/build-fuzz/corpus/$name"
+    mkdir -p "$corpus"
+    cp "$ROOT/tests/fuzz/corpus/${name%%_*}/"* "$corpus/" 2>/dev/null || true
+    if [ -n "${FUZZ_RUNS:-}" ]; then limit="-runs=$FUZZ_RUNS"; else limit="-max_total_time=${FUZZ_SECONDS:-60}"; fi
+    echo "fuzz: $name ($limit)"
+    (cd "$ROOT/build-fuzz" && "./fuzz_$name" "$limit" -max_len=65536 -print_final_stats=1 "$corpus" 2>&1 |
+      grep -E "^(Done|stat::number_of_executed_units|stat::peak_rss_mb|==[0-9]+==ERROR|SUMMARY)" ;
+      exit "${PIPESTATUS[0]}")
+  done
+}
+
 case "${1:-}" in
   deps) deps ;;
   build) deps; build ;;
   test) deps; build; run_tests "$ROOT/build" ;;
   asan) deps; configure_and_build "$ROOT/build-asan" -DGARMCAP_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
         ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 run_tests "$ROOT/build-asan" ;;
+  fuzz) deps; fuzz ;;
   run) deps; build; run_station ;;
   physrig) shift; deps; physrig "$@" ;;
   *) sed -n '2,14p' "$0"; exit 2 ;;

@@ -129,6 +129,27 @@ cv::Mat undistortFrame(const cv::Mat& frame, const CameraModel& cam) {
   return out;
 }
 
+FrameUndistorter::FrameUndistorter(const CameraModel& cam) : size_(cam.imageSize) {
+  if (size_.width <= 0 || size_.height <= 0)
+    throw std::invalid_argument("undistort: the camera model has no image size");
+  cv::initUndistortRectifyMap(cv::Mat(cam.cameraMatrix), cam.distortion, cv::Mat(),
+                              cv::Mat(cam.cameraMatrix), size_, CV_16SC2, map1_, map2_);
+}
+
+cv::Mat FrameUndistorter::apply(const cv::Mat& frame) const {
+  if (frame.size() != size_) {
+    std::ostringstream msg;
+    msg << "undistort: frame is " << frame.cols << "x" << frame.rows << " but the camera was "
+        << "calibrated at " << size_.width << "x" << size_.height;
+    throw std::invalid_argument(msg.str());
+  }
+  cv::Mat out;
+  // The few corner pixels that map outside the frame repeat its edge (the screen), so the key
+  // finds no foreground there.
+  cv::remap(frame, out, map1_, map2_, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  return out;
+}
+
 std::string cameraToJson(const CameraModel& c) {
   json j;
   j["image_size"] = {c.imageSize.width, c.imageSize.height};

@@ -4,9 +4,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
+#include <string_view>
 
 #include "commands.h"
+#include "garmcap/calib/camera.h"
+#include "garmcap/calib/form_model.h"
+#include "garmcap/calib/registration.h"
 #include "garmcap/capture/rig.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/pattern_io.h"
@@ -58,44 +64,130 @@ void writeCaptureOutputs(const fs::path& out, const pipeline::CaptureResult& r) 
   writeImage(out / "texture.png", r.texture);
 }
 
+// Per measurement: the absolute errors of the readings taken and the readings missing (a truth
+// measurement the pipeline did not report, or a case that failed). A missing reading is a
+// failure: leaving out a hard reading must never improve the table.
 struct ErrorStats {
   double sum = 0, max = 0;
-  int n = 0;
+  int n = 0, missing = 0;
   void add(double e) {
     sum += std::abs(e);
     max = std::max(max, std::abs(e));
     ++n;
   }
+  double missingRate() const {
+    return n + missing ? static_cast<double>(missing) / (n + missing) : 0;
+  }
   json toJson() const {
-    return {{"mean_abs_cm", n ? sum / n : 0.0}, {"max_abs_cm", max}, {"n", n}};
+    return {{"mean_abs_cm", n ? sum / n : 0.0},
+            {"max_abs_cm", max},
+            {"n", n},
+            {"missing", missing},
+            {"missing_rate", missingRate()}};
   }
 };
 
+// Which cases an evaluation runs: all, or the even- or odd-numbered ones (by their position in
+// rig.json), so that a method can be tuned on one half and checked on the other.
+enum class CaseSplit { kAll, kEven, kOdd };
+
+// The calibration a station would have for a case: the form registered from the case's bare
+// frame the way `garmcap calibrate` does it, never the scene's pose. The case's calibration.json
+// gives what a station knows before registering: the form, the camera model (or the case's
+// camera.json) and, for a perspective fit, the camera's distance. Registrations are cached by
+// the bare frame's pixels, as the cases of one session share their bare frame.
+json stationCalibration(const capture::RigCase& c) {
+  static std::map<std::size_t, json> cache;
+  const json& given = c.calibration;
+  if (!given.is_object() || !given.contains("form") || !given["form"].is_string())
+    throw std::runtime_error("case has no calibration.json naming its form");
+  std::optional<calib::CameraModel> camera;
+  if (given.contains("camera") && given["camera"].is_object())
+    camera = calib::cameraFromJson(given["camera"], c.id + " calibration.json: camera");
+  else if (fs::exists(c.dir / "camera.json"))
+    camera = calib::readCameraJson(c.dir / "camera.json");
+  calib::RegistrationOptions options;
+  if (camera) {
+    options.intrinsics = camera->intrinsics();
+    const json pose = given.value("pose", json::object());
+    if (pose.contains("distance_cm"))
+      options.distanceCm = pose["distance_cm"].get<double>();
+  }
+  const cv::Mat empty = camera ? calib::undistortFrame(c.empty, *camera) : c.empty;
+  const cv::Mat contiguous = empty.isContinuous() ? empty : empty.clone();
+  std::size_t key = std::hash<std::string_view>{}(std::string_view(
+      reinterpret_cast<const char*>(contiguous.data), contiguous.total() * contiguous.elemSize()));
+  key ^= std::hash<std::string>{}(given["form"].get<std::string>() +
+                                  (camera ? calib::cameraToJson(*camera) : "") +
+                                  std::to_string(options.distanceCm.value_or(0)));
+  if (const auto it = cache.find(key); it != cache.end())
+    return it->second;
+  const fs::path formPath = calib::resolveFormSidecar(given["form"].get<std::string>());
+  const auto form = calib::FormModel::load(formPath);
+  const calib::Registration reg =
+      calib::registerForm(form, cv::Mat3b(empty), c.id + " bare-form frame", options);
+  const calib::Calibration cal =
+      calib::makeCalibration(form, reg, formPath, c.dir / "empty.jpg", camera);
+  return cache[key] = json::parse(calib::calibrationToJson(cal));
+}
+
+// How the station's registration differs from the case's own calibration.json (the scene's pose
+// for a simulated rig): scale in percent, offset in px.
+json registrationScore(const json& registered, const json& given) {
+  const json& a = registered.at("pose");
+  const json& b = given.value("pose", json::object());
+  if (!b.contains("px_per_cm") || !b.contains("offset_px"))
+    return nullptr;
+  const double scalePct =
+      100.0 * (a.at("px_per_cm").get<double>() / b["px_per_cm"].get<double>() - 1.0);
+  const double dx = a.at("offset_px")[0].get<double>() - b["offset_px"][0].get<double>();
+  const double dy = a.at("offset_px")[1].get<double>() - b["offset_px"][1].get<double>();
+  return {{"px_per_cm_pct", std::round(scalePct * 1000) / 1000},
+          {"offset_px", std::round(std::hypot(dx, dy) * 100) / 100}};
+}
+
+void printTable(const std::map<std::string, ErrorStats>& errors) {
+  std::printf("%-18s %7s %7s %4s %8s %8s\n", "measurement", "mean", "max", "n", "missing",
+              "missing%");
+  for (const auto& [k, s] : errors)
+    std::printf("%-18s %7.2f %7.2f %4d %8d %7.0f%%\n", k.c_str(), s.n ? s.sum / s.n : 0.0, s.max,
+                s.n, s.missing, 100.0 * s.missingRate());
+}
+
 int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
-            double workMegapixels) {
+            double workMegapixels, bool useCaseCalibration, CaseSplit split) {
   const capture::Rig rig = capture::readRig(rigDir);
   std::map<std::string, ErrorStats> errors;
-  int typeOk = 0, attrOk = 0, attrN = 0, failures = 0;
+  int typeOk = 0, attrOk = 0, attrN = 0, failures = 0, n = 0, missing = 0;
   double totalMs = 0;
   std::map<std::string, std::pair<int, double>> methodStats;  // method -> (correct, ms)
   json cases = json::array();
-  for (const auto& info : rig.cases) {
+  for (std::size_t index = 0; index < rig.cases.size(); ++index) {
+    if ((split == CaseSplit::kEven && index % 2 != 0) ||
+        (split == CaseSplit::kOdd && index % 2 != 1))
+      continue;
+    ++n;
+    const auto& info = rig.cases[index];
     const capture::RigCase c = capture::loadRigCase(info.dir);
     json row = {{"id", c.id}, {"truth_type", c.truth.value("type", "")}};
-    const auto t0 = std::chrono::steady_clock::now();
+    const json& tm = c.truth.value("measurements", json::object());
     try {
       if (c.calibration.is_null())
         throw std::runtime_error("case has no calibration");
+      const json calibration = useCaseCalibration ? c.calibration : stationCalibration(c);
+      if (!useCaseCalibration)
+        row["registration"] = registrationScore(calibration, c.calibration);
       pipeline::CaptureOptions opt;
       opt.makeTexture = !outDir.empty();
       opt.makeProductImages = !outDir.empty();
       opt.workMegapixels = workMegapixels;
-      const auto r = pipeline::runCapture(c.empty, c.dressed, c.calibration, opt);
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto r = pipeline::runCapture(c.empty, c.dressed, calibration, opt);
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       totalMs += ms;
       row["type"] = r.type;
-      row["ms"] = ms;
+      row["ms"] = std::round(ms);
       if (r.type == c.truth.value("type", ""))
         ++typeOk;
       const json& ta = c.truth.value("attributes", json::object());
@@ -107,11 +199,12 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
         else
           row["attribute_miss"][k] = it == r.attributes.end() ? "missing" : it->second;
       }
-      const json& tm = c.truth.value("measurements", json::object());
       for (const auto& [k, v] : tm.items()) {
         const auto it = r.measurements.find(k);
         if (it == r.measurements.end()) {
           row["missing"].push_back(k);
+          ++errors[k].missing;
+          ++missing;
           continue;
         }
         const double e = it->second - v.get<double>();
@@ -124,7 +217,7 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
         writeCaptureOutputs(outDir / c.id, r);
       if (compareMethods) {
         // Same silhouette, every classifier: which ranks types best, and at what cost.
-        const auto ctx = pipeline::cachedCaptureContext(c.calibration);
+        const auto ctx = pipeline::cachedCaptureContext(calibration);
         for (auto m : {pipeline::MatchMethod::kIou, pipeline::MatchMethod::kChamfer,
                        pipeline::MatchMethod::kShapeContext}) {
           const auto m0 = std::chrono::steady_clock::now();
@@ -140,15 +233,26 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
     } catch (const std::exception& e) {
       ++failures;
       row["error"] = e.what();
+      // Every reading of a failed case is missing.
+      for (const auto& [k, v] : tm.items()) {
+        ++errors[k].missing;
+        ++missing;
+      }
     }
     std::cout << row.dump() << "\n";
     cases.push_back(row);
   }
-  const int n = static_cast<int>(rig.cases.size());
+  int readings = missing;
+  for (const auto& [k, s] : errors)
+    readings += s.n;
   json summary = {{"cases", n},
                   {"failures", failures},
+                  {"calibration",
+                   useCaseCalibration ? "case calibration.json" : "registered from the bare frame"},
                   {"type_accuracy", n ? static_cast<double>(typeOk) / n : 0.0},
                   {"attribute_accuracy", attrN ? static_cast<double>(attrOk) / attrN : 1.0},
+                  {"readings", readings},
+                  {"readings_missing", missing},
                   {"ms_per_case", n - failures > 0 ? totalMs / (n - failures) : 0.0}};
   for (const auto& [k, s] : errors)
     summary["measurements"][k] = s.toJson();
@@ -156,6 +260,9 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
     summary["classifiers"][m] = {{"type_accuracy", n ? static_cast<double>(st.first) / n : 0.0},
                                  {"ms_per_case", n ? st.second / n : 0.0}};
   std::cout << json({{"summary", summary}}).dump(2) << "\n";
+  std::printf("%d cases (%d failed): types %d/%d, attributes %d/%d, %d of %d readings missing\n", n,
+              failures, typeOk, n, attrOk, attrN, missing, readings);
+  printTable(errors);
   if (!outDir.empty())
     drafts::writeJsonFile(outDir / "eval.json", {{"summary", summary}, {"cases", cases}});
   return failures == 0 ? 0 : 1;
@@ -199,6 +306,14 @@ void addPipelineCommands(CLI::App& app) {
                    "segment frames on a copy of about this many megapixels (default 2; a large "
                    "value segments at full resolution)")
       ->check(CLI::PositiveNumber);
+  static bool caseCalibration = false;
+  eval->add_flag("--case-calibration", caseCalibration,
+                 "use each case's calibration.json as it is (for a simulated rig: the scene's "
+                 "true pose) instead of registering the form from the case's bare frame");
+  static std::string splitName = "all";
+  eval->add_option("--cases", splitName,
+                   "all, or only the even- or odd-numbered cases (tune on one, hold out the other)")
+      ->check(CLI::IsMember({"all", "even", "odd"}));
   static fs::path refsOut;
   eval->add_option("--dump-references", refsOut,
                    "write the type database's silhouettes of the first case here");
@@ -218,7 +333,10 @@ void addPipelineCommands(CLI::App& app) {
       for (const auto& n : ctx->notes)
         std::cerr << n << "\n";
     }
-    const int rc = rigEval(rigDir, evalOut, compare, workMp);
+    const CaseSplit split = splitName == "even"  ? CaseSplit::kEven
+                            : splitName == "odd" ? CaseSplit::kOdd
+                                                 : CaseSplit::kAll;
+    const int rc = rigEval(rigDir, evalOut, compare, workMp, caseCalibration, split);
     if (rc != 0)
       throw std::runtime_error("some rig cases failed (see their \"error\")");
   });

@@ -3,10 +3,13 @@
 #include <arpa/inet.h>
 
 #include <algorithm>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <sstream>
 #include <toml.hpp>
+
+#include "garmcap/daemon/utf8.h"
 
 namespace garmcap::daemon {
 
@@ -280,7 +283,20 @@ void Config::validate() const {
 Config loadConfig(const std::filesystem::path& file, Config config) {
   toml::value root;
   try {
-    root = toml::parse(file.string());
+    // TOML is UTF-8; checking first also keeps invalid bytes away from toml11 3.7, whose literal
+    // string parser reads past its buffer on them (found by tests/fuzz/fuzz_config_toml).
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+      throw ConfigError(file.string() + ": cannot be read");
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string bytes = text.str();
+    if (!validUtf8(bytes))
+      throw ConfigError(file.string() + ": not valid UTF-8 (TOML files are UTF-8)");
+    std::istringstream stream(bytes);
+    root = toml::parse(stream, file.string());
+  } catch (const ConfigError&) {
+    throw;
   } catch (const std::exception& e) {
     throw ConfigError(file.string() + ": " + e.what());
   }

@@ -121,6 +121,37 @@ TEST(Camera, UndistortionStraightensALineBentByTheLens) {
   EXPECT_THROW(undistortFrame(cv::Mat1b(100, 100), cam), std::invalid_argument);
 }
 
+// The pipeline's cached undistortion straightens the same bent line and agrees with
+// undistortFrame (cv::undistort) to within the fixed-point maps' rounding.
+TEST(Camera, CachedUndistortionStraightensTheLineAsUndistortFrameDoes) {
+  CameraModel cam;
+  cam.imageSize = {640, 480};
+  cam.cameraMatrix = cv::Matx33d(500, 0, 320, 0, 500, 240, 0, 0, 1);
+  cam.distortion = {-0.25, 0.05, 0.0, 0.0, 0.0};
+  std::vector<cv::Point3d> line3;
+  for (double x = -0.55; x <= 0.55; x += 0.001)
+    line3.emplace_back(x, 0.33, 1.0);
+  std::vector<cv::Point2d> px;
+  cv::projectPoints(line3, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cam.cameraMatrix, cam.distortion,
+                    px);
+  cv::Mat1b img(480, 640, std::uint8_t{0});
+  for (const auto& p : px)
+    cv::circle(img, cv::Point(cvRound(p.x), cvRound(p.y)), 1, 255, -1);
+  const FrameUndistorter undistorter(cam);
+  const cv::Mat cached = undistorter.apply(img);
+  EXPECT_GT(straightnessPx(img), 5.0);
+  EXPECT_LT(straightnessPx(cached), 1.0);
+  // Away from the corners (where cv::undistort fills black), the two agree pixel by pixel.
+  const cv::Rect inner(40, 40, 560, 400);
+  cv::Mat diff;
+  cv::absdiff(cached(inner), undistortFrame(img, cam)(inner), diff);
+  double worst = 0;
+  cv::minMaxLoc(diff, nullptr, &worst);
+  EXPECT_LE(worst, 8.0);
+  EXPECT_LT(cv::mean(diff)[0], 0.2);
+  EXPECT_THROW(undistorter.apply(cv::Mat1b(100, 100)), std::invalid_argument);
+}
+
 TEST(Camera, TooFewBoardsIsAClearError) {
   std::vector<cv::Mat> blank(4, cv::Mat1b(240, 320, std::uint8_t{200}));
   try {

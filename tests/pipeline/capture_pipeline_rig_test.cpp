@@ -70,8 +70,12 @@ TEST(CapturePipelineRig, RegressionGuardOnTheBundledRig) {
     }
     for (const auto& [k, v] : c.truth.at("measurements").items()) {
       const auto it = r.measurements.find(k);
-      if (it == r.measurements.end())
+      // A reading the pipeline leaves out is a failure: dropping a hard reading must never
+      // pass where a poor one would fail.
+      if (it == r.measurements.end()) {
+        ADD_FAILURE() << c.id << " " << k << " is missing";
         continue;
+      }
       const double e = std::abs(it->second - v.get<double>());
       EXPECT_LE(e, 2.0) << c.id << " " << k << " measured " << it->second << " truth " << v;
       sumAbs += e;

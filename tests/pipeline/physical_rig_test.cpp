@@ -24,18 +24,27 @@ namespace {
 
 const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 
-// Regression bounds: what the pipeline reached on this rig when it was made (41c8482: 14 of 24
-// types, 56 readings missing; the table in docs/physical_rig.md), plus about 15 % and 0.5 cm.
-// They record today's state so that a change for the worse shows; they are no acceptance.
+// Regression bounds: what the pipeline reaches on this rig today plus about 15 % and 0.5 cm
+// (the max bounds of lengths that are one case's segmentation failure, 54 cm, plus 10 %). They
+// record today's state so that a change for the worse shows; they are no acceptance. History: when
+// the rig was made (41c8482) 14 of 24 types, 56 readings missing, the table in
+// docs/physical_rig.md. h/acc: frames undistorted, the garment's shadow on the form left to
+// GrabCut, the garment's top read beside the neck, a "dress" that ends at the crotch taken for a
+// top, sleeves from the longer arm, the touching-legs crotch, the pants hem above the shadow's
+// tail, the hem in perspective and skirts' shadow legs: 21 of 24 types, 27 readings missing
+// (the wide pants whose legs touch down to the hem, cases 6 and 21, read as skirts: their
+// readings are missing where they were 50-55 cm off). Tops and skirts now
+// typed right count readings that were left out before: case_023's waist (12 cm small, as
+// before, when it read as a dress), the tops' busts (3-6 cm large).
 // Per measurement {mean, max} absolute error in cm.
-constexpr int kMinTypesRight = 13;
-constexpr int kMaxMissing = 60;
+constexpr int kMinTypesRight = 21;
+constexpr int kMaxMissing = 28;
 const std::map<std::string, std::pair<double, double>> kBounds = {
-    {"bust_circ", {3.6, 5.5}},        {"waist_circ", {2.0, 5.0}},
-    {"hip_circ", {1.3, 2.3}},         {"hem_circ", {6.0, 16.0}},
-    {"garment_length", {25.0, 60.0}}, {"skirt_length", {23.0, 64.0}},
-    {"sleeve_length", {6.8, 30.0}},   {"outseam", {5.0, 8.0}},
-    {"inseam", {26.0, 60.0}},         {"leg_opening_circ", {42.0, 72.0}},
+    {"bust_circ", {4.4, 7.2}},       {"waist_circ", {2.7, 13.0}},
+    {"hip_circ", {1.3, 2.3}},        {"hem_circ", {5.0, 15.2}},
+    {"garment_length", {7.0, 60.0}}, {"skirt_length", {7.5, 59.0}},
+    {"sleeve_length", {1.2, 2.7}},   {"outseam", {0.8, 1.0}},
+    {"inseam", {3.3, 5.3}},          {"leg_opening_circ", {5.3, 7.5}},
 };
 
 // Issue 15's acceptance on a rig: type >= 95 %, every measurement mean <= 1.0 cm, max <= 3.0 cm,

@@ -121,11 +121,15 @@ TEST(WorkFrame, HardScenesAreTypedAndMeasured) {
                                             measureOnly(2.0));
       ASSERT_EQ(res.type, type) << where;
       const nlohmann::json expected = r.truth().at("measurements");
-      for (const auto& [name, v] : res.measurements) {
-        if (!expected.contains(name))
+      // Every measurement of the truth, so that one left out fails instead of passing.
+      for (const auto& [name, t] : expected.items()) {
+        const auto it = res.measurements.find(name);
+        if (it == res.measurements.end()) {
+          ADD_FAILURE() << where << " " << name << " is missing";
           continue;
-        const double err = v - expected.at(name).get<double>();
-        EXPECT_LE(std::abs(err), 1.5) << where << " " << name << " measured " << v;
+        }
+        const double err = it->second - t.get<double>();
+        EXPECT_LE(std::abs(err), 1.5) << where << " " << name << " measured " << it->second;
       }
     }
   }

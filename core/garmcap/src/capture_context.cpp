@@ -175,6 +175,15 @@ std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view
 std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& calibration) {
   auto ctx = std::make_shared<CaptureContext>();
   ctx->calibration = calib::calibrationFromJson(calibration, "calibration");
+  if (const auto& camera = ctx->calibration.camera) {
+    if (camera->imageSize != ctx->calibration.imageSize)
+      throw std::invalid_argument(
+          "the camera model is for " + std::to_string(camera->imageSize.width) + "x" +
+          std::to_string(camera->imageSize.height) + " frames but the calibration is for " +
+          std::to_string(ctx->calibration.imageSize.width) + "x" +
+          std::to_string(ctx->calibration.imageSize.height));
+    ctx->undistorter = std::make_shared<const calib::FrameUndistorter>(*camera);
+  }
   ctx->form = std::make_shared<const calib::FormModel>(
       calib::FormModel::load(ctx->calibration.formSidecar));
   calib::FormPose upright = ctx->calibration.pose;

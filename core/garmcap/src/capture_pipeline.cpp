@@ -37,6 +37,9 @@ constexpr double kMinShiftPx = 1.0;
 constexpr double kDenoiseSigmaPx = 0.7;
 // Below the hip, pants part into legs for at least this long (the shortest shorts' inseam).
 constexpr double kPartedLegsCm = 5.0;
+// A dress's skirt covers the centre line at least this far below the crotch (the shortest
+// dress the type database draws ends 4 cm below it on the bundled form).
+constexpr double kSkirtBelowCrotchCm = 3.0;
 // Dressed foreground this far from the exposed form is garment without asking GrabCut.
 constexpr double kSettledCm = 2.0;
 // Exposed form whose difference is below this fraction of the noise thresholds is sure form from
@@ -57,6 +60,17 @@ constexpr double kAveragedDifferenceCm = 0.5;
 // A garment is taken for screen-coloured when more than this much of it, over the form, keys as
 // screen (sensor noise leaves well under 1 cm2).
 constexpr double kScreenColouredCm2 = 1.0;
+
+// The garment's shadow on the form (shadowOnForm): at least this much darker in Lab lightness
+// (0-255), with a chroma change of at most this fraction of the darkening plus a constant.
+constexpr float kShadowMinDarkening = 8.0f;
+constexpr float kShadowChromaPerLightness = 0.2f;
+constexpr float kShadowChroma = 4.0f;
+constexpr double kShadowBlurCm = 0.2;
+// A shadow band is at least this wide (thinner is a garment's stripe or print, shaded).
+constexpr double kShadowMinWidthCm = 0.8;
+// More of the changed form than this looking like shadow is a dark neutral garment.
+constexpr double kShadowMaxShareOfChange = 0.4;
 
 class StageTimer {
  public:
@@ -137,26 +151,43 @@ struct BareFrame {
 };
 
 // The bare-form frame is the same for every garment captured after one bare-form capture, so it
-// is prepared once and found again by a hash of its pixels and the work geometry (a few ms at
-// 12 MP against ~100 ms of downscaling, de-rolling, edges and keying). Shared read-only.
-std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyFull, double ws,
-                                                  const Eigen::Vector2d& centreW, double rollRad,
-                                                  int topBandEndRow, int bottomBandStartRow) {
+// is prepared once and found again by a hash of its pixels, the camera model and the work
+// geometry (a few ms at 12 MP against ~100 ms of undistorting, downscaling, de-rolling, edges and
+// keying). Shared read-only. `camera` is the calibration's camera model, or null.
+std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyRaw,
+                                                  const calib::CameraModel* camera,
+                                                  const calib::FrameUndistorter* undistorter,
+                                                  double ws, const Eigen::Vector2d& centreW,
+                                                  double rollRad, int topBandEndRow,
+                                                  int bottomBandStartRow) {
   static std::mutex mutex;
   static std::size_t cachedHash = 0;
   static std::shared_ptr<const BareFrame> cached;
-  const cv::Mat c = emptyFull.isContinuous() ? emptyFull : emptyFull.clone();
+  const cv::Mat c = emptyRaw.isContinuous() ? emptyRaw : emptyRaw.clone();
   std::size_t h = std::hash<std::string_view>{}(
       std::string_view(reinterpret_cast<const char*>(c.data), c.total() * c.elemSize()));
-  for (const double v : {ws, centreW.x(), centreW.y(), rollRad, static_cast<double>(c.cols),
-                         static_cast<double>(c.rows), static_cast<double>(topBandEndRow),
-                         static_cast<double>(bottomBandStartRow)})
+  std::vector<double> keyed = {ws,
+                               centreW.x(),
+                               centreW.y(),
+                               rollRad,
+                               static_cast<double>(c.cols),
+                               static_cast<double>(c.rows),
+                               static_cast<double>(topBandEndRow),
+                               static_cast<double>(bottomBandStartRow),
+                               camera ? 1.0 : 0.0};
+  if (camera) {
+    for (int i = 0; i < 9; ++i)
+      keyed.push_back(camera->cameraMatrix.val[i]);
+    keyed.insert(keyed.end(), camera->distortion.begin(), camera->distortion.end());
+  }
+  for (const double v : keyed)
     h ^= std::hash<double>{}(v) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
   {
     std::lock_guard<std::mutex> lock(mutex);
     if (cached && cachedHash == h)
       return cached;
   }
+  const cv::Mat emptyFull = undistorter ? undistorter->apply(emptyRaw) : emptyRaw;
   cv::Mat work = emptyFull;
   if (ws < 1.0)
     cv::resize(emptyFull, work, cv::Size(), ws, ws, cv::INTER_AREA);
@@ -353,6 +384,41 @@ ScreenChange changedScreen(const cv::Mat& bareW, const cv::Mat& dressedW, const 
   return out;
 }
 
+// Form pixels that look like the bare form in shadow: darker in the dressed frame, with little
+// change of chroma for the change of lightness. The garment throws its shadow on the form below
+// its hem (a band on the thighs under a top, on the shins under a skirt, in the gap between the
+// legs) and that band is no garment; a garment over the form changes its colour as well, unless
+// it is a dark neutral one, where GrabCut's colour models (not this test) decide. Both Lab
+// frames are averaged over about 0.2 cm first (sensor noise).
+cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form,
+                     double pxPerCm) {
+  const double sigma = std::max(0.8, kShadowBlurCm * pxPerCm);
+  cv::Mat e, d;
+  cv::GaussianBlur(labE, e, cv::Size(), sigma);
+  cv::GaussianBlur(labD, d, cv::Size(), sigma);
+  cv::Mat out(labE.size(), CV_8UC1, cv::Scalar(0));
+  cv::parallel_for_(cv::Range(0, labE.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const cv::Vec3b* pe = e.ptr<cv::Vec3b>(y);
+      const cv::Vec3b* pd = d.ptr<cv::Vec3b>(y);
+      const uchar* f = form.ptr(y);
+      uchar* o = out.ptr(y);
+      for (int x = 0; x < labE.cols; ++x) {
+        if (!f[x])
+          continue;
+        const float dl = static_cast<float>(pd[x][0]) - pe[x][0];
+        const float da = static_cast<float>(pd[x][1]) - pe[x][1];
+        const float db = static_cast<float>(pd[x][2]) - pe[x][2];
+        const float dab = std::sqrt(da * da + db * db);
+        o[x] = dl <= -kShadowMinDarkening && dab <= kShadowChromaPerLightness * -dl + kShadowChroma
+                   ? 255
+                   : 0;
+      }
+    }
+  });
+  return out;
+}
+
 void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeasurement& m,
                  const calib::Calibration& cal) {
   std::vector<std::vector<cv::Point>> contours;
@@ -397,20 +463,20 @@ nlohmann::json CaptureResult::toJson() const {
   return j;
 }
 
-CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
+CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
                          const nlohmann::json& calibration, const CaptureOptions& options) {
   CaptureResult result;
   StageTimer timer(result.timings);
   if (emptyBgr.empty() || emptyBgr.type() != CV_8UC3)
     throw CaptureError(Reason::kBadInput,
                        "the bare-form frame is empty or not an 8-bit colour image");
-  if (dressedBgr.empty() || dressedBgr.type() != CV_8UC3)
+  if (dressedRaw.empty() || dressedRaw.type() != CV_8UC3)
     throw CaptureError(Reason::kBadInput,
                        "the dressed frame is empty or not an 8-bit colour image");
-  if (emptyBgr.size() != dressedBgr.size())
+  if (emptyBgr.size() != dressedRaw.size())
     throw CaptureError(Reason::kBadInput,
-                       "the dressed frame is " + std::to_string(dressedBgr.cols) + "x" +
-                           std::to_string(dressedBgr.rows) + " but the bare-form frame is " +
+                       "the dressed frame is " + std::to_string(dressedRaw.cols) + "x" +
+                           std::to_string(dressedRaw.rows) + " but the bare-form frame is " +
                            std::to_string(emptyBgr.cols) + "x" + std::to_string(emptyBgr.rows));
   std::shared_ptr<const CaptureContext> ctx;
   try {
@@ -451,10 +517,15 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   // copy, edges and key come from the cache when it is the same frame as last time.
   // The motion's bands, where no garment reaches: the head above the neck and the feet.
   const int topBandEndRow = static_cast<int>(view.rowOfHeight(view.neckSideCm() + 2.0) * ws);
+  // The dressed frame undistorted with the calibration's camera model, as the bare frame was
+  // before registration (and is inside prepareBareFrame): both then share the registered
+  // geometry, and the form's and the garment's outlines are where the projection puts them.
+  const cv::Mat dressedBgr = ctx->undistorter ? ctx->undistorter->apply(dressedRaw) : dressedRaw;
   cv::Mat dressed = toWork(dressedBgr);
   const int bottomBandStartRow = static_cast<int>(dressed.rows * 0.85);
   const std::shared_ptr<const BareFrame> bare =
-      prepareBareFrame(emptyBgr, ws, centreW, cal.pose.rollRad, topBandEndRow, bottomBandStartRow);
+      prepareBareFrame(emptyBgr, cal.camera ? &*cal.camera : nullptr, ctx->undistorter.get(), ws,
+                       centreW, cal.pose.rollRad, topBandEndRow, bottomBandStartRow);
   if (std::abs(cal.pose.rollRad) > 1e-6)
     dressed = rotateAbout(dressed, centreW, cal.pose.rollRad, cv::INTER_LINEAR);
 
@@ -595,7 +666,40 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   }
   cv::morphologyEx(exposed, exposed, cv::MORPH_CLOSE, kernel);
   exposed &= formOrOutline & fgD;
-  cv::Mat base = fgD & ~exposed;
+  // The garment's shadow on the form is not sure garment: it is GrabCut's to decide (below). A
+  // shadow is a smooth band that fades into the exposed form beside the garment: what looks like
+  // shadow is opened (a stripe or print of the garment shaded darker than the form is thin) and
+  // kept only where it touches the exposed form. When most of what changed over the form still
+  // looks like shadow, the garment itself is dark and neutral, and the test is not used.
+  cv::Mat shadow = shadowOnForm(labE, labD, formInside, sw) & fgD & ~exposed;
+  {
+    const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
+    cv::morphologyEx(
+        shadow, shadow, cv::MORPH_OPEN,
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1)));
+    cv::Mat touching;
+    cv::dilate(exposed, touching, cv::Mat(), cv::Point(-1, -1), 2);
+    cv::Mat labels;
+    const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
+    std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      const uchar* t = touching.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        if (l[x] > 0 && t[x])
+          keep[static_cast<std::size_t>(l[x])] = 1;
+    }
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      uchar* m = shadow.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
+    }
+    const double changedOverForm = cv::countNonZero(formInside & fgD & ~exposed);
+    if (cv::countNonZero(shadow) > kShadowMaxShareOfChange * changedOverForm)
+      shadow.setTo(0);
+  }
+  cv::Mat base = fgD & ~exposed & ~shadow;
   cv::morphologyEx(base, base, cv::MORPH_OPEN, kernel);
   cv::Mat sure;
   cv::erode(base, sure, kernel);
@@ -636,7 +740,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   cv::Mat settled, settledForm;
   {
     cv::Mat1f distToExposed, distToGarment;
-    cv::distanceTransform(~exposed, distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
+    cv::distanceTransform(~(exposed | shadow), distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
     settled = (distToExposed > static_cast<float>(kSettledCm * sw)) & fgD;
     cv::distanceTransform(~(fgD & ~exposed), distToGarment, cv::DIST_L2, cv::DIST_MASK_3);
     settledForm =
@@ -648,7 +752,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
   trimap.setTo(cv::GC_PR_FGD + 0, screenChange.recoloured);
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
   trimap.setTo(cv::GC_FGD + 0, settled);
-  trimap.setTo(cv::GC_PR_BGD + 0, exposed);
+  trimap.setTo(cv::GC_PR_BGD + 0, exposed | shadow);
   trimap.setTo(cv::GC_BGD + 0, settledForm);
   trimap.setTo(cv::GC_FGD + 0, sure);
   timer.done("masks");
@@ -660,6 +764,7 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
     diff.convertTo(d8, CV_8U, 4.0);
     cv::imwrite(std::string(dir) + "/diff.png", d8);
     cv::imwrite(std::string(dir) + "/exposed.png", exposed);
+    cv::imwrite(std::string(dir) + "/shadow.png", shadow);
     cv::imwrite(std::string(dir) + "/key_bare.png", formMask);
     cv::imwrite(std::string(dir) + "/key_dressed.png", keyD.mask);
   }
@@ -736,6 +841,17 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
       else
         result.attributes["skirt"] = "h_line";  // a_line or h_line from the hem below
     }
+  }
+  // Top or dress: a dress's skirt hangs across the gap between the legs below the crotch; a
+  // garment that ends at the crotch is a top, however its outline compares (a top's hem near the
+  // crotch, with what is left of its shadow in the gap, matched short dresses on a physical rig).
+  if (result.type == "dress" && view.crotchCm() &&
+      coveredBelowCrotchCm(garment, view) < kSkirtBelowCrotchCm) {
+    result.warnings.push_back(
+        "type: the silhouette is closest to dress, but it ends at the crotch; taken for top");
+    result.runnerUp = "dress";
+    result.type = "top";
+    result.attributes.erase("skirt");
   }
   timer.done("type");
 

@@ -26,6 +26,22 @@ constexpr double kBandCm = 1.0;
 constexpr double kSleeveStepCm = 0.6;
 // Hem circumference is read this far above the hem edge.
 constexpr double kAboveHemCm = 1.25;
+// Legs that part this far below the form's crotch touch above (crotchHeightCm), and the gap
+// between them is fitted over this height.
+constexpr double kTouchingLegsCm = 5.5;
+constexpr double kGapFitCm = 8.0;
+// The hem's width is read over this height above its centre-front row (frontHemHeightCm).
+constexpr double kHemWidthBandCm = 6.0;
+// Legs narrower than this share of the garment kLegStepCm above where they part are no pants'
+// legs (partedLegsCm).
+constexpr double kLegStepShare = 0.8;
+constexpr double kLegStepCm = 1.0;
+// A pants leg's hem: its run across the leg narrows by no more than this share within this
+// height (legHemRow).
+constexpr double kHemTailShare = 0.6;
+constexpr double kHemTailCm = 4.0;
+// The garment's top is read this far outside the form's neck (see garment_length).
+constexpr double kOutsideNeckCm = 0.5;
 // Gaps in a mask run up to this many pixels are bridged (GrabCut specks, printed motifs).
 constexpr int kMaxGapPx = 2;
 
@@ -344,6 +360,151 @@ std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
   return SleeveEnd{(tEnd + 0.5) / c.s, {e.x(), e.y()}};
 }
 
+// The height of a hem whose centre front is seen at image row `hemRow`. In perspective the
+// silhouette's lowest point at the centre is the hem's front, in front of the form's axis
+// plane, which a camera above it sees lower than a point of the same height on the axis (a
+// physical rig's skirts read 1-2 cm long so; 12-15 cm in front of the axis at 3 m moves a hem
+// about 3 cm). The hem section is taken as the form's hip section scaled to the garment's width
+// just above the hem (the similar-section model the circumferences use), which places its front;
+// the height is then where the camera's ray through the row meets that depth. Orthographic
+// views read the row as it is.
+double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
+  const calib::FormPose& pose = c.view.pose();
+  const double axisHeight = c.view.heightOfRow(hemRow);
+  if (!pose.perspective)
+    return axisHeight;
+  const calib::FormSection hip = c.view.form().section(c.view.hipCm());
+  double minZ = 0, maxZ = 0;
+  bool any = false;
+  for (const auto& loop : hip.torsoLoops)
+    for (const auto& p : loop) {
+      minZ = any ? std::min(minZ, p.y()) : p.y();
+      maxZ = any ? std::max(maxZ, p.y()) : p.y();
+      any = true;
+    }
+  const auto hipRow = c.view.torsoAtHeight(c.view.hipCm());
+  if (!any || !hipRow || hipRow->widthPx() <= 1)
+    return axisHeight;
+  // The garment's widest run in the kHemWidthBandCm above the hem row.
+  double widest = 0;
+  const int band = static_cast<int>(std::lround(kHemWidthBandCm * c.s));
+  for (int r = static_cast<int>(hemRow) - band; r < static_cast<int>(hemRow); ++r)
+    if (const auto run = runAt(c.mask, r, axisCol))
+      widest = std::max(widest, run->second - run->first);
+  if (widest <= 0)
+    return axisHeight;
+  const double centreZ = 0.5 * (minZ + maxZ);
+  const double frontZ = centreZ + (maxZ - centreZ) * widest / hipRow->widthPx();
+  const calib::Intrinsics& k = *pose.perspective;
+  const double d = *pose.distanceCm();
+  const double cameraY = (pose.offsetPx.y() - k.cy) * d / k.fy;
+  return cameraY + (k.cy - hemRow) * (d - frontZ) / k.fy;
+}
+
+// The lowest row of one pants leg, going down from `fromRow` along the form's leg: the run
+// across the leg (on its side of the axis) must stay at least kHemTailShare of its widest in the
+// kHemTailCm above. The garment's shadow on the shin below the hem joins the silhouette as a
+// narrow tail (a physical rig's leg openings read 7-13 cm small, measured across the tail).
+std::optional<int> legHemRow(const Context& c, int side, int fromRow, int axisCol) {
+  const int window = std::max(2, static_cast<int>(std::lround(kHemTailCm * c.s)));
+  std::vector<double> widths;
+  std::optional<int> last;
+  for (int r = fromRow; r < c.mask.rows; ++r) {
+    const auto leg = c.view.legAtRow(r, side);
+    if (!leg)
+      break;
+    const auto run = runAt(c.mask, r, static_cast<int>(std::lround(leg->centrePx())),
+                           side == 0 ? -1 : axisCol, side == 0 ? axisCol : -1);
+    if (!run)
+      break;
+    const double w = run->second - run->first;
+    const std::size_t from =
+        widths.size() > static_cast<std::size_t>(window) ? widths.size() - window : 0;
+    const double widest =
+        widths.empty() ? w
+                       : *std::max_element(widths.begin() + static_cast<long>(from), widths.end());
+    if (w < kHemTailShare * widest)
+      break;
+    widths.push_back(w);
+    last = r;
+  }
+  return last;
+}
+
+// Distance in px between the garment's outermost pixels within `reach` of the axis at `row`;
+// nullopt when the row holds none.
+std::optional<double> outerWidthPx(const cv::Mat& mask, int row, int axis, int reach) {
+  if (row < 0 || row >= mask.rows)
+    return std::nullopt;
+  const uchar* m = mask.ptr(row);
+  int lo = -1, hi = -1;
+  for (int x = std::max(0, axis - reach); x <= std::min(mask.cols - 1, axis + reach); ++x)
+    if (m[x]) {
+      lo = lo < 0 ? x : lo;
+      hi = x;
+    }
+  if (lo < 0)
+    return std::nullopt;
+  return static_cast<double>(hi - lo + 1);
+}
+
+// Width in px of the gap between the legs at `row`: the run of uncovered pixels around the
+// axis column, between the nearest garment pixels on either side; nullopt when the axis is
+// covered or a side has no garment within 25 cm.
+std::optional<double> gapBetweenLegsPx(const Context& c, int row, int axisCol) {
+  if (row < 0 || row >= c.mask.rows || on(c.mask, row, axisCol))
+    return std::nullopt;
+  const int reach = static_cast<int>(std::lround(25.0 * c.s));
+  int left = -1, right = -1;
+  for (int x = axisCol - 1; x >= std::max(0, axisCol - reach) && left < 0; --x)
+    if (on(c.mask, row, x))
+      left = x;
+  for (int x = axisCol + 1; x <= std::min(c.mask.cols - 1, axisCol + reach) && right < 0; ++x)
+    if (on(c.mask, row, x))
+      right = x;
+  if (left < 0 || right < 0)
+    return std::nullopt;
+  return static_cast<double>(right - left - 1);
+}
+
+// The crotch height from the first row where the legs part (`partRow`). Pants legs whose inner
+// edges touch below the crotch part only lower down (6.5-8.5 cm below the form's crotch on a
+// physical rig, inseams 4-6 cm short): when the parting starts more than kTouchingLegsCm below
+// the form's crotch, the gap's V over the next kGapFitCm is fitted (width against row) and
+// followed up to where it closes, but never above the form's crotch. The simulator's pants part
+// where their crotch is, 3.9 cm below the bundled form's: there the V, followed up, read the
+// crotch 1.2 cm high, so the parting row stands.
+double crotchHeightCm(const Context& c, int partRow, int axisCol) {
+  const double partH = c.view.heightOfRow(partRow);
+  const auto formCrotch = c.view.crotchCm();
+  if (!formCrotch || *formCrotch - partH <= kTouchingLegsCm)
+    return partH;
+  const int rows = static_cast<int>(std::lround(kGapFitCm * c.s));
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int n = 0;
+  for (int k = 0; k <= rows; ++k) {
+    const auto w = gapBetweenLegsPx(c, partRow + k, axisCol);
+    if (!w)
+      break;  // the gap must be one piece below the parting
+    sx += k;
+    sy += *w;
+    sxx += static_cast<double>(k) * k;
+    sxy += k * *w;
+    ++n;
+  }
+  if (n < rows / 2)
+    return partH;
+  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  const double at0 = (sy - slope * sx) / n;
+  if (!(slope > 0.05))
+    return partH;  // no V: a gap of parallel edges says nothing about where it closes
+  const double apexRow = partRow - at0 / slope;
+  c.out.warnings.push_back(
+      "inseam: the legs touch below the crotch; the crotch is where the gap between them, "
+      "followed up, closes");
+  return std::min(*formCrotch, c.view.heightOfRow(apexRow));
+}
+
 }  // namespace
 
 // The pipeline reports exactly what the simulator's truth.json holds: one vocabulary, in calib.
@@ -390,8 +551,7 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       const auto leg = view.legAtRow(*crotchRow + static_cast<int>(5 * c.s), side);
       if (!leg)
         continue;
-      const auto low = lowestRow(garmentMask, static_cast<int>(std::lround(leg->centrePx())),
-                                 *crotchRow + static_cast<int>(5 * c.s));
+      const auto low = legHemRow(c, side, *crotchRow + static_cast<int>(5 * c.s), axisCol);
       if (!low)
         continue;
       hems.push_back(*low + 1.0);  // bottom edge of the last covered row
@@ -421,7 +581,7 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       out.landmarks.push_back(
           {"crotch", {static_cast<double>(axisCol), static_cast<double>(*crotchRow)}});
       put("outseam", view.waistCm() - hemH);
-      put("inseam", view.heightOfRow(*crotchRow) - hemH);
+      put("inseam", crotchHeightCm(c, *crotchRow, axisCol) - hemH);
       if (!openings.empty())
         put("leg_opening_circ", median(openings));
     }
@@ -445,28 +605,38 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       lowest.push_back(static_cast<double>(*low));
   }
   const double hemEdge = median(lowest) + 1.0;  // lower edge of the last covered row
-  const double hemH = view.heightOfRow(hemEdge);
+  const double hemH = frontHemHeightCm(c, hemEdge, axisCol);
   out.landmarks.push_back({"hem_centre", {static_cast<double>(axisCol), hemEdge}});
   if (wants("hem_circ"))
     put("hem_circ", circumferenceAt(c, hemH + kAboveHemCm, "hem_circ"));
   if (wants("skirt_length"))
     put("skirt_length", view.waistCm() - hemH);
   if (wants("garment_length")) {
-    // The garment's highest point (the side neck): the first covered row near the body axis.
-    const int halfNeck =
-        static_cast<int>(std::ceil(view.neckHalfWidthPx())) + static_cast<int>(3 * c.s);
-    int top = -1;
-    for (int r = 0; r < garmentMask.rows && top < 0; ++r)
-      for (int x = std::max(0, axisCol - halfNeck);
-           x <= std::min(garmentMask.cols - 1, axisCol + halfNeck); ++x)
-        if (on(garmentMask, r, x)) {
-          top = r;
+    // The garment's highest point is its neckline at the side neck. It is read just outside the
+    // form's neck on both sides, where the silhouette can only be garment: over the neck itself
+    // the form under the chin, shadowed by the head and tinted by light the garment throws back
+    // on it, differs from the bare frame and joins the silhouette (a physical rig read
+    // garment lengths 6-14 cm long so). The higher of the two sides' first covered rows: a
+    // garment the colour of the form can lose a notch of its shoulder on one side.
+    const int offset = static_cast<int>(std::ceil(view.neckHalfWidthPx() + kOutsideNeckCm * c.s));
+    const int fromRow =
+        std::max(0, static_cast<int>(std::lround(view.rowOfHeight(view.neckSideCm() + 15.0))));
+    std::vector<double> tops;
+    for (const int col : {axisCol - offset, axisCol + offset}) {
+      if (col < 0 || col >= garmentMask.cols)
+        continue;
+      for (int r = fromRow; r < hemEdge; ++r)
+        if (on(garmentMask, r, col)) {
+          tops.push_back(static_cast<double>(r));
+          out.landmarks.push_back({col < axisCol ? "neck_left" : "neck_right",
+                                   {static_cast<double>(col), static_cast<double>(r)}});
           break;
         }
-    if (top >= 0) {
-      put("garment_length", view.heightOfRow(static_cast<double>(top)) - hemH);
-      out.landmarks.push_back({"neck", {static_cast<double>(axisCol), static_cast<double>(top)}});
     }
+    if (!tops.empty())
+      put("garment_length", view.heightOfRow(*std::min_element(tops.begin(), tops.end())) - hemH);
+    else
+      out.warnings.push_back("garment_length: the garment does not reach the side neck");
   }
   if (wants("sleeve_length")) {
     std::vector<double> lengths;
@@ -479,7 +649,10 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
     if (lengths.empty())
       out.warnings.push_back("sleeve_length: the form has no arms");
     else
-      put("sleeve_length", median(lengths));
+      // The longer of the two: a sleeve is lost from the silhouette in parts (a fabric the
+      // colour of the form reads as exposed form, a notch cuts the arm off), but is not found
+      // where there is none, and garments are symmetric.
+      put("sleeve_length", *std::max_element(lengths.begin(), lengths.end()));
   }
   return out;
 }
@@ -495,7 +668,7 @@ double partedLegsCm(const cv::Mat& garmentMask, const FormView& view) {
   const int reach = static_cast<int>(std::lround(25.0 * s));
   const int minLeg = static_cast<int>(std::lround(2.0 * s));
   const int hipRow = std::max(0, static_cast<int>(std::lround(view.rowOfHeight(view.hipCm()))));
-  int parted = 0;
+  int parted = 0, firstParted = 0;
   for (int r = hipRow; r < garmentMask.rows; ++r) {
     const uchar* m = garmentMask.ptr(r);
     bool centre = false;
@@ -508,10 +681,48 @@ double partedLegsCm(const cv::Mat& garmentMask, const FormView& view) {
       left += m[x] != 0;
     for (int x = axis + half + 1; x <= std::min(garmentMask.cols - 1, axis + reach); ++x)
       right += m[x] != 0;
-    if (left >= minLeg && right >= minLeg)
+    if (left >= minLeg && right >= minLeg) {
+      if (parted == 0)
+        firstParted = r;
       ++parted;
+    }
+  }
+  if (parted > 0) {
+    // Pants' legs continue the seat: just below where they part, their outer edges are about as
+    // far apart as just above. "Legs" much narrower than the garment just above them are the
+    // form's legs below a skirt's hem, in the skirt's shadow (a physical rig's A-line skirt read
+    // as pants so).
+    const int step = std::max(1, static_cast<int>(std::lround(kLegStepCm * s)));
+    const auto above = outerWidthPx(garmentMask, firstParted - step, axis, reach);
+    const auto below = outerWidthPx(garmentMask, firstParted + step, axis, reach);
+    if (above && below && *below < kLegStepShare * *above)
+      return 0.0;
   }
   return parted / s;
+}
+
+double coveredBelowCrotchCm(const cv::Mat& garmentMask, const FormView& view) {
+  if (garmentMask.size() != view.size() || garmentMask.type() != CV_8UC1)
+    throw std::invalid_argument(
+        "coveredBelowCrotch: the garment mask must be CV_8UC1 of the frame's size");
+  if (!view.crotchCm())
+    return 0.0;
+  const double s = view.pose().pxPerCm;
+  const int axis = static_cast<int>(std::lround(view.axisXPx()));
+  const int crotchRow = static_cast<int>(std::lround(view.rowOfHeight(*view.crotchCm())));
+  const int maxGap = std::max(1, static_cast<int>(std::lround(0.5 * s)));
+  if (crotchRow < 0 || crotchRow >= garmentMask.rows)
+    return 0.0;
+  int last = -1, gap = 0;
+  for (int r = crotchRow; r < garmentMask.rows; ++r) {
+    if (on(garmentMask, r, axis)) {
+      last = r;
+      gap = 0;
+    } else if (++gap > maxGap) {
+      break;
+    }
+  }
+  return last < 0 ? 0.0 : (last + 1 - crotchRow) / s;
 }
 
 }  // namespace garmcap::pipeline

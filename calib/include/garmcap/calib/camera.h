@@ -42,6 +42,22 @@ CameraModel calibrateCameraFromDirectory(const std::filesystem::path& dir, cv::S
 /// Undistorts a frame of the calibrated size (throws std::invalid_argument on a size mismatch).
 cv::Mat undistortFrame(const cv::Mat& frame, const CameraModel& camera);
 
+/// Undistortion of every frame of one camera: the pixel maps (cv::initUndistortRectifyMap, same
+/// camera matrix for the output, as undistortFrame) are computed once, so each frame costs one
+/// cv::remap. The capture pipeline keeps one per calibration and undistorts the bare and the
+/// dressed frame with it, so both share the geometry the form was registered in.
+class FrameUndistorter {
+ public:
+  explicit FrameUndistorter(const CameraModel& camera);
+  /// The undistorted frame (bilinear). Throws std::invalid_argument on a size mismatch.
+  cv::Mat apply(const cv::Mat& frame) const;
+  cv::Size size() const { return size_; }
+
+ private:
+  cv::Size size_;
+  cv::Mat map1_, map2_;  // fixed-point maps (CV_16SC2 + CV_16UC1): remap's fast path
+};
+
 std::string cameraToJson(const CameraModel& camera);
 void writeCameraJson(const std::filesystem::path& path, const CameraModel& camera);
 /// Strict reader: throws drafts::ParseError naming the file and the field.

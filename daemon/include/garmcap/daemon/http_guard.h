@@ -13,18 +13,12 @@
 #include <vector>
 
 #include "garmcap/daemon/http_router.h"
+#include "garmcap/daemon/utf8.h"
 
 namespace garmcap::daemon {
 
 /// Longest request target answered; longer ones get 414 (the header limit is 16 KiB).
 inline constexpr std::size_t kMaxTargetBytes = 8192;
-
-/// True when `s` is well-formed UTF-8 (no overlong forms, no surrogates, nothing past U+10FFFF).
-bool validUtf8(std::string_view s);
-
-/// `s` made safe to quote in an error message: invalid UTF-8 bytes and control characters as
-/// \xNN, and cut (at a character boundary, with "...") after `maxBytes`.
-std::string quoteInput(std::string_view s, std::size_t maxBytes = 64);
 
 /// The host part of a Host header (no port; IPv6 literals keep their brackets); empty when the
 /// header is malformed.

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "garmcap/calib/camera.h"
 #include "garmcap/calib/form_model.h"
 #include "garmcap/calib/registration.h"
 #include "garmcap/drafts/measurements.h"
@@ -20,6 +21,10 @@ namespace garmcap::pipeline {
 
 struct CaptureContext {
   calib::Calibration calibration;
+  // The calibration's camera model as pixel maps, computed once: the bare frame was undistorted
+  // with it before the form was registered, so both frames of a capture are too. Null without a
+  // camera model (the frames are used as they are).
+  std::shared_ptr<const calib::FrameUndistorter> undistorter;
   std::shared_ptr<const calib::FormModel> form;
   std::shared_ptr<const FormView> view;  // form seen with the calibrated pose, roll removed
   drafts::Measurements body;             // the form's measurements completed from a size chart

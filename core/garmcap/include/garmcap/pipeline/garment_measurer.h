@@ -45,4 +45,10 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
 /// its hem. Same mask contract as measureGarment.
 double partedLegsCm(const cv::Mat& garmentMask, const FormView& view);
 
+/// How far, in cm of height, the garment covers the form's centre line below the crotch, without
+/// a break of more than 0.5 cm: a dress's skirt hangs across the gap between the legs, a top
+/// ends above it. 0 on a form without legs or when the garment does not reach the crotch. Same
+/// mask contract as measureGarment.
+double coveredBelowCrotchCm(const cv::Mat& garmentMask, const FormView& view);
+
 }  // namespace garmcap::pipeline
