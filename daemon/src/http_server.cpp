@@ -28,13 +28,8 @@ bool authorized(const Request& request, const std::string& token, const LoginSes
       if (logins->valid(*id))
         return true;
   }
-  auto equal = [&](std::string_view given) {
-    // Constant time in the token's length: no early exit on the first wrong byte.
-    unsigned diff = given.size() == token.size() ? 0u : 1u;
-    for (std::size_t i = 0; i < token.size(); ++i)
-      diff |= static_cast<unsigned>(token[i] ^ (i < given.size() ? given[i] : 0));
-    return diff == 0;
-  };
+  // Constant time in the token's length: no early exit on the first wrong byte.
+  auto equal = [&](std::string_view given) { return constantTimeEqual(given, token); };
   // RFC 7235: the scheme is case-insensitive ("bearer", "BEARER"), one or more spaces follow.
   auto auth = request[http::field::authorization];
   std::string_view a(auth.data(), auth.size());
