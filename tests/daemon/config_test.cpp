@@ -66,7 +66,11 @@ TEST(Config, RefusesWithKeyAndReason) {
   EXPECT_NE(errorOf(dir, "[http\n").find("garmcapd.toml"), std::string::npos);
   // Not UTF-8: refused before toml11 sees it (its literal-string parser reads out of bounds on
   // such bytes; tests/fuzz/fuzz_config_toml found it).
-  EXPECT_NE(errorOf(dir, "' \xaf" "etc' = 1\n").find("not valid UTF-8"), std::string::npos);
+  EXPECT_NE(errorOf(dir,
+                    "' \xaf"
+                    "etc' = 1\n")
+                .find("not valid UTF-8"),
+            std::string::npos);
   EXPECT_NE(errorOf(dir, "[http]\nserver_names = [\"a b\"]\n").find("server_names"),
             std::string::npos);
 }
