@@ -81,30 +81,12 @@ inline Reply httpCallWith(int port, http::verb verb, const std::string& target,
 
 inline Reply httpCall(int port, http::verb verb, const std::string& target,
                       const std::string& body = "", const std::string& token = "") {
-  asio::io_context io;
-  beast::tcp_stream stream(io);
-  stream.expires_after(30s);
-  stream.connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"),
-                                         static_cast<unsigned short>(port)));
-  http::request<http::string_body> req{verb, target, 11};
-  req.set(http::field::host, "127.0.0.1");
+  std::vector<std::pair<std::string, std::string>> fields = {{"Host", "127.0.0.1"}};
   if (!token.empty())
-    req.set(http::field::authorization, "Bearer " + token);
+    fields.emplace_back("Authorization", "Bearer " + token);
   if (!body.empty())
-    req.set(http::field::content_type, "application/json");
-  req.body() = body;
-  req.prepare_payload();
-  beast::error_code ec;
-  http::write(stream, req, ec);
-  beast::flat_buffer buf;
-  http::response_parser<http::string_body> parser;
-  parser.body_limit(256u << 20);
-  http::read(stream, buf, parser, ec);
-  if (ec)
-    return {0, ec.message(), ""};
-  auto res = parser.release();
-  return {static_cast<int>(res.result_int()), res.body(),
-          std::string(res[http::field::content_type])};
+    fields.emplace_back("Content-Type", "application/json");
+  return httpCallWith(port, verb, target, fields, body);
 }
 
 // rig.json of a rig whose one case is the folder c1 (the format capture::readRig reads).
