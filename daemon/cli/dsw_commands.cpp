@@ -7,6 +7,8 @@
 #include <string>
 
 #include "commands.h"
+#include "garmcap/drafts/export_dxf_aama.h"
+#include "garmcap/drafts/export_rul.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/measurements.h"
 #include "garmcap/drafts/panel_measure.h"
@@ -114,6 +116,10 @@ void runSizeRun(const GradeCliOptions& o) {
     throw std::runtime_error("sizerun: " + o.pattern + ": " + guide.error().message);
   gd::writeFileAtomic(dir / "size_guide.json", dsw::sizeGuideJson(*guide));
   gd::writeFileAtomic(dir / "size_guide.csv", dsw::sizeGuideCsv(*guide));
+  // The run for a grading CAD: every size's blocks, the item's size as the sample, its rules.
+  const gd::GradedRun graded{source.type, run->sizes, chart.sizes[*nearest], run->patterns};
+  gd::writeFileAtomic(dir / "graded.dxf", gd::gradedDxf(graded));
+  gd::writeFileAtomic(dir / "graded.rul", gd::gradeRuleTable(graded));
 }
 
 void addGradingOptions(CLI::App* cmd, GradeCliOptions& o) {
@@ -154,7 +160,8 @@ void addDswCommands(CLI::App& app) {
   auto so = std::make_shared<GradeCliOptions>();
   CLI::App* sizerun = app.add_subcommand(
       "sizerun",
-      "Grade a pattern to every size of a chart: panels per size and a size guide (JSON, CSV)");
+      "Grade a pattern to every size of a chart: panels per size, a size guide (JSON, CSV) and "
+      "the graded DXF-AAMA with its ASTM grade-rule table (graded.dxf, graded.rul)");
   addGradingOptions(sizerun, *so);
   sizerun->add_option("--chart", so->chart, "Size chart (e.g. korean_women)")->required();
   sizerun->add_option("--out", so->out, "Output folder")->required();

@@ -2,6 +2,7 @@
 #include "garmcap/drafts/export_dxf_aama.h"
 
 #include <cstdio>
+#include <map>
 #include <set>
 
 #include "export_util.h"
@@ -102,11 +103,12 @@ void dxfHeader(Dxf& d) {
   d.code(0, "ENDSEC");
 }
 
-// One piece of one size as a BLOCK. `ruleNumbers` (same length as the turn-point list, may be
-// empty) are written as "# N" texts beside layer-2 turn points.
+// One piece of one size as a BLOCK. `ruleAt` (outline index -> rule number, empty but in the
+// sample block) is written as a "# N" text on layer 2 right after its grade point: a layer-2
+// turn point or a layer-3 curve point that proportional curve grading alone would misplace.
 void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std::string& size,
                    const PieceText& text, const std::vector<int>& turns,
-                   const std::vector<int>& ruleNumbers, bool sample) {
+                   const std::map<int, int>& ruleAt, bool sample) {
   detail::checkPanel<DxfExportError>(panel);
   const std::string name = blockName(panel.name, size);
   d.code(0, "BLOCK");
@@ -126,16 +128,21 @@ void dxfPieceBlock(Dxf& d, const Pattern& pattern, const Panel& panel, const std
     d.line("6", panel.outline[static_cast<size_t>(fold->from)],
            panel.outline[static_cast<size_t>(fold->to)]);
 
-  std::set<int> turnSet(turns.begin(), turns.end());
-  for (size_t k = 0; k < turns.size(); ++k) {
-    const auto& p = panel.outline[static_cast<size_t>(turns[k])];
+  const std::set<int> turnSet(turns.begin(), turns.end());
+  auto ruleText = [&](int v, const Point2& p) {
+    if (const auto r = ruleAt.find(v); r != ruleAt.end())
+      d.text("2", p, 3.0, "# " + std::to_string(r->second));
+  };
+  for (int v : turns) {
+    const auto& p = panel.outline[static_cast<size_t>(v)];
     d.point("2", p);
-    if (!ruleNumbers.empty())
-      d.text("2", p, 3.0, "# " + std::to_string(ruleNumbers[k]));
+    ruleText(v, p);
   }
   for (size_t i = 0; i < panel.outline.size(); ++i)
-    if (!turnSet.count(static_cast<int>(i)))
+    if (!turnSet.count(static_cast<int>(i))) {
       d.point("3", panel.outline[i]);
+      ruleText(static_cast<int>(i), panel.outline[i]);
+    }
 
   for (const auto& n : panel.notches) {  // 5 mm slit from the cut line
     const auto slit = detail::notchSlit(panel.outline, cut, n.position);
@@ -216,22 +223,22 @@ std::string gradedDxf(const GradedRun& run) {
   dxfHeader(d);
   d.code(0, "SECTION");
   d.code(2, "BLOCKS");
+  // Rules numbered as the RUL numbers them: pieces in order, grade points ascending.
   int rule = 1;
   std::vector<std::vector<int>> turnsPerPanel;
-  std::vector<std::vector<int>> rulesPerPanel;
-  for (const auto& p : sample.panels) {
-    auto turns = turnPointIndices(p, sample);
-    std::vector<int> rules;
-    for (size_t k = 0; k < turns.size(); ++k)
-      rules.push_back(rule++);
-    turnsPerPanel.push_back(std::move(turns));
+  std::vector<std::map<int, int>> rulesPerPanel;
+  for (size_t i = 0; i < sample.panels.size(); ++i) {
+    turnsPerPanel.push_back(turnPointIndices(sample.panels[i], sample));
+    std::map<int, int> rules;
+    for (int v : gradePointIndices(run, i))
+      rules[v] = rule++;
     rulesPerPanel.push_back(std::move(rules));
   }
   for (size_t s = 0; s < run.sizes.size(); ++s) {
     const PieceText text{run.style, run.sizes[s]};
     for (size_t i = 0; i < run.patterns[s].panels.size(); ++i)
       dxfPieceBlock(d, run.patterns[s], run.patterns[s].panels[i], run.sizes[s], text,
-                    turnsPerPanel[i], s == si ? rulesPerPanel[i] : std::vector<int>{}, s == si);
+                    turnsPerPanel[i], s == si ? rulesPerPanel[i] : std::map<int, int>{}, s == si);
   }
   d.code(0, "ENDSEC");
   d.code(0, "SECTION");

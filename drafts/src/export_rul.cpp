@@ -1,4 +1,5 @@
-// ASTM D6673 grade-rule table (.RUL): one DELTA rule per turn point, one dx,dy pair per size.
+// ASTM D6673 grade-rule table (.RUL): one DELTA rule per grade point (turn points and the curve
+// points proportional curve grading needs), one dx,dy pair per size.
 #include "garmcap/drafts/export_rul.h"
 
 #include <sstream>
@@ -30,7 +31,7 @@ std::string gradeRuleTable(const GradedRun& run) {
   os << "\r\nSAMPLE SIZE: " << asciiText(run.sampleSize) << "\r\n";
   int rule = 1;
   for (size_t i = 0; i < sample.panels.size(); ++i) {
-    for (int v : turnPointIndices(sample.panels[i], sample)) {
+    for (int v : gradePointIndices(run, i)) {
       os << "RULE: DELTA " << rule++ << "\r\n";
       const Point2 base = sample.panels[i].outline[static_cast<size_t>(v)];
       for (size_t s = 0; s < run.sizes.size(); ++s) {

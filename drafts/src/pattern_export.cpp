@@ -85,6 +85,58 @@ size_t sampleIndex(const GradedRun& run) {
                              run.sizes.begin());
 }
 
+namespace {
+
+// Splits the sample's outline span from grade point `from` forward to `to` (cyclic) at its worst
+// rebuilt point while that misses a size by more than `tol`.
+void splitSpan(const GradedRun& run, size_t panelIndex, size_t sample, size_t from, size_t to,
+               double tol, std::set<int>& grade) {
+  const Polyline& o = run.patterns[sample].panels[panelIndex].outline;
+  const size_t n = o.size();
+  const size_t len = (to + n - from) % n == 0 ? n : (to + n - from) % n;  // edges in the span
+  if (len < 2)
+    return;
+  std::vector<double> arc(len + 1, 0.0);
+  for (size_t k = 1; k <= len; ++k)
+    arc[k] = arc[k - 1] + (o[(from + k) % n] - o[(from + k - 1) % n]).norm();
+  if (arc[len] <= 0)
+    return;
+  double worst = tol;
+  size_t worstK = 0;
+  for (size_t s = 0; s < run.patterns.size(); ++s) {
+    const Polyline& q = run.patterns[s].panels[panelIndex].outline;
+    const Point2 dFrom = q[from] - o[from], dTo = q[to % n] - o[to % n];
+    for (size_t k = 1; k < len; ++k) {
+      const double t = arc[k] / arc[len];
+      const size_t v = (from + k) % n;
+      const double miss = (o[v] + (1 - t) * dFrom + t * dTo - q[v]).norm();
+      if (miss > worst) {
+        worst = miss;
+        worstK = k;
+      }
+    }
+  }
+  if (worstK == 0)
+    return;
+  const size_t mid = (from + worstK) % n;
+  grade.insert(static_cast<int>(mid));
+  splitSpan(run, panelIndex, sample, from, mid, tol, grade);
+  splitSpan(run, panelIndex, sample, mid, to, tol, grade);
+}
+
+}  // namespace
+
+std::vector<int> gradePointIndices(const GradedRun& run, size_t panelIndex, double toleranceCm) {
+  const size_t si = sampleIndex(run);
+  const Pattern& sample = run.patterns[si];
+  const std::vector<int> turns = turnPointIndices(sample.panels[panelIndex], sample);
+  std::set<int> grade(turns.begin(), turns.end());
+  for (size_t k = 0; k < turns.size(); ++k)
+    splitSpan(run, panelIndex, si, static_cast<size_t>(turns[k]),
+              static_cast<size_t>(turns[(k + 1) % turns.size()]), toleranceCm, grade);
+  return {grade.begin(), grade.end()};
+}
+
 Layout layoutPanels(const Pattern& pattern, double gapCm, double maxRowWidthCm) {
   Layout lay;
   double x = gapCm, y = gapCm, rowH = 0;

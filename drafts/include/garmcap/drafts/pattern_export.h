@@ -54,6 +54,18 @@ void checkGradedRun(const GradedRun& run);
 /// Index of the sample size in run.sizes (call checkGradedRun first).
 size_t sampleIndex(const GradedRun& run);
 
+/// How closely a grading CAD must rebuild every size from the sample and the grade rules.
+constexpr double kGradeRebuildToleranceCm = 0.05;
+
+/// The grade points of panel `panelIndex` of a checked run (outline indices, ascending): the
+/// sample's turn points, plus the curve points a grading CAD needs to rebuild every size from
+/// the sample and the rules within `toleranceCm`. Between two grade points such a CAD moves each
+/// curve point by the two points' deltas weighted by its arc-length position on the sample
+/// (proportional curve grading); where that misses a size's point by more than the tolerance,
+/// the worst point becomes a grade point too, recursively (as Douglas-Peucker splits a curve).
+std::vector<int> gradePointIndices(const GradedRun& run, size_t panelIndex,
+                                   double toleranceCm = kGradeRebuildToleranceCm);
+
 /// Panels laid out side by side (left to right in rows no wider than `maxRowWidthCm`), each
 /// panel's outline bounding box moved to its slot: the offset to add to that panel's points.
 /// Also the total sheet size in cm.
