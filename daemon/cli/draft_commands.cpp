@@ -70,11 +70,14 @@ void runDraft(const DraftOptions& o) {
     for (const auto& t : gd::garmentTypes()) {
       nlohmann::json design = nlohmann::json::array();
       for (const auto& d : t.design) {
-        design.push_back({{"name", d.name},
-                          {"default", d.defaultValue},
-                          {"min", d.minValue},
-                          {"max", d.maxValue},
-                          {"description", d.description}});
+        nlohmann::json p = {{"name", d.name},
+                            {"default", d.defaultValue},
+                            {"min", d.minValue},
+                            {"max", d.maxValue},
+                            {"description", d.description}};
+        if (!d.gradesWith.empty())
+          p["grades_with"] = d.gradesWith;
+        design.push_back(std::move(p));
       }
       types.push_back({{"name", t.name},
                        {"description", t.description},

@@ -97,7 +97,9 @@ std::vector<GarmentTypeInfo> buildTypes() {
         easeHip(4, 0, 20),
         {"pants_length", 0.96, 0.3, 1.05,
          "trouser length from the waist as a fraction of leg_waist_side_to_floor"},
-        {"hem_width", 21, 12, 50, "front leg hem width, cm (back is 2 cm wider)"},
+        {"hem_width", 21, 12, 50,
+         "front leg hem width, cm (back is 2 cm wider); grows with the hip when graded",
+         "hip_circ"},
         seamAllowance()}});
   {
     GarmentTypeInfo s{"sleeve",

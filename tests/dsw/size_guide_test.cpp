@@ -84,7 +84,12 @@ TEST(SizeGuide, ItemRowIsTheItemAndOtherRowsFollowTheDraftOfThatSize) {
       EXPECT_NEAR(g.item().garmentCm.at(n), v, 1e-9) << recipe << " " << n;
     // Other rows: a second route to the same garment, drafted directly for that size with the
     // same ease, moves by the same amount (within what DSW grading and drafting differ by).
-    const Case at77 = drafted(recipe, "77");
+    // The trouser hem is a design width that grows with the hip (recipes.h gradesWith).
+    std::map<std::string, double> design77;
+    if (recipe == "pants")
+      design77["hem_width"] =
+          21.0 * chart().body("77").get("hip_circ") / chart().body("55").get("hip_circ");
+    const Case at77 = drafted(recipe, "77", design77);
     const auto& row77 = g.rows.at(indexOf("77"));
     for (const auto& [n, v] : at77.item) {
       ASSERT_TRUE(row77.garmentCm.count(n)) << recipe << " " << n;
@@ -98,6 +103,27 @@ TEST(SizeGuide, ItemRowIsTheItemAndOtherRowsFollowTheDraftOfThatSize) {
         }
       }
     }
+  }
+}
+
+TEST(SizeGuide, TrouserHemGrowsWithTheHipAndTheItemKeepsItsOwn) {
+  Case c = drafted("pants", "55", {{"hem_width", 19.0}});
+  const SizeGuide g = guideFor(c);
+  ASSERT_EQ(g.itemSize(), "55");
+  EXPECT_NEAR(g.item().garmentCm.at("leg_opening_circ"), c.item.at("leg_opening_circ"), 1e-9);
+  const double hip55 = chart().body("55").get("hip_circ");
+  const double leg55 = c.item.at("leg_opening_circ");
+  for (std::size_t i = 0; i < g.rows.size(); ++i) {
+    const auto& row = g.rows[i];
+    ASSERT_TRUE(row.garmentCm.count("leg_opening_circ")) << row.size;
+    if (i > 0) {
+      EXPECT_GT(row.garmentCm.at("leg_opening_circ"),
+                g.rows[i - 1].garmentCm.at("leg_opening_circ"))
+          << row.size << ": a hem fixed in every size is the defect this guards";
+    }
+    // In proportion to the body's hip, within what DSW warping adds at the hem's ends.
+    const double expected = leg55 * chart().body(row.size).get("hip_circ") / hip55;
+    EXPECT_NEAR(row.garmentCm.at("leg_opening_circ"), expected, 0.02 * expected) << row.size;
   }
 }
 

@@ -270,11 +270,31 @@ Expected<Pattern> decodePattern(const EncodedPattern& enc, const Pattern& target
   return out;
 }
 
+// The recipe's declaration of a design parameter, if it has one.
+const drafts::DesignParameter* designParameter(const std::string& type, const std::string& name) {
+  for (const auto& t : drafts::garmentTypes())
+    if (t.name == type)
+      for (const auto& p : t.design)
+        if (p.name == name)
+          return &p;
+  return nullptr;
+}
+
 Expected<Pattern> targetDraft(const Pattern& source, const drafts::Measurements& target) {
   std::map<std::string, double> design;
   for (const auto& [name, value] : source.design) {
-    if (!target.has(name))
-      design[name] = value;
+    if (target.has(name))
+      continue;
+    design[name] = value;
+    // A width the recipe grades with the body keeps its proportion to that body measurement;
+    // clamped to the recipe's range so a far size stays draftable.
+    const auto* p = designParameter(source.type, name);
+    if (!p || p->gradesWith.empty())
+      continue;
+    const auto from = source.measurements.find(p->gradesWith);
+    const auto to = target.find(p->gradesWith);
+    if (from && to && *from > 0)
+      design[name] = std::clamp(value * *to / *from, p->minValue, p->maxValue);
   }
   try {
     return drafts::draftGarment(source.type, target, design);

@@ -23,10 +23,14 @@ struct DesignParameter {
   double minValue = 0;
   double maxValue = 0;
   std::string description;  // units and meaning
+  // A width the design sets in cm but a grader widens with the body: the body measurement it
+  // grows with in proportion when the pattern is graded to another size (a trouser hem with the
+  // hip). Empty: the value is kept in every size (ease, lengths below the waist, flare).
+  std::string gradesWith{};
 };
 
 struct GarmentTypeInfo {
-  std::string name;                       // "bodice", "dress", "skirt_h", ...
+  std::string name;  // "bodice", "dress", "skirt_h", ...
   std::string description;
   std::vector<std::string> measurements;  // required body measurements (Valentina names)
   std::vector<DesignParameter> design;    // ease and design parameters with defaults
