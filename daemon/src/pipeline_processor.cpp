@@ -15,6 +15,7 @@
 #include "garmcap/daemon/capture_processor.h"
 #include "garmcap/daemon/config.h"
 #include "garmcap/daemon/garment_colour.h"
+#include "garmcap/daemon/stage_progress.h"
 #include "garmcap/drafts/panel_measure.h"
 #include "garmcap/drafts/pattern_io.h"
 #include "garmcap/drafts/size_charts.h"
@@ -65,14 +66,29 @@ class PipelineProcessor : public CaptureProcessor {
 
   ProcessedCapture process(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
                            const nlohmann::json& calibration, const ProgressFn& progress) override {
-    progress("garmcap", 0.05);
+    // The pipeline runs from 5 % to 80 % of this call; each stage's end moves the bar by the
+    // share of time that stage takes on this station, and names the stage that runs next.
+    constexpr double kPipelineFrom = 0.05, kPipelineTo = 0.8;
+    progress("context", kPipelineFrom);
+    pipeline::CaptureOptions options = options_;
+    double doneShare = 0;
+    options.onStageDone = [&](const pipeline::StageTiming& t) {
+      const StageProgress::Step step = stageProgress_.after(t.stage);
+      doneShare = std::max(doneShare, step.fraction);
+      progress(step.next.empty() ? t.stage : step.next,
+               kPipelineFrom + (kPipelineTo - kPipelineFrom) * doneShare);
+    };
     const auto t0 = std::chrono::steady_clock::now();
-    pipeline::CaptureResult r = pipeline::runCapture(emptyBgr, dressedBgr, calibration, options_);
+    pipeline::CaptureResult r = pipeline::runCapture(emptyBgr, dressedBgr, calibration, options);
     spdlog::info(
         "pipeline: runCapture took {} ms",
         std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
             .count());
-    progress("garmcap", 0.8);
+    std::vector<std::pair<std::string, double>> stageMs;
+    for (const auto& t : r.timings)
+      stageMs.emplace_back(t.stage, t.ms);
+    stageProgress_.learn(stageMs);
+    progress("grading sizes", kPipelineTo);
     ProcessedCapture out;
     out.type = r.type;
     out.attributes = r.attributes;
@@ -98,7 +114,6 @@ class PipelineProcessor : public CaptureProcessor {
     addImage("texture", r.texture);
     nameColours(dressedBgr, r, out);
     grade(r, out, progress);
-    progress("grading", 0.95);
     return out;
   }
 
@@ -199,6 +214,7 @@ class PipelineProcessor : public CaptureProcessor {
   }
 
   pipeline::CaptureOptions options_;
+  StageProgress stageProgress_;
   std::string sizeChart_;
   std::string formPath_;
   std::mutex formMutex_;

@@ -150,12 +150,12 @@ TEST(DaemonResilience, SigkillWhileCapturesFileItemsLosesNothingReported) {
     bool armed = true;
     while (Clock::now() < killAt) {
       poll(d);
-      const bool trigger = round % 2 ? std::any_of(jobs.begin(), jobs.end(),
-                                                   [](const auto& j) {
-                                                     return j.second.state == "running" &&
-                                                            j.second.stage == "images";
-                                                   })
-                                     : doneCount() > doneBefore;
+      const bool trigger =
+          round % 2 ? std::any_of(jobs.begin(), jobs.end(),
+                                  [](const auto& j) {
+                                    return j.second.state == "running" && j.second.stage == "store";
+                                  })
+                    : doneCount() > doneBefore;
       if (armed && trigger) {
         armed = false;
         // The load on a shared machine varies: keep the estimate of a capture honest.

@@ -74,15 +74,19 @@ constexpr double kShadowMaxShareOfChange = 0.4;
 
 class StageTimer {
  public:
-  explicit StageTimer(std::vector<StageTiming>& out) : out_(out), start_(Clock::now()) {}
+  StageTimer(std::vector<StageTiming>& out, const std::function<void(const StageTiming&)>& onDone)
+      : out_(out), onDone_(onDone), start_(Clock::now()) {}
   void done(const std::string& stage) {
     const auto now = Clock::now();
     out_.push_back({stage, std::chrono::duration<double, std::milli>(now - start_).count()});
     start_ = now;
+    if (onDone_)
+      onDone_(out_.back());
   }
 
  private:
   std::vector<StageTiming>& out_;
+  const std::function<void(const StageTiming&)>& onDone_;
   Clock::time_point start_;
 };
 
@@ -466,7 +470,7 @@ nlohmann::json CaptureResult::toJson() const {
 CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
                          const nlohmann::json& calibration, const CaptureOptions& options) {
   CaptureResult result;
-  StageTimer timer(result.timings);
+  StageTimer timer(result.timings, options.onStageDone);
   if (emptyBgr.empty() || emptyBgr.type() != CV_8UC3)
     throw CaptureError(Reason::kBadInput,
                        "the bare-form frame is empty or not an 8-bit colour image");

@@ -3,6 +3,7 @@
 // measurements in cm, pattern and product images (seed chapter 5). This is the entry point the
 // daemon and the CLI call; the stages live in their own units.
 
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -32,6 +33,11 @@ class CaptureError : public std::runtime_error {
   Reason reason_;
 };
 
+struct StageTiming {
+  std::string stage;  // "registration", "masks", "grabcut", "type", "landmarks", ...
+  double ms = 0;
+};
+
 struct CaptureOptions {
   bool makeProductImages = true;
   bool makeTexture = true;
@@ -40,6 +46,9 @@ struct CaptureOptions {
   // is then placed at full resolution. 2 MP keeps the 4 MP rig's errors within 0.1 cm of
   // full-resolution segmentation at a fraction of its time (docs/pipeline.md).
   double workMegapixels = 2.0;
+  // Called on the pipeline's thread as each stage ends, with its name and duration, so a caller
+  // can show real progress; it must not throw.
+  std::function<void(const StageTiming&)> onStageDone;
 };
 
 /// Makes the C allocator keep the freed memory of frame-sized buffers for the next one instead
@@ -48,11 +57,6 @@ struct CaptureOptions {
 /// then keeps up to about its peak (~1.5 GB at 12 MP) mapped between captures. Call once at
 /// start-up, before any thread starts.
 void keepFrameMemoryMapped();
-
-struct StageTiming {
-  std::string stage;  // "registration", "masks", "grabcut", "type", "landmarks", ...
-  double ms = 0;
-};
 
 struct CaptureResult {
   std::string type;                               // top | dress | skirt | pants
