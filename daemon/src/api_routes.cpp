@@ -12,6 +12,7 @@
 
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/export_shop.h"
 #include "garmcap/daemon/http_guard.h"
 #include "garmcap/drafts/pattern_io.h"
 #include "garmcap/drafts/svg.h"
@@ -66,6 +67,14 @@ std::string requireStringField(const nlohmann::json& body, const std::string& ke
     throw BadRequest("field '" + key + "' is longer than " + std::to_string(maxLen) + " bytes");
   requireText(s, "field '" + key + "'", multiLine);
   return s;
+}
+
+// An item as the API serves it: its stored fields and `default_title`, the title the shops get
+// while staff leave it empty, so the web UI shows the exports' rule instead of a copy of it.
+nlohmann::json itemJson(const Item& it) {
+  nlohmann::json j = it.toJson();
+  j["default_title"] = defaultProductTitle(it.type, it.attributes);
+  return j;
 }
 
 ItemPatch parsePatch(const nlohmann::json& body) {
@@ -284,7 +293,7 @@ void addApiRoutes(Router& router, Station& station) {
           auto [items, total] = c.items(q);
           nlohmann::json list = nlohmann::json::array();
           for (const auto& it : items)
-            list.push_back(it.toJson());
+            list.push_back(itemJson(it));
           reply(jsonResponse(
               http::status::ok,
               {{"items", list}, {"total", total}, {"offset", q.offset}, {"limit", q.limit}}));
@@ -297,7 +306,7 @@ void addApiRoutes(Router& router, Station& station) {
     st->withCatalog(
         [reply, id](Catalog& c) {
           auto it = c.item(id);
-          reply(it ? jsonResponse(http::status::ok, it->toJson())
+          reply(it ? jsonResponse(http::status::ok, itemJson(*it))
                    : jsonError(http::status::not_found, "no item " + std::to_string(id)));
         },
         reply);
@@ -312,7 +321,7 @@ void addApiRoutes(Router& router, Station& station) {
               try {
                 if (!c.patchItem(id, patch))
                   return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
-                reply(jsonResponse(http::status::ok, c.item(id)->toJson()));
+                reply(jsonResponse(http::status::ok, itemJson(*c.item(id))));
               } catch (const CatalogError& e) {
                 reply(jsonError(http::status::bad_request, e.what()));
               }
@@ -339,7 +348,7 @@ void addApiRoutes(Router& router, Station& station) {
               if (!c.restoreItem(id))
                 return reply(
                     jsonError(http::status::not_found, "no deleted item " + std::to_string(id)));
-              reply(jsonResponse(http::status::ok, c.item(id)->toJson()));
+              reply(jsonResponse(http::status::ok, itemJson(*c.item(id))));
             },
             reply);
       });

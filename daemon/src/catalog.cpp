@@ -100,6 +100,15 @@ CREATE INDEX items_type ON items(type);
 CREATE INDEX jobs_state ON jobs(state);
 )sql";
 
+// Settings staff and shop owners save from the web UI (the shop's setup), as JSON per key.
+constexpr const char* kMigrateV2ToV3 = R"sql(
+CREATE TABLE settings(
+  key TEXT PRIMARY KEY,
+  value TEXT NOT NULL,
+  updated_at TEXT NOT NULL
+);
+)sql";
+
 const char* text(sqlite3_stmt* s, int col) {
   const unsigned char* t = sqlite3_column_text(s, col);
   return t ? reinterpret_cast<const char*>(t) : "";
@@ -133,6 +142,8 @@ std::string catalogSchemaSql(int version) {
     return kSchemaV1;
   if (version == 2)
     return std::string(kSchemaV1) + kMigrateV1ToV2;
+  if (version == 3)
+    return std::string(kSchemaV1) + kMigrateV1ToV2 + kMigrateV2ToV3;
   throw CatalogError("no catalog schema version " + std::to_string(version));
 }
 
@@ -343,7 +354,7 @@ void Catalog::migrate() {
     throw CatalogError("catalog " + file_.string() + ": bad schema version " +
                        std::to_string(version));
   // Ordered migrations, each in its own transaction together with its user_version.
-  static const std::vector<const char*> kMigrations = {kMigrateV1ToV2};
+  static const std::vector<const char*> kMigrations = {kMigrateV1ToV2, kMigrateV2ToV3};
   while (version < kCatalogSchemaVersion) {
     spdlog::info("catalog: migrating {} from schema {} to {}", file_.string(), version,
                  version + 1);
@@ -436,6 +447,30 @@ std::optional<Calibration> Catalog::calibration(std::int64_t id) {
   if (!s.step())
     return std::nullopt;
   return readCalibration(s.get());
+}
+
+// --- settings --------------------------------------------------------------------------------
+
+std::optional<nlohmann::json> Catalog::setting(const std::string& key) {
+  Statement s(*this, "SELECT value FROM settings WHERE key = ?");
+  s.bind(1, key);
+  if (!s.step())
+    return std::nullopt;
+  auto parsed = nlohmann::json::parse(text(s.get(), 0), nullptr, false);
+  if (parsed.is_discarded())
+    throw CatalogError("catalog " + file_.string() + ": setting '" + key + "' is not JSON");
+  return parsed;
+}
+
+void Catalog::setSetting(const std::string& key, const nlohmann::json& value) {
+  Statement(
+      *this,
+      "INSERT INTO settings(key, value, updated_at) VALUES(?,?,?) "
+      "ON CONFLICT(key) DO UPDATE SET value = excluded.value, updated_at = excluded.updated_at")
+      .bind(1, key)
+      .bind(2, value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))
+      .bind(3, now())
+      .run();
 }
 
 // --- jobs ------------------------------------------------------------------------------------
@@ -819,7 +854,8 @@ std::pair<std::vector<Item>, std::int64_t> Catalog::items(const ItemQuery& q) {
   constexpr const char* kWhere =
       "WHERE ((?1 = 1 AND deleted_at IS NOT NULL) OR (?1 = 0 AND deleted_at IS NULL)) "
       "AND (?2 = '' OR type = ?2) AND (?3 = '' OR status = ?3) "
-      "AND (?4 = '' OR instr(lower(sku || ' ' || title || ' ' || notes || ' ' || tags), "
+      "AND (?4 = '' OR instr(lower(sku || ' ' || title || ' ' || notes || ' ' || tags || ' ' || "
+      "type || ' ' || attributes), "
       "lower(?4)) > 0) ";
   const int limit = std::clamp(q.limit, 1, 500);
   const int offset = std::max(q.offset, 0);

@@ -10,6 +10,7 @@
 #include <toml.hpp>
 
 #include "garmcap/daemon/utf8.h"
+#include "garmcap/sim/synthetic_camera.h"
 
 namespace garmcap::daemon {
 
@@ -123,7 +124,7 @@ Setter shopBool(bool ShopConfig::*member) {
 const std::map<std::string, std::map<std::string, Setter>>& schema() {
   static const std::map<std::string, std::map<std::string, Setter>> kSchema = {
       {"camera",
-       {{"backend", oneOf(&Config::cameraBackend, {"libcamera", "v4l2", "replay", "synthetic"})},
+       {{"backend", oneOf(&Config::cameraBackend, sim::cameraBackends())},
         {"device", stringKey(&Config::cameraDevice)},
         {"form", stringKey(&Config::formPath)},
         {"still_width", intKey(&Config::stillWidth, 0, 16384)},
@@ -322,6 +323,57 @@ Config loadConfig(const std::filesystem::path& file, Config config) {
     }
   }
   return config;
+}
+
+namespace {
+
+// A JSON setting as the TOML value the [shop] setters check (strings, booleans, a table of
+// strings); anything else is refused by those setters' own type checks.
+toml::value tomlOf(const nlohmann::json& j) {
+  if (j.is_string())
+    return toml::value(j.get<std::string>());
+  if (j.is_boolean())
+    return toml::value(j.get<bool>());
+  if (j.is_number_integer())
+    return toml::value(j.get<std::int64_t>());
+  if (j.is_number())
+    return toml::value(j.get<double>());
+  if (j.is_object()) {
+    toml::table t;
+    for (const auto& [k, v] : j.items())
+      t[k] = tomlOf(v);
+    return toml::value(t);
+  }
+  return toml::value(toml::array{});  // null or an array: no [shop] key takes one
+}
+
+}  // namespace
+
+void applyShopSettings(const nlohmann::json& settings, ShopConfig& shop) {
+  if (!settings.is_object())
+    throw ConfigError("shop settings: must be a JSON object");
+  const auto& setters = schema().at("shop");
+  Config scratch;
+  scratch.shop = shop;
+  for (const auto& [key, v] : settings.items()) {
+    const auto setter = setters.find(key);
+    if (setter == setters.end())
+      throw ConfigError("shop." + quoteInput(key) + ": unknown setting");
+    setter->second(tomlOf(v), scratch, "shop." + key);
+  }
+  shop = scratch.shop;
+}
+
+nlohmann::json shopSettingsJson(const ShopConfig& shop) {
+  return {{"brand", shop.brand},
+          {"store_url", shop.storeUrl},
+          {"public_base_url", shop.publicBaseUrl},
+          {"store_platform", shop.storePlatform},
+          {"currency", shop.currency},
+          {"size_system", shop.sizeSystem},
+          {"size_labels", shop.sizeLabels},
+          {"made_to_order", shop.madeToOrder},
+          {"allow_loopback", shop.allowLoopback}};
 }
 
 void applySimulated(Config& c) {

@@ -475,9 +475,20 @@ std::string shopifyHandle(const ExportItem& item) {
 }
 
 std::string defaultProductTitle(const ExportItem& item) {
+  std::map<std::string, std::string> attributes = item.attributes;
+  if (item.colors.empty())
+    attributes.erase("color");
+  else
+    attributes["color"] = item.colors.front();
+  attributes["pattern"] = item.printed ? "print" : "solid";
+  return defaultProductTitle(item.type, attributes);
+}
+
+std::string defaultProductTitle(const std::string& type,
+                                const std::map<std::string, std::string>& attributes) {
   auto attr = [&](const std::string& k) {
-    const auto it = item.attributes.find(k);
-    return it == item.attributes.end() ? std::string() : it->second;
+    const auto it = attributes.find(k);
+    return it == attributes.end() ? std::string() : it->second;
   };
   const std::string sleeve = attr("sleeve");
   const std::string sleeveWords = sleeve == "none"    ? "sleeveless "
@@ -485,17 +496,20 @@ std::string defaultProductTitle(const ExportItem& item) {
                                   : sleeve == "long"  ? "long-sleeve "
                                                       : "";
   std::string noun;
-  if (item.type == "skirt")
+  if (type == "skirt")
     noun = attr("skirt") == "a_line"   ? "A-line skirt"
            : attr("skirt") == "h_line" ? "straight skirt"
                                        : "skirt";
-  else if (item.type == "pants")
+  else if (type == "pants")
     noun = "trousers";
-  else if (item.type == "top" || item.type == "dress")
-    noun = sleeveWords + item.type;
+  else if (type == "top" || type == "dress")
+    noun = sleeveWords + type;
   else
     noun = "garment";
-  std::string colour = item.printed ? "Printed" : (item.colors.empty() ? "" : item.colors.front());
+  // "navy/white": the dominant colour names the piece.
+  const std::string colours = attr("color");
+  const std::string colour =
+      attr("pattern") == "print" ? "Printed" : colours.substr(0, colours.find('/'));
   std::string title = colour.empty() ? noun : colour + " " + noun;
   if (!title.empty() && colour.empty() && noun[0] != 'A')
     title[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(title[0])));

@@ -189,6 +189,7 @@ Station::Station(asio::io_context& io, Config config, std::unique_ptr<capture::C
       keepAliveTimer_(strand_),
       graceTimer_(strand_),
       cameraRetryTimer_(strand_) {
+  shop_ = config_.shop;
   if (camera && simulated())
     camera_ = std::make_unique<UnpluggableCamera>(std::move(camera), unplugged_, stillDelayMs_);
   else
@@ -257,6 +258,7 @@ void Station::start() {
     spdlog::error("station: {} ({})", readOnly_, e.what());
   }
   store_ = std::make_unique<ContentStore>(std::filesystem::path(config_.dataDir) / "blobs");
+  loadShopSettings();
   if (!readOnly_.empty()) {
     lastError_ = readOnly_;
     if (auto cal = catalog_->latestCalibration(); cal && store_->contains(cal->emptySha256))
@@ -728,13 +730,12 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
       };
       ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress);
       // Encoding and fsyncing the product images takes a noticeable moment at full resolution.
-      postToStrand([this] { setStage("images", 0.92, false); });
+      postToStrand([this] { setStage("store", 0.92, false); });
       auto item = std::make_shared<NewItem>();
       item->sku = sku;
       item->type = r.type;
-      item->title = r.type.empty() ? std::string("garment") : r.type;
-      if (!sku.empty())
-        item->title += " " + sku;
+      // No title: until staff give one, the API and the exports name the piece from its colour,
+      // cut and type ("Navy A-line skirt"), re-derived when staff correct them.
       item->attributes = r.attributes;
       item->confidence = r.confidence;
       item->warnings = r.warnings;
@@ -1060,11 +1061,72 @@ void Station::maybeFinishShutdown() {
   done();
 }
 
+void Station::loadShopSettings() {
+  std::lock_guard lock(shopMutex_);
+  shop_ = config_.shop;
+  try {
+    const auto saved = catalog_->setting("shop");
+    if (!saved)
+      return;
+    ShopConfig shop = config_.shop;
+    applyShopSettings(*saved, shop);
+    savedShop_ = *saved;
+    shop_ = shop;
+  } catch (const std::exception& e) {
+    // The station still captures; the exports fall back on the config file until the shop
+    // saves its settings again.
+    spdlog::error("station: the shop settings saved in the catalog are ignored: {}", e.what());
+  }
+}
+
+ShopConfig Station::shopConfig() const {
+  std::lock_guard lock(shopMutex_);
+  return shop_;
+}
+
+nlohmann::json Station::savedShopSettings() const {
+  std::lock_guard lock(shopMutex_);
+  return savedShop_;
+}
+
+ShopConfig Station::saveShopSettings(Catalog& catalog, const nlohmann::json& changes) {
+  if (!changes.is_object())
+    throw BadRequest("the shop settings must be a JSON object of [shop] keys");
+  nlohmann::json saved = savedShopSettings();
+  for (const auto& [key, value] : changes.items())
+    saved[key] = value;
+  ShopConfig shop;
+  {
+    std::lock_guard lock(shopMutex_);
+    shop = config_.shop;
+  }
+  try {
+    applyShopSettings(saved, shop);
+  } catch (const ConfigError& e) {
+    throw BadRequest(e.what());
+  }
+  catalog.setSetting("shop", saved);
+  std::lock_guard lock(shopMutex_);
+  savedShop_ = std::move(saved);
+  shop_ = shop;
+  return shop;
+}
+
 void Station::reload(const Config& c) {
   postToStrand([this, c] {
     config_.reviewBelowConfidence = c.reviewBelowConfidence;
     config_.namingTemplate = c.namingTemplate;
-    config_.shop = c.shop;
+    {
+      std::lock_guard lock(shopMutex_);
+      config_.shop = c.shop;
+      shop_ = c.shop;
+      try {
+        applyShopSettings(savedShop_, shop_);
+      } catch (const ConfigError& e) {  // checked when saved: only a hand-edited catalog
+        spdlog::error("station: the saved shop settings are ignored: {}", e.what());
+        shop_ = c.shop;
+      }
+    }
     config_.queueLimit = c.queueLimit;
     config_.makeProductImages = c.makeProductImages;
     config_.makeTexture = c.makeTexture;

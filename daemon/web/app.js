@@ -23,7 +23,7 @@ const STAGE_NAMES = {
   masks: 'Finding the garment', grabcut: 'Cutting out', type: 'Recognising the type',
   landmarks: 'Finding landmarks', measure: 'Measuring', garmcap: 'Measuring', pattern: 'Drafting the pattern',
   grading: 'Grading sizes', 'grading sizes': 'Grading sizes', images: 'Making product photos', store: 'Saving',
-  calibration: 'Calibrating', 'form model': 'Loading the form', capturing: 'Taking the photo', processing: 'Measuring',
+  texture: 'Reading the fabric', context: 'Preparing', calibration: 'Calibrating', 'form model': 'Loading the form', capturing: 'Taking the photo', processing: 'Measuring',
 };
 // The palette the station names colours with (daemon garment_colour.cpp), for the colour field.
 const COLOUR_NAMES = ['Black', 'White', 'Grey', 'Beige', 'Cream', 'Brown', 'Red', 'Burgundy', 'Pink', 'Orange',
@@ -64,20 +64,6 @@ function showWarnings(listEl, notesEl, warnings) {
   const { checks, notes } = splitWarnings(warnings);
   listEl.replaceChildren(...checks.map((w) => el('li', { text: checkText(w) })));
   notesEl.replaceChildren(...notes.map((w) => el('li', { text: 'Note: ' + w })));
-}
-
-// The title a shop gets when staff leave it empty: colour, cut, type ("Navy A-line skirt"). The
-// shop exports use the same rule (export_shop.cpp defaultProductTitle).
-function defaultTitle(it) {
-  const a = it.attributes || {};
-  const sleeve = { none: 'sleeveless ', short: 'short-sleeve ', long: 'long-sleeve ' }[a.sleeve] || '';
-  let noun = 'garment';
-  if (it.type === 'skirt') noun = a.skirt === 'a_line' ? 'A-line skirt' : a.skirt === 'h_line' ? 'straight skirt' : 'skirt';
-  else if (it.type === 'pants') noun = 'trousers';
-  else if (it.type === 'top' || it.type === 'dress') noun = sleeve + it.type;
-  const colour = a.pattern === 'print' ? 'Printed' : (a.color || '').split('/')[0];
-  const t = colour ? colour + ' ' + noun : noun;
-  return t.charAt(0).toUpperCase() + t.slice(1);
 }
 
 const ui = {
@@ -188,7 +174,8 @@ function imageUrl(item, kinds) {
   for (const k of kinds) if (item.images && item.images[k]) return item.images[k].url;
   return null;
 }
-function itemTitle(it) { return it.title || (it.type ? defaultTitle(it) : '') || it.sku || 'Item ' + it.id; }
+// An empty title is the one the shops get (`default_title`, export_shop.cpp's rule, from the API).
+function itemTitle(it) { return it.title || (it.type ? it.default_title : '') || it.sku || 'Item ' + it.id; }
 // Why an item is not exported yet, or null when it is approved. Shop exports take approved items
 // only (the daemon enforces it); staff must see that before they look for the item in a CSV.
 function reviewNote(it) {
@@ -456,7 +443,7 @@ async function loadItem(id) {
   $('#f-price').value = it.price_cents == null ? '' : (it.price_cents / 100).toFixed(2);
   $('#f-tags').value = (it.tags || []).join(', ');
   $('#f-notes').value = it.notes || '';
-  $('#f-title').placeholder = defaultTitle(it);
+  $('#f-title').placeholder = it.default_title || '';
   const a = it.attributes || {};
   $('#f-type').value = it.type || 'top';
   $('#f-color').value = a.color || '';
@@ -602,7 +589,6 @@ async function saveItem(ev) {
     if (old == null || Math.abs(old - parseFloat(v)) >= 0.05) meas[input.dataset.name] = parseFloat(v);
   }
   if (Object.keys(meas).length) body.measurements = meas;
-  if (!body.title) body.title = defaultTitle(Object.assign({}, it, { type: body.type || it.type, attributes: attrs || it.attributes }));
   const sku = $('#f-sku').value.trim();
   if (sku !== (it.sku || '')) {
     if (sku && !/^[A-Za-z0-9._-]{1,64}$/.test(sku)) { toast('A SKU may hold only letters, digits, dot, dash and underscore.', true); return; }
@@ -621,37 +607,45 @@ async function saveItem(ev) {
 }
 
 // --- export ---------------------------------------------------------------------------------
-const SETTINGS = ['base', 'store', 'currency', 'brand'];
-function loadSettings() {
-  for (const k of SETTINGS) {
-    const v = localStorage.getItem('garmcap.export.' + k);
-    if (v !== null) $('#s-' + k).value = v;
-  }
-  $('#s-legacy').checked = localStorage.getItem('garmcap.export.legacy') === '1';
-  $('#s-mto').checked = localStorage.getItem('garmcap.export.mto') === '1';
+// The shop's settings live on the station (PUT /api/settings/shop), so every export and every
+// browser uses the same brand and links; the legacy Shopify columns are a per-download choice.
+const SHOP_TEXT = ['public_base_url', 'store_url', 'brand', 'currency'];
+const SHOP_NAMES = { brand: 'the brand', store_url: 'the shop URL', public_base_url: 'the public image URL' };
+function showShopSettings(r) {
+  const s = r.settings || {};
+  for (const k of SHOP_TEXT) $('#s-' + k).value = s[k] || '';
+  $('#s-store_platform').value = s.store_platform || 'shopify';
+  $('#s-made_to_order').checked = !!s.made_to_order;
+  const missing = (r.missing || []).map((k) => SHOP_NAMES[k] || k);
+  $('#s-missing').hidden = missing.length === 0;
+  $('#s-missing').textContent = missing.length
+    ? 'Set up your shop first: ' + missing.join(', ') + (missing.length === 1 ? ' is' : ' are') + ' missing, so the exports cannot link to your shop.'
+    : '';
 }
-function exportQuery(extra = {}) {
-  const p = new URLSearchParams();
-  const base = $('#s-base').value.trim(), store = $('#s-store').value.trim();
-  if (base) p.set('base_url', base);
-  if (store) p.set('store_url', store);
-  const cur = $('#s-currency').value.trim().toUpperCase();
-  if (cur) p.set('currency', cur);
-  const brand = $('#s-brand').value.trim();
-  if (brand) p.set('brand', brand);
-  if ($('#s-mto').checked) p.set('made_to_order', '1');
-  for (const [k, v] of Object.entries(extra)) p.set(k, v);
-  const s = p.toString();
-  return s ? '?' + s : '';
+async function loadShopSettings() {
+  try { showShopSettings(await api('GET', '/api/settings/shop')); } catch (e) { toast(e.message, true); }
+}
+async function saveShopSettings(ev) {
+  ev.preventDefault();
+  const body = {};
+  for (const k of SHOP_TEXT) body[k] = $('#s-' + k).value.trim();
+  body.currency = (body.currency || 'EUR').toUpperCase();
+  body.store_platform = $('#s-store_platform').value;
+  body.made_to_order = $('#s-made_to_order').checked;
+  try {
+    showShopSettings(await api('PUT', '/api/settings/shop', body));
+    toast('Shop settings saved');
+  } catch (e) {
+    const key = (/shop\.(\w+)/.exec(e.message) || [])[1];
+    if (key && $('#s-' + key)) $('#s-' + key).focus();
+    toast('Not saved: ' + e.message.replace(/^shop\./, ''), true);
+  }
 }
 function updateExportLinks() {
-  for (const k of SETTINGS) localStorage.setItem('garmcap.export.' + k, $('#s-' + k).value.trim());
-  localStorage.setItem('garmcap.export.legacy', $('#s-legacy').checked ? '1' : '0');
-  localStorage.setItem('garmcap.export.mto', $('#s-mto').checked ? '1' : '0');
-  $('#x-shopify').href = '/api/export/shopify.csv' + exportQuery($('#s-legacy').checked ? { legacy: '1' } : {});
-  $('#x-woo').href = '/api/export/woocommerce.csv' + exportQuery();
-  $('#x-merchant').href = '/api/export/merchant.tsv' + exportQuery();
-  $('#x-zip').href = '/api/export/catalog.zip' + exportQuery();
+  $('#x-shopify').href = '/api/export/shopify.csv' + ($('#s-legacy').checked ? '?legacy=1' : '');
+  $('#x-woo').href = '/api/export/woocommerce.csv';
+  $('#x-merchant').href = '/api/export/merchant.tsv';
+  $('#x-zip').href = '/api/export/catalog.zip';
 }
 async function loadExportCounts() {
   try {
@@ -702,7 +696,7 @@ function route() {
   }
   if (view === 'catalog') loadCatalog(true);
   if (view === 'item') loadItem((location.hash.match(/^#\/item\/(\d+)/) || [])[1]);
-  if (view === 'export') { updateExportLinks(); loadExportCounts(); }
+  if (view === 'export') { updateExportLinks(); loadExportCounts(); loadShopSettings(); }
 }
 
 function init() {
@@ -740,10 +734,9 @@ function init() {
     if (!confirm('Delete "' + itemTitle(ui.item) + '"? It can be restored from the API.')) return;
     try { await api('DELETE', '/api/items/' + ui.item.id); toast('Deleted'); location.hash = '#/catalog'; } catch (e) { toast(e.message, true); }
   });
-  $('#export-settings').addEventListener('input', updateExportLinks);
-  $('#export-settings').addEventListener('submit', (e) => e.preventDefault());
+  $('#s-legacy').addEventListener('change', updateExportLinks);
+  $('#export-settings').addEventListener('submit', saveShopSettings);
   $$('.export-buttons a').forEach((a) => a.addEventListener('click', download));
-  loadSettings();
   window.addEventListener('hashchange', route);
   route();
   refreshStatus();

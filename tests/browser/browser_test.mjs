@@ -253,10 +253,19 @@ async function main() {
   };
   await page.click('a[data-tab="export"]');
   await page.waitForSelector('#view-export:not([hidden])');
-  // Links to this station are refused by the export: give the shop's public addresses.
-  await page.fill('#s-base', 'https://shop.example/files');
-  await page.fill('#s-store', 'https://shop.example');
+  // Links to this station are refused by the export: the setup asks for the shop's public
+  // addresses once, and a bad one is refused with the field named.
+  await waitFor(async () => await page.isVisible('#s-missing'), 5000, 'the "set up your shop" notice');
+  await page.fill('#s-public_base_url', 'ftp://shop.example/files');
+  await page.click('#s-save');
+  await waitFor(async () => /Not saved: public_base_url/.test(await page.textContent('#toast') || ''), 5000, 'the refusal of an ftp:// URL');
+  await page.fill('#s-public_base_url', 'https://shop.example/files');
+  await page.fill('#s-store_url', 'https://shop.example');
   await page.fill('#s-brand', 'Atelier Browser');
+  await page.click('#s-save');
+  await waitFor(async () => /Shop settings saved/.test(await page.textContent('#toast') || ''), 5000, 'the saved shop settings');
+  if (await page.isVisible('#s-missing')) throw new Error('the "set up your shop" notice stays after saving');
+  step('shop set up on the export page: an ftp:// image URL refused naming the field, then saved');
   await waitFor(async () => /^0 approved items .*1 waiting for review/.test(await page.textContent('#export-count')), 5000, 'the export count before approval');
   if ((await downloadCsv('#x-shopify', 'shopify-before.csv')).length) throw new Error('the Shopify CSV exports an item waiting for review');
   step('export page says the item waiting for review is left out, and the Shopify CSV holds no product');

@@ -11,6 +11,7 @@ const TYPES = { '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '
 const state = { state: 'uncalibrated', calibrated: false, camera: { open: true, backend: 'stub' }, job: null, last_error: '' };
 const jobs = [];
 const items = [];
+const shop = { brand: '', store_url: '', public_base_url: '', store_platform: 'shopify', currency: 'EUR', made_to_order: false };
 const sinks = new Set();
 
 function send(res, code, body, type = 'application/json') {
@@ -52,7 +53,7 @@ function runJob(kind, sku) {
     } else {
       const id = items.length + 1;
       const measurements = { bust_circ: 92.4, waist_circ: 76.1, hip_circ: 99.0, hem_circ: 128.2, garment_length: 98.5, sleeve_length: 21.0 };
-      items.push({ id, sku: sku || '', title: '', status: 'needs_review', type: 'dress', notes: '', tags: [],
+      items.push({ id, sku: sku || '', title: '', default_title: 'Navy short-sleeve dress', status: 'needs_review', type: 'dress', notes: '', tags: [],
         attributes: { sleeve: 'short', skirt: 'a_line', color: 'Navy', pattern: 'solid' }, confidence: 0.93,
         warnings: ['draft: ease_bust 7.5 is outside the dress recipe\'s range [8.0, 40.0]; drafted with 8.0', 'the garment does not cover the centre front at the waist'],
         price_cents: null, measurements: { ...measurements }, original: { ...measurements }, units: 'cm',
@@ -133,8 +134,18 @@ createServer((req, res) => {
       }
       return send(res, 200, { updated, missing });
     }
+    if (p === '/api/settings/shop') {
+      if (req.method === 'PUT') {
+        const r = JSON.parse(body);
+        for (const k of ['store_url', 'public_base_url'])
+          if (r[k] && !/^https?:\/\//.test(r[k])) return send(res, 400, { error: `shop.${k}: must start with http:// or https://, got '${r[k]}'` });
+        Object.assign(shop, r);
+      }
+      const missing = ['brand', 'store_url', 'public_base_url'].filter((k) => !shop[k]);
+      return send(res, 200, { settings: shop, saved: shop, missing });
+    }
     if (p === '/api/export/shopify.csv') {
-      const baseUrl = url.searchParams.get('base_url') || '';
+      const baseUrl = url.searchParams.get('base_url') || shop.public_base_url || '';
       if (!baseUrl || /\/\/(localhost|127\.)/.test(baseUrl)) return send(res, 422, { error: "export option 'public_base_url' is empty or this machine; set the shop's public address" });
       const rows = [['Title', 'URL handle', 'SKU', 'Option1 name', 'Option1 value']];
       for (const x of items.filter((i) => i.status === 'approved' && !i.deleted))

@@ -122,6 +122,8 @@ TEST(Catalog, SearchFilterAndPaging) {
     n.sku = "SKU-" + std::to_string(i);
     n.type = i % 3 == 0 ? "skirt" : "dress";
     n.title = i == 7 ? "Linen Summer skirt" : "item";
+    if (i == 4)
+      n.attributes["color"] = "Navy/White";
     c.addItem(n);
   }
   ItemQuery q;
@@ -140,6 +142,15 @@ TEST(Catalog, SearchFilterAndPaging) {
   auto found = c.items(s);
   ASSERT_EQ(found.second, 1);
   EXPECT_EQ(found.first[0].sku, "SKU-7");
+  // Untitled pieces are found by what the station saw: their type and colour.
+  ItemQuery byType;
+  byType.search = "SKIRT";
+  EXPECT_EQ(c.items(byType).second, 5);  // four skirts and the dress titled "... skirt"
+  ItemQuery byColour;
+  byColour.search = "navy";
+  found = c.items(byColour);
+  ASSERT_EQ(found.second, 1);
+  EXPECT_EQ(found.first[0].sku, "SKU-4");
   ItemQuery inj;
   inj.search = "' OR 1=1 --";  // bound, never concatenated
   EXPECT_EQ(c.items(inj).second, 0);
@@ -189,8 +200,9 @@ TEST(Catalog, MigratesVersion1Fixture) {
     sqlite3_close(db);
   }
   Catalog c(file);
-  EXPECT_EQ(c.schemaVersion(), 2);
+  EXPECT_EQ(c.schemaVersion(), kCatalogSchemaVersion);
   EXPECT_EQ(c.integrityCheck(), "ok");
+  EXPECT_FALSE(c.setting("shop"));  // v3: the settings table, empty
   auto one = c.item(1);
   ASSERT_TRUE(one);
   EXPECT_EQ(one->status, kStatusApproved);  // 'active' in v1
@@ -201,7 +213,33 @@ TEST(Catalog, MigratesVersion1Fixture) {
   EXPECT_EQ(c.job(1)->dressedSha256, "");
   // Reopening an up-to-date file is a no-op.
   Catalog again(file);
-  EXPECT_EQ(again.schemaVersion(), 2);
+  EXPECT_EQ(again.schemaVersion(), kCatalogSchemaVersion);
+}
+
+TEST(Catalog, SettingsSurviveReopeningAndReplaceTheirOldValue) {
+  test::TempDir dir;
+  const auto file = dir.path() / "c.sqlite";
+  {
+    Catalog c(file);
+    EXPECT_FALSE(c.setting("shop"));
+    c.setSetting("shop", {{"brand", "Atelier"}});
+    c.setSetting("shop", {{"brand", "Atelier Nord"}, {"currency", "SEK"}});
+  }
+  Catalog c(file);
+  const auto shop = c.setting("shop");
+  ASSERT_TRUE(shop);
+  EXPECT_EQ(shop->at("brand"), "Atelier Nord");
+  EXPECT_EQ(shop->at("currency"), "SEK");
+  // A value that is not JSON (a hand edit gone wrong) is an error naming the key, not a default.
+  ASSERT_EQ(sqlite3_exec(c.handle(), "UPDATE settings SET value = '{oops' WHERE key = 'shop'",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  try {
+    c.setting("shop");
+    FAIL() << "a broken setting was read";
+  } catch (const CatalogError& e) {
+    EXPECT_NE(std::string(e.what()).find("'shop'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Catalog, RefusesNewerSchemaAndForeignFiles) {

@@ -105,5 +105,40 @@ TEST(Auth, BearerHeaderOrQueryToken) {
   EXPECT_FALSE(needsToken("/index.html"));
 }
 
+TEST(ShopSettings, SetupScreenValuesGetTheConfigFilesChecksAndRoundTrip) {
+  ShopConfig shop;
+  shop.brand = "From the config";
+  applyShopSettings({{"brand", "Atelier"},
+                     {"store_url", "https://atelier.example"},
+                     {"size_labels", {{"55", "S"}}},
+                     {"made_to_order", true}},
+                    shop);
+  EXPECT_EQ(shop.brand, "Atelier");
+  EXPECT_EQ(shop.sizeLabels.at("55"), "S");
+  EXPECT_TRUE(shop.madeToOrder);
+  EXPECT_EQ(shop.currency, "EUR");  // untouched keys keep their value
+  ShopConfig back;
+  applyShopSettings(shopSettingsJson(shop), back);
+  EXPECT_EQ(shopSettingsJson(back), shopSettingsJson(shop));
+  const ShopConfig before = shop;
+  for (const auto& [bad, key] : std::vector<std::pair<nlohmann::json, std::string>>{
+           {{{"currency", "euro"}}, "shop.currency"},
+           {{{"store_url", "javascript:alert(1)"}}, "shop.store_url"},
+           {{{"store_platform", "etsy"}}, "shop.store_platform"},
+           {{{"size_system", "XX"}}, "shop.size_system"},
+           {{{"brand", std::string("a\nb")}}, "shop.brand"},
+           {{{"allow_loopback", 1}}, "shop.allow_loopback"},
+           {{{"brand", "ok"}, {"banner", "x"}}, "banner"},
+           {nlohmann::json::array(), "JSON object"}}) {
+    try {
+      applyShopSettings(bad, shop);
+      ADD_FAILURE() << bad.dump() << " was accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(shopSettingsJson(shop), shopSettingsJson(before)) << bad.dump() << " changed it";
+  }
+}
+
 }  // namespace
 }  // namespace garmcap::daemon

@@ -240,6 +240,26 @@ TEST(ProductTitle, FromColourCutAndType) {
   EXPECT_EQ(defaultProductTitle(p), "Black trousers");
 }
 
+TEST(ProductTitle, FromStoredAttributesAsTheApiServesIt) {
+  using Attrs = std::map<std::string, std::string>;
+  EXPECT_EQ(defaultProductTitle("skirt", Attrs{{"color", "Navy/White"}, {"skirt", "a_line"}}),
+            "Navy A-line skirt");
+  EXPECT_EQ(defaultProductTitle("top",
+                                Attrs{{"color", "Red"}, {"pattern", "print"}, {"sleeve", "short"}}),
+            "Printed short-sleeve top");
+  EXPECT_EQ(defaultProductTitle("dress", Attrs{{"sleeve", "none"}}), "Sleeveless dress");
+  EXPECT_EQ(defaultProductTitle("skirt", Attrs{{"skirt", "h_line"}, {"color", "Light blue"}}),
+            "Light blue straight skirt");
+  EXPECT_EQ(defaultProductTitle("", Attrs{}), "Garment");
+  // The export's rule and the API's agree on the same piece.
+  ExportItem e;
+  e.type = "skirt";
+  e.attributes = {{"skirt", "a_line"}};
+  e.colors = {"Navy", "White"};
+  EXPECT_EQ(defaultProductTitle(e),
+            defaultProductTitle("skirt", Attrs{{"color", "Navy/White"}, {"skirt", "a_line"}}));
+}
+
 TEST(StoreZip, UnzipReadsItBack) {
   const std::string bin(std::string("\x00\x01\xff\x89PNG", 7));
   const std::string zip =

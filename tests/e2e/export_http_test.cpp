@@ -295,6 +295,13 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
             1);
   const auto& product = srows.front();
   EXPECT_EQ(product.at("Status"), "active");
+  {
+    // Staff left the title empty: the shop gets the title the API (and so the web UI) shows.
+    const auto shown = d.get(at).json();
+    ASSERT_EQ(shown.at("title"), "");
+    EXPECT_FALSE(shown.at("default_title").get<std::string>().empty());
+    EXPECT_EQ(product.at("Title"), shown.at("default_title").get<std::string>());
+  }
   EXPECT_EQ(product.at("Vendor"), "Atelier E2E");
   EXPECT_NE(product.at("Description").find("Size guide"), std::string::npos);
   EXPECT_NE(product.at("Description").find("<td>" + baseSize + "</td>"), std::string::npos);
@@ -404,6 +411,69 @@ TEST(ExportHttp, EmptyCatalogAndBadOptions) {
   EXPECT_EQ(bad.status, 400);
   EXPECT_NE(bad.json().value("error", "").find("base_url"), std::string::npos) << bad.body;
   EXPECT_EQ(d.get("/api/export/catalog.zip").status, 200);
+  EXPECT_EQ(d.terminate(), 0);
+}
+
+// The setup screen's settings: checked as the config's [shop] is, stored (nothing of a refused
+// request), used by the exports without any query option, and still there after a restart.
+TEST(ExportHttp, ShopSetupSettingsDriveTheExportsAndSurviveARestart) {
+  TempDir dir;
+  const auto rig = makeSimulatedRig(dir.path());
+  auto put = [](const Daemon& d, const std::string& body) {
+    return httpCallWith(d.port(), http::verb::put, "/api/settings/shop",
+                        {{"Host", "127.0.0.1"}, {"Content-Type", "application/json"}}, body);
+  };
+  std::int64_t id = 0;
+  {
+    Daemon d(dir.path(), {}, rig);
+    const Json fresh = d.get("/api/settings/shop").json();
+    EXPECT_EQ(fresh.at("missing"), Json::array({"brand", "store_url", "public_base_url"}));
+    for (const auto& [body, key] : std::vector<std::pair<std::string, std::string>>{
+             {R"({"currency": "eur"})", "shop.currency"},
+             {R"({"store_url": "ftp://nord.example"})", "shop.store_url"},
+             {R"({"brand": "Nord", "colour_of_the_day": "red"})", "colour_of_the_day"},
+             {R"({"made_to_order": "yes"})", "shop.made_to_order"},
+             {R"({"size_labels": {"55": ""}})", "shop.size_labels.55"},
+             {R"(["brand"])", "JSON object"}}) {
+      const auto r = put(d, body);
+      EXPECT_EQ(r.status, 400) << body << ": " << r.body;
+      EXPECT_NE(r.json().value("error", "").find(key), std::string::npos) << r.body;
+    }
+    EXPECT_EQ(d.get("/api/settings/shop").json().at("saved"), Json::object())
+        << "a refused request stored something";
+    const auto ok = put(d, R"({"brand": "Atelier Nord", "store_url": "https://nord.example",
+                               "public_base_url": "https://cdn.nord.example/files",
+                               "currency": "SEK", "size_labels": {"55": "S", "66": "M"}})");
+    ASSERT_EQ(ok.status, 200) << ok.body;
+    EXPECT_EQ(ok.json().at("missing"), Json::array());
+    EXPECT_EQ(ok.json().at("settings").at("currency"), "SEK");
+    // A second save changes one key and keeps the others.
+    ASSERT_EQ(put(d, R"({"brand": "Atelier Nord AB"})").status, 200);
+    const Captured cap = calibrateAndCapture(d, "NORD-1");
+    id = cap.id;
+    ASSERT_EQ(httpCall(d.port(), http::verb::patch, itemPath(id),
+                       R"({"status": "approved", "price_cents": 59900})")
+                  .status,
+              200);
+    EXPECT_EQ(d.terminate(), 0);
+  }
+  Daemon d(dir.path(), {}, rig);
+  const Json after = d.get("/api/settings/shop").json();
+  EXPECT_EQ(after.at("settings").at("brand"), "Atelier Nord AB");
+  EXPECT_EQ(after.at("settings").at("store_url"), "https://nord.example");
+  const auto csv = d.get("/api/export/shopify.csv");
+  ASSERT_EQ(csv.status, 200) << csv.body;
+  const auto rows = readCsv(csv.body, ',');
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows.front().at("Vendor"), "Atelier Nord AB");
+  EXPECT_EQ(rows.front().at("Status"), "active");
+  const auto images = rowsWith(rows, "Product image URL", "https://cdn.nord.example/files/images/");
+  EXPECT_FALSE(images.empty()) << "no image under the saved public URL";
+  EXPECT_EQ(csv.body.find("127.0.0.1"), std::string::npos) << "a loopback link was exported";
+  const auto merchant = readCsv(d.get("/api/export/merchant.tsv").body, '\t');
+  ASSERT_FALSE(merchant.empty());
+  EXPECT_NE(merchant.front().at("price").find("SEK"), std::string::npos)
+      << merchant.front().at("price");
   EXPECT_EQ(d.terminate(), 0);
 }
 

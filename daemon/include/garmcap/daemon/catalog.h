@@ -29,7 +29,7 @@ class CatalogError : public std::runtime_error {
 };
 
 inline constexpr std::int32_t kCatalogApplicationId = 0x47434150;  // "GCAP"
-inline constexpr int kCatalogSchemaVersion = 2;
+inline constexpr int kCatalogSchemaVersion = 3;
 
 /// Review status of an item: a capture with low confidence or warnings starts as kNeedsReview and
 /// cannot be exported until a person approves it.
@@ -188,6 +188,11 @@ class Catalog {
   std::vector<Job> queuedJobs();
   std::vector<Job> recentJobs(int limit);
 
+  // --- settings ------------------------------------------------------------------------------
+  /// A setting saved from the web UI ("shop": the setup screen's JSON), if any.
+  std::optional<nlohmann::json> setting(const std::string& key);
+  void setSetting(const std::string& key, const nlohmann::json& value);
+
   // --- items ---------------------------------------------------------------------------------
   /// Inserts the item, measurements, images, patterns, size guide and finishes `jobId`, in one
   /// transaction. Returns the new id.
@@ -222,7 +227,7 @@ class Catalog {
   bool readOnly_ = false;
 };
 
-/// The schema of version `version` (1 or 2) as SQL, for fixtures in tests.
+/// The schema of version `version` (1, 2 or 3) as SQL, for fixtures in tests.
 std::string catalogSchemaSql(int version);
 
 }  // namespace garmcap::daemon

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -86,6 +87,15 @@ struct Config {
   void validate() const;
   bool loopbackOnly() const;
 };
+
+/// Applies shop settings saved from the web UI's setup screen (a JSON object with the [shop]
+/// keys: "brand", "store_url", "size_labels": {"55": "S"}, "made_to_order": true, ...) over
+/// `shop`, through the very checks the config file's [shop] section gets. Throws ConfigError
+/// naming the key ("shop.currency: must be an ISO 4217 code ...") for an unknown key or a bad
+/// value; `shop` is then unchanged.
+void applyShopSettings(const nlohmann::json& settings, ShopConfig& shop);
+/// The [shop] keys of `shop`, as applyShopSettings reads them.
+nlohmann::json shopSettingsJson(const ShopConfig& shop);
 
 /// Reads a TOML file over the defaults. Throws ConfigError ("<file>: [http] port: must be
 /// 1..65535, got 0").

@@ -73,8 +73,14 @@ struct ShopFile {
 };
 
 /// A title staff can keep: the dominant colour (or "Printed"), the cut and the type, e.g.
-/// "Navy A-line skirt", "Printed short-sleeve top", "Black trousers".
+/// "Navy A-line skirt", "Printed short-sleeve top", "Black trousers". The one rule for a title
+/// left empty: the API hands it to the web UI as `default_title`, the exports use it.
 std::string defaultProductTitle(const ExportItem& item);
+
+/// The same title from a catalog item's type and attributes ("color": "navy/white", dominant
+/// first; "pattern": "print"; "sleeve"; "skirt").
+std::string defaultProductTitle(const std::string& type,
+                                const std::map<std::string, std::string>& attributes);
 
 /// Shopify URL handle: lowercase ASCII letters, digits and dashes derived from the SKU.
 std::string shopifyHandle(const ExportItem& item);

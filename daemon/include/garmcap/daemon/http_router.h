@@ -146,8 +146,15 @@ class RouteContext {
   virtual const ContentStore& store() const = 0;
   /// The file-naming template from the config, e.g. "{sku}_{kind}" (see naming.h).
   virtual std::string namingTemplate() const = 0;
-  /// The [shop] settings of the config (brand, links, size labels), a copy.
+  /// The shop settings in force (brand, links, size labels): the config's [shop] section with
+  /// what the shop saved from the setup screen over it, a copy.
   virtual ShopConfig shopConfig() const = 0;
+  /// The settings saved from the setup screen (a JSON object of [shop] keys, maybe empty).
+  virtual nlohmann::json savedShopSettings() const = 0;
+  /// Call inside withCatalog: checks `changes` (a JSON object of [shop] keys) as the config's
+  /// [shop] section is checked, stores them over the saved ones and returns the settings now in
+  /// force. Throws BadRequest naming the key for a bad one; nothing is stored then.
+  virtual ShopConfig saveShopSettings(Catalog& catalog, const nlohmann::json& changes) = 0;
 };
 
 using RouteModule = void (*)(Router&, RouteContext&);

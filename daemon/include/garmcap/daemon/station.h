@@ -25,6 +25,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -119,7 +120,9 @@ class Station : public RouteContext {
   void offload(std::function<void()> fn, Reply failed) override;
   const ContentStore& store() const override { return *store_; }
   std::string namingTemplate() const override { return config_.namingTemplate; }
-  ShopConfig shopConfig() const override { return config_.shop; }
+  ShopConfig shopConfig() const override;
+  nlohmann::json savedShopSettings() const override;
+  ShopConfig saveShopSettings(Catalog& catalog, const nlohmann::json& changes) override;
 
   /// Simulated rig only: makes the camera "disappear" (every camera call fails as disconnected)
   /// or come back. Returns false when the station is not simulated.
@@ -135,6 +138,8 @@ class Station : public RouteContext {
 #endif
 
  private:
+  // The setup screen's saved shop settings over the config's [shop] (start-up).
+  void loadShopSettings();
   struct Pending {
     JobKind kind;
     std::int64_t jobId;
@@ -201,6 +206,11 @@ class Station : public RouteContext {
   int reloads_ = 0;
   std::unique_ptr<Catalog> catalog_;
   std::unique_ptr<ContentStore> store_;
+  // The shop's setup-screen settings and the settings in force, read by export handlers on
+  // other threads while the strand saves or reloads them.
+  mutable std::mutex shopMutex_;
+  nlohmann::json savedShop_ = nlohmann::json::object();
+  ShopConfig shop_;
   boost::asio::thread_pool cameraThread_{1};
   std::unique_ptr<boost::asio::thread_pool> pool_;       // the pipeline
   std::unique_ptr<boost::asio::thread_pool> servePool_;  // RouteContext::offload
