@@ -3,10 +3,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <stdexcept>
-
-#include "garmcap/calib/garment_model.h"
 
 namespace garmcap::pipeline {
 namespace {
@@ -507,9 +506,22 @@ double crotchHeightCm(const Context& c, int partRow, int axisCol) {
 
 }  // namespace
 
-// The pipeline reports exactly what the simulator's truth.json holds: one vocabulary, in calib.
+// The measurer's own vocabulary (docs/measurement_model.md, "The measurement model"): what it
+// measures per type. The rigs' truth.json uses the same names; a test holds the two lists equal,
+// so the measurer depends on no generator's code for them.
 const std::vector<std::string>& measurementNamesFor(const std::string& type) {
-  return calib::garmentMeasurementNames(type);
+  static const std::map<std::string, std::vector<std::string>> kNames = {
+      {"top", {"bust_circ", "waist_circ", "hem_circ", "garment_length", "sleeve_length"}},
+      {"dress",
+       {"bust_circ", "waist_circ", "hip_circ", "hem_circ", "garment_length", "skirt_length",
+        "sleeve_length"}},
+      {"skirt", {"waist_circ", "hip_circ", "hem_circ", "skirt_length"}},
+      {"pants", {"waist_circ", "hip_circ", "outseam", "inseam", "leg_opening_circ"}}};
+  const auto it = kNames.find(type);
+  if (it == kNames.end())
+    throw std::invalid_argument("measure: unknown garment type '" + type +
+                                "' (expected top, dress, skirt or pants)");
+  return it->second;
 }
 
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
