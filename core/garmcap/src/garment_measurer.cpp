@@ -524,6 +524,30 @@ const std::vector<std::string>& measurementNamesFor(const std::string& type) {
   return it->second;
 }
 
+std::optional<double> measurementUncertaintyCm(const std::string& name) {
+  // `garmcap rig eval tests/data/rig_physical` at 8bc61a4 (24 cases), per measurement the
+  // nearest-rank 95th percentile of |error| over the correctly typed cases' readings (n in
+  // brackets). Where n < 20 that is the largest error seen. The large ones are the rig's known
+  // failures (docs/physical_rig.md): a form-coloured dress that loses its skirt (lengths), a light
+  // top whose sides are lost (waist, hem), the underarm hanging outside the bust's side (bust).
+  static const std::map<std::string, double> kU95 = {
+      {"bust_circ", 6.3},         // (8)
+      {"waist_circ", 4.3},        // (20)
+      {"hip_circ", 2.0},          // (12)
+      {"hem_circ", 13.8},         // (16)
+      {"garment_length", 54.7},   // (13)
+      {"skirt_length", 54.0},     // (9)
+      {"sleeve_length", 2.0},     // (13)
+      {"outseam", 0.5},           // (3)
+      {"inseam", 4.6},            // (3)
+      {"leg_opening_circ", 6.5},  // (3)
+  };
+  const auto it = kU95.find(name);
+  if (it == kU95.end())
+    return std::nullopt;
+  return it->second;
+}
+
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
                                   const std::string& type) {
   const auto& names = measurementNamesFor(type);
