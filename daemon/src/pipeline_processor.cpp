@@ -95,9 +95,13 @@ class PipelineProcessor : public CaptureProcessor {
     out.confidence = r.confidence;
     out.warnings = r.warnings;
     out.measurementsCm = r.measurements;
-    out.result = {
-        {"type", r.type},          {"attributes", r.attributes},     {"confidence", r.confidence},
-        {"runner_up", r.runnerUp}, {"measurements", r.measurements}, {"warnings", r.warnings}};
+    out.result = {{"type", r.type},
+                  {"attributes", r.attributes},
+                  {"confidence", r.confidence},
+                  {"runner_up", r.runnerUp},
+                  {"measurements", r.measurements},
+                  {"uncertainty_cm", r.uncertaintyCm},
+                  {"warnings", r.warnings}};
     nlohmann::json timings = nlohmann::json::array();
     for (const auto& t : r.timings)
       timings.push_back({{"stage", t.stage}, {"ms", t.ms}});

@@ -537,20 +537,27 @@ async function loadSizeGuide(it) {
 }
 
 // Measurements as inputs; the value measured by the station (result.json) is shown beside a
-// corrected one, and stays in result.json for the record.
+// corrected one, and stays in result.json for the record, with how far it may be off
+// (result.json's uncertainty_cm, 95 %), so staff know which readings to check with a tape.
 async function loadMeasurementEditor(it) {
   const box = $('#f-meas');
   let measured = {};
-  try { measured = ((await api('GET', '/api/items/' + it.id + '/result.json')) || {}).measurements || {}; } catch (e) { measured = {}; }
+  let uncertainty = {};
+  try {
+    const r = (await api('GET', '/api/items/' + it.id + '/result.json')) || {};
+    measured = r.measurements || {};
+    uncertainty = r.uncertainty_cm || {};
+  } catch (e) { measured = {}; }
   const m = it.measurements || {};
   box.replaceChildren(...sortedMeas(Object.assign({}, measured, m)).map((n) => {
     const orig = measured[n];
     const now = m[n];
     const changed = orig != null && now != null && Math.abs(orig - now) >= 0.05;
+    const pm = uncertainty[n] != null ? ' \u00b1' + cm(uncertainty[n]) + ' cm' : '';
     return el('label', { class: 'meas-row' + (changed ? ' changed' : '') },
       el('span', { text: measName(n) }),
       el('input', { 'data-name': n, inputmode: 'decimal', value: now == null ? '' : cm(now), 'aria-label': measName(n) + ' in cm' }),
-      el('small', { class: 'muted', text: orig == null ? '' : (changed ? 'measured ' + cm(orig) : 'as measured') }));
+      el('small', { class: 'muted', text: orig == null ? '' : (changed ? 'measured ' + cm(orig) + pm : 'as measured' + pm) }));
   }));
 }
 function attributePatch(it) {

@@ -40,9 +40,6 @@ SIMULATOR_FREE = ("core/garmcap", "core/dsw")
 # Known remaining violations, reported but not failed: (file, included header) -> why. Remove an
 # entry when its include goes; a stale entry is reported so that the list stays true.
 KNOWN_EXCEPTIONS = {
-    ("core/garmcap/src/garment_measurer.cpp", "garmcap/calib/garment_model.h"):
-        "the measurer takes the garment measurement names per type (garmentMeasurementNames) "
-        "from the simulator's garment model; the vocabulary belongs in drafts (issue 15)",
     ("core/garmcap/src/capture_context.cpp", "garmcap/calib/garment_model.h"):
         "the classifier's reference silhouettes are laid with the simulator's garment "
         "(calib::layGarment); the pipeline needs a garment appearance of its own (issue 15)",

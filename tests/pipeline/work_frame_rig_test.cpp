@@ -5,11 +5,13 @@
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "common/bundled_form.h"
 #include "garmcap/calib/form_model.h"
+#include "garmcap/calib/garment_model.h"
 #include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 #include "garmcap/pipeline/garment_measurer.h"
@@ -190,6 +192,14 @@ TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
 // lost part of the garment (a slit cut into the hem, as a form-coloured patch leaves), the
 // circumference there is left out with a warning, not reported small; the rest still measures,
 // and the hem line is not lifted by the slit.
+// The measurer keeps its own list of what it measures per type; the rigs' truth.json is written
+// from the simulator's. Scoring needs the two to agree name for name.
+TEST(Measure, NamesPerTypeAreTheRigsTruthNames) {
+  for (const std::string type : {"top", "dress", "skirt", "pants"})
+    EXPECT_EQ(pipeline::measurementNamesFor(type), calib::garmentMeasurementNames(type)) << type;
+  EXPECT_THROW(pipeline::measurementNamesFor("coat"), std::invalid_argument);
+}
+
 TEST(Measure, ACircumferenceFarBelowTheFormsIsLeftOutNotInvented) {
   const sim::SceneRenderer r = scene("top", 2, {720, 960});
   const auto ctx = pipeline::cachedCaptureContext(r.calibration());

@@ -455,6 +455,7 @@ nlohmann::json CaptureResult::toJson() const {
   j["runner_up"] = runnerUp;
   j["units"] = "cm";
   j["measurements"] = measurements;
+  j["uncertainty_cm"] = uncertaintyCm;
   j["warnings"] = warnings;
   nlohmann::json t = nlohmann::json::object();
   double total = 0;
@@ -878,6 +879,9 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
       if (sleeveless)
         result.measurements["sleeve_length"] = 0.0;
     }
+    for (const auto& [name, value] : result.measurements)
+      if (const auto u = measurementUncertaintyCm(name))
+        result.uncertaintyCm[name] = *u;
     if (gm.measurements.count("hem_circ") && gm.measurements.count("hip_circ") &&
         result.attributes.count("skirt"))
       result.attributes["skirt"] =

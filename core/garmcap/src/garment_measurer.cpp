@@ -3,10 +3,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <stdexcept>
-
-#include "garmcap/calib/garment_model.h"
 
 namespace garmcap::pipeline {
 namespace {
@@ -507,9 +506,46 @@ double crotchHeightCm(const Context& c, int partRow, int axisCol) {
 
 }  // namespace
 
-// The pipeline reports exactly what the simulator's truth.json holds: one vocabulary, in calib.
+// The measurer's own vocabulary (docs/measurement_model.md, "The measurement model"): what it
+// measures per type. The rigs' truth.json uses the same names; a test holds the two lists equal,
+// so the measurer depends on no generator's code for them.
 const std::vector<std::string>& measurementNamesFor(const std::string& type) {
-  return calib::garmentMeasurementNames(type);
+  static const std::map<std::string, std::vector<std::string>> kNames = {
+      {"top", {"bust_circ", "waist_circ", "hem_circ", "garment_length", "sleeve_length"}},
+      {"dress",
+       {"bust_circ", "waist_circ", "hip_circ", "hem_circ", "garment_length", "skirt_length",
+        "sleeve_length"}},
+      {"skirt", {"waist_circ", "hip_circ", "hem_circ", "skirt_length"}},
+      {"pants", {"waist_circ", "hip_circ", "outseam", "inseam", "leg_opening_circ"}}};
+  const auto it = kNames.find(type);
+  if (it == kNames.end())
+    throw std::invalid_argument("measure: unknown garment type '" + type +
+                                "' (expected top, dress, skirt or pants)");
+  return it->second;
+}
+
+std::optional<double> measurementUncertaintyCm(const std::string& name) {
+  // `garmcap rig eval tests/data/rig_physical` at 8bc61a4 (24 cases), per measurement the
+  // nearest-rank 95th percentile of |error| over the correctly typed cases' readings (n in
+  // brackets). Where n < 20 that is the largest error seen. The large ones are the rig's known
+  // failures (docs/physical_rig.md): a form-coloured dress that loses its skirt (lengths), a light
+  // top whose sides are lost (waist, hem), the underarm hanging outside the bust's side (bust).
+  static const std::map<std::string, double> kU95 = {
+      {"bust_circ", 6.3},         // (8)
+      {"waist_circ", 4.3},        // (20)
+      {"hip_circ", 2.0},          // (12)
+      {"hem_circ", 13.8},         // (16)
+      {"garment_length", 54.7},   // (13)
+      {"skirt_length", 54.0},     // (9)
+      {"sleeve_length", 2.0},     // (13)
+      {"outseam", 0.5},           // (3)
+      {"inseam", 4.6},            // (3)
+      {"leg_opening_circ", 6.5},  // (3)
+  };
+  const auto it = kU95.find(name);
+  if (it == kU95.end())
+    return std::nullopt;
+  return it->second;
 }
 
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,

@@ -64,6 +64,8 @@ struct CaptureResult {
   double confidence = 0;                          // 0..1
   std::string runnerUp;                           // second-best type
   std::map<std::string, double> measurements;     // cm, names as in issue 6 / truth.json
+  // Per measurement, how far it may be off (cm, 95 %): measurementUncertaintyCm.
+  std::map<std::string, double> uncertaintyCm;
   std::vector<std::string> warnings;
   std::vector<StageTiming> timings;
   drafts::Pattern pattern;

@@ -9,6 +9,7 @@
 
 #include <map>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,13 @@ struct GarmentMeasurement {
 
 /// Measurement names per type (top, dress, skirt, pants), as in truth.json.
 const std::vector<std::string>& measurementNamesFor(const std::string& type);
+
+/// How far (cm) a reported measurement may be off: the 95th percentile (nearest rank) of the
+/// absolute error on the physical rig (tests/data/rig_physical, cloth draped by an independent
+/// solver, the form registered from the bare frame; correctly typed cases only), rounded up to
+/// 0.1 cm. The bundled simulator's rigs stay far inside it. docs/measurement_model.md has the
+/// table, its sample sizes and the command that reproduces it. nullopt for an unknown name.
+std::optional<double> measurementUncertaintyCm(const std::string& name);
 
 /// Measures a garment of `type` from its mask (CV_8U, non-zero = garment, the frame's size and
 /// without camera roll) on the form seen through `view`. A measurement that cannot be taken (the
