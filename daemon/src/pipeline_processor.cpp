@@ -95,17 +95,9 @@ class PipelineProcessor : public CaptureProcessor {
     out.confidence = r.confidence;
     out.warnings = r.warnings;
     out.measurementsCm = r.measurements;
-    out.result = {{"type", r.type},
-                  {"attributes", r.attributes},
-                  {"confidence", r.confidence},
-                  {"runner_up", r.runnerUp},
-                  {"measurements", r.measurements},
-                  {"uncertainty_cm", r.uncertaintyCm},
-                  {"warnings", r.warnings}};
-    nlohmann::json timings = nlohmann::json::array();
-    for (const auto& t : r.timings)
-      timings.push_back({{"stage", t.stage}, {"ms", t.ms}});
-    out.result["timings"] = timings;
+    // The CLI's result.json (CaptureResult::toJson), so both tell the same story in one shape;
+    // the colours are added by nameColours below.
+    out.result = r.toJson();
     out.patterns["base"] = drafts::patternToJsonValue(r.pattern);
     auto addImage = [&](const char* kind, const cv::Mat& m) {
       if (!m.empty())
