@@ -148,6 +148,9 @@ cv::Mat denoised(const cv::Mat& bgr) {
 struct BareFrame {
   std::optional<MotionReference> motion;
   calib::KeyResult key;
+  // The undistorted bare frame at full resolution, de-rolled as the dressed one is: the product
+  // photos cut what still looks as it did here.
+  cv::Mat uprightFull;
 };
 
 // The bare-form frame is the same for every garment captured after one bare-form capture, so it
@@ -195,6 +198,9 @@ std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyRaw,
     work = rotateAbout(work, centreW, rollRad, cv::INTER_LINEAR);
   work = denoised(work);
   auto bare = std::make_shared<BareFrame>();
+  bare->uprightFull = std::abs(rollRad) > 1e-6
+                          ? rotateAbout(emptyFull, centreW / ws, rollRad, cv::INTER_LINEAR)
+                          : emptyFull;
   bare->motion.emplace(work, topBandEndRow, bottomBandStartRow);
   bare->key = key(work, "bare-form frame");
   std::lock_guard<std::mutex> lock(mutex);
@@ -902,19 +908,24 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
     box =
         cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
         cv::Rect(0, 0, garment.cols, garment.rows);
-    cv::Mat3b crop = dressedFull(box).clone();
+    const cv::Mat3b crop = dressedFull(box);
     const cv::Mat1b maskCrop = garment(box);
-    cv::Mat1b spill;
-    cv::dilate(maskCrop, spill, cv::Mat(), cv::Point(-1, -1), 2);
-    calib::despill(crop, spill);
     if (options.makeProductImages) {
-      result.cutout = makeCutout(crop, maskCrop);
-      const ProductImages p = makeProductImages(crop, maskCrop, {.sizePx = options.productSizePx});
-      result.product = p.onWhite;
+      const ProductImages p =
+          productPhotos(crop, maskCrop, bare->uprightFull(box), keyD.screenBgr,
+                        {.maxSidePx = options.productSizePx, .marginFraction = 0.06, .pxPerCm = s});
+      result.cutout = p.cutout;
+      result.cutoutRect = p.cutoutRect + box.tl();
+      result.product = p.square;
+      result.productPortrait = p.portrait;
     }
     timer.done("images");
     if (options.makeTexture) {
-      const TextureResult t = extractTexture(crop, maskCrop);
+      cv::Mat3b despilled = crop.clone();
+      cv::Mat1b spill;
+      cv::dilate(maskCrop, spill, cv::Mat(), cv::Point(-1, -1), 2);
+      calib::despill(despilled, spill);
+      const TextureResult t = extractTexture(despilled, maskCrop);
       result.texture = t.tile;
       result.attributes["fabric"] = toString(t.kind);
       timer.done("texture");
