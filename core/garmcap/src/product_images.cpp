@@ -58,6 +58,24 @@ void weightedBlur(const std::vector<cv::Mat1f>& values, const cv::Mat1f& weight,
     sums.push_back(blurred(v.mul(weight)));
 }
 
+// A partly covered edge pixel mixes the garment with what is behind it, and behind it is what
+// the registered bare frame shows there (screen or form): its garment colour is
+// (c - (1 - alpha) bare) / alpha. Pixels under a quarter covered are left: the division would
+// amplify noise and they hardly show on white.
+void unmixEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Mat3b& bare) {
+  for (int y = 0; y < bgr.rows; ++y) {
+    const float* a = alpha.ptr<float>(y);
+    const cv::Vec3b* b = bare.ptr<cv::Vec3b>(y);
+    cv::Vec3b* p = bgr.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < bgr.cols; ++x) {
+      if (a[x] < 0.25f || a[x] >= 1.0f)
+        continue;
+      for (int c = 0; c < 3; ++c)
+        p[x][c] = cv::saturate_cast<uchar>((p[x][c] - (1.0f - a[x]) * b[x][c]) / a[x]);
+    }
+  }
+}
+
 }  // namespace
 
 cv::Mat makeCutout(const cv::Mat& bgr, const cv::Mat& mask, double featherPx) {
@@ -118,19 +136,48 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
                       double bandPx, double maxDeltaE) {
   if (bare.size() != dressed.size() || mask.size() != dressed.size())
     throw std::invalid_argument("formRemains: the frames and the mask differ in size");
+  // A light blur against sensor noise; a wider one would spread a dark hem's contrast onto the
+  // form below it, and the remain right under the hem would no longer look like the bare frame.
   cv::Mat3b d, e;
-  cv::GaussianBlur(dressed, d, cv::Size(5, 5), 1.0);
-  cv::GaussianBlur(bare, e, cv::Size(5, 5), 1.0);
+  cv::GaussianBlur(dressed, d, cv::Size(3, 3), 0.8);
+  cv::GaussianBlur(bare, e, cv::Size(3, 3), 0.8);
   const cv::Mat3f labD = labOf(d), labE = labOf(e);
-  cv::Mat1f dE;
-  {
-    cv::Mat3f diff = labD - labE;
+  auto distance = [](const cv::Mat3f& x, const cv::Mat3f& y) {
+    cv::Mat3f diff = x - y;
     std::vector<cv::Mat1f> ch;
     cv::split(diff, ch);
-    cv::sqrt(ch[0].mul(ch[0]) + ch[1].mul(ch[1]) + ch[2].mul(ch[2]), dE);
-  }
-  const cv::Mat1b same = dE < static_cast<float>(maxDeltaE);
-  const cv::Mat1b band = (depthInside(mask) <= static_cast<float>(bandPx)) & mask;
+    cv::Mat1f out;
+    cv::sqrt(ch[0].mul(ch[0]) + ch[1].mul(ch[1]) + ch[2].mul(ch[2]), out);
+    return out;
+  };
+  const cv::Mat1f dBare = distance(labD, labE);
+  const cv::Mat1f depth = depthInside(mask);
+  const cv::Mat1b band = (depth <= static_cast<float>(bandPx)) & mask;
+  // The garment's own look near each band pixel: the colour of the mask a few px in from its
+  // outline, averaged along it. A pixel much closer to the bare frame than to that is form or
+  // screen even where noise keeps it a few units from the bare frame (a mixed pixel counts with
+  // the side it is closer to); only when it is clearly unlike the garment (twice the sameness
+  // threshold), or noise would shave the hem of a garment close to the form's colour.
+  cv::Mat1f core;
+  const cv::Mat1b coreMask = depth > static_cast<float>(std::max(3.0, 0.25 * bandPx));
+  coreMask.convertTo(core, CV_32F, 1.0 / 255.0);
+  std::vector<cv::Mat1f> ch;
+  cv::split(labD, ch);
+  std::vector<cv::Mat1f> sums;
+  cv::Mat1f wsum;
+  weightedBlur(ch, core, std::max(2.0, 0.5 * bandPx), sums, wsum);
+  cv::Mat1f garmentLook[3];
+  for (int c = 0; c < 3; ++c)
+    garmentLook[c] = sums[c] / cv::max(wsum, 1e-6f);
+  cv::Mat3f look;
+  cv::merge(garmentLook, 3, look);
+  // Unblurred for this test: a two- or three-pixel sliver of form between a dark leg and the
+  // screen is closer to the bare frame than to the garment pixel by pixel, not after a blur.
+  const cv::Mat1f dGarment = distance(labOf(dressed), look);
+  const cv::Mat1f dBareRaw = distance(labOf(dressed), labOf(bare));
+  const cv::Mat1b same = (dBare < static_cast<float>(maxDeltaE)) |
+                         ((dBareRaw < 0.5f * dGarment) &
+                          (dGarment > 2.0f * static_cast<float>(maxDeltaE)) & (wsum > 0.02f));
   const cv::Mat1b outside = mask == 0;
   const cv::Mat1b candidate = same & (band | outside);
   cv::Mat1i labels;
@@ -149,12 +196,16 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
   cv::Mat1b cut = cv::Mat1b::zeros(mask.size());
   for (int y = 0; y < labels.rows; ++y) {
     const int* l = labels.ptr<int>(y);
-    const uchar* b = band.ptr(y);
     uchar* c = cut.ptr(y);
     for (int x = 0; x < labels.cols; ++x)
-      if (b[x] && l[x] > 0 && reaches[static_cast<std::size_t>(l[x])])
+      if (l[x] > 0 && reaches[static_cast<std::size_t>(l[x])])
         c[x] = 255;
   }
+  // Noise leaves single pixels of a remain a few units too far from the bare frame; enclosed by
+  // the cut, they are closed into it (never deeper than the band).
+  cv::Mat1b closed;
+  cv::morphologyEx(cut, closed, cv::MORPH_CLOSE, cv::Mat());
+  cut |= closed & (band | outside);
   return cut;
 }
 
@@ -319,14 +370,15 @@ ProductImages productPhotos(const cv::Mat3b& dressed, const cv::Mat1b& mask, con
   cv::Mat1f alpha =
       refinedAlpha(dressed, mask, std::max(2, static_cast<int>(std::lround(kGuideRadiusCm * s))));
   if (!bare.empty()) {
-    // The guided filter's ramp reaches a few px beyond the mask: the cut runs over what it
-    // reaches, so that no remain of the form is left at alpha above zero.
-    cv::Mat1b reached = alpha > 0.0f;
+    // The cut covers the outside too: the guided filter's ramp reaches a few px beyond the mask,
+    // and what of it still looks as the bare frame did is no garment either.
     const cv::Mat1b cut =
-        formRemains(dressed, bare, reached, std::max(3.0, kFormBandCm * s), kFormDeltaE);
+        formRemains(dressed, bare, mask, std::max(3.0, kFormBandCm * s), kFormDeltaE);
     alpha.setTo(0.0f, cut);
   }
   cv::Mat3b colour = dressed.clone();
+  if (!bare.empty())
+    unmixEdge(colour, alpha, bare);
   despillEdge(colour, alpha, screenBgr, std::max(3.0, kSpillBandCm * s));
   return makeProductImages(colour, alpha, options);
 }

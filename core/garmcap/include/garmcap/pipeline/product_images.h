@@ -33,9 +33,12 @@ cv::Mat makeCutout(const cv::Mat& bgr, const cv::Mat& mask, double featherPx = 1
 /// `radiusPx` over `bgr` within `radiusPx` of the mask's outline; elsewhere 0 or 1 as the mask.
 cv::Mat1f refinedAlpha(const cv::Mat3b& bgr, const cv::Mat1b& mask, int radiusPx);
 
-/// Pixels of `mask` within `bandPx` of its outline that differ from the registered bare-form
-/// frame `bare` by less than `maxDeltaE` (CIELAB, after a light blur of both) and connect to the
-/// outside of the mask through such pixels: form or background the segmentation took in.
+/// What looks as the registered bare-form frame `bare` did and reaches the outside of `mask`
+/// through such pixels: form or background, not garment. Inside the mask only within `bandPx`
+/// of its outline (deeper is the garment's own, however it looks); outside it as well (where a
+/// soft edge may reach). A pixel looks as the bare frame did when it differs from it by less than
+/// `maxDeltaE` (CIELAB, after a light blur of both), or is less than half as far from it as from
+/// the garment's colour a few px inside the outline.
 cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv::Mat1b& mask,
                       double bandPx, double maxDeltaE);
 
