@@ -198,9 +198,11 @@ std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyRaw,
     work = rotateAbout(work, centreW, rollRad, cv::INTER_LINEAR);
   work = denoised(work);
   auto bare = std::make_shared<BareFrame>();
-  bare->uprightFull = std::abs(rollRad) > 1e-6
-                          ? rotateAbout(emptyFull, centreW / ws, rollRad, cv::INTER_LINEAR)
-                          : emptyFull;
+  // Its own pixels, never the caller's frame: the cache outlives the call.
+  if (std::abs(rollRad) > 1e-6)
+    bare->uprightFull = rotateAbout(emptyFull, centreW / ws, rollRad, cv::INTER_LINEAR);
+  else
+    bare->uprightFull = emptyFull.data == emptyRaw.data ? emptyRaw.clone() : emptyFull;
   bare->motion.emplace(work, topBandEndRow, bottomBandStartRow);
   bare->key = key(work, "bare-form frame");
   std::lock_guard<std::mutex> lock(mutex);
