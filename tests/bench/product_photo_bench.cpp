@@ -153,9 +153,12 @@ int main(int argc, char** argv) {
         bSide = b.product.cols;
 
         t0 = Clock::now();
-        const pipeline::ProductImages a =
-            pipeline::productPhotos(crop, mask, bareCrop, screen,
-                                    {.maxSidePx = 4096, .marginFraction = 0.06, .pxPerCm = s});
+        const pipeline::ProductImages a = pipeline::productPhotos(
+            crop, mask, bareCrop, screen,
+            {.maxSidePx = 4096,
+             .minSidePx = std::max(w, h) >= 2048 ? 2048 : 0,  // as the pipeline asks
+             .marginFraction = 0.06,
+             .pxPerCm = s});
         aMake.push_back(msSince(t0));
         t0 = Clock::now();
         aBytes = encoded(a.cutout, ".png", png) + encoded(a.square, ".jpg", jpg) +

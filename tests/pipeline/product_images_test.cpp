@@ -54,6 +54,11 @@ TEST(ProductImages, SquareAndPortraitCentredAtFullResolution) {
   EXPECT_EQ(small.square.cols, 200);
   EXPECT_EQ(small.portrait.rows, 200);
   EXPECT_EQ(small.portrait.cols, 160);
+  // A floor on the side scales up, by 1.5x at most.
+  const ProductImages zoom = makeProductImages(frame, alpha, {.minSidePx = 600});
+  EXPECT_EQ(zoom.square.cols, 600);
+  EXPECT_EQ(zoom.portrait.rows, 600);
+  EXPECT_EQ(makeProductImages(frame, alpha, {.minSidePx = 2048}).square.cols, 683);
   EXPECT_THROW(makeProductImages(frame, cv::Mat1f::zeros(frame.size())), std::invalid_argument);
   EXPECT_THROW(makeProductImages(frame, cv::Mat1f::zeros(10, 10)), std::invalid_argument);
 }

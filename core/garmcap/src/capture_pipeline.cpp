@@ -35,6 +35,9 @@ constexpr double kMaxShiftCm = 1.0;
 constexpr double kMinShiftPx = 1.0;
 // The work frames' denoising blur, in work-frame px.
 constexpr double kDenoiseSigmaPx = 0.7;
+// Shops zoom product photos of 2048 px and more: from a frame that large, the photos reach it
+// (scaled up by 1.5x at most when the garment spans less of the frame).
+constexpr int kShopZoomPx = 2048;
 // Below the hip, pants part into legs for at least this long (the shortest shorts' inseam).
 constexpr double kPartedLegsCm = 5.0;
 // A dress's skirt covers the centre line at least this far below the crotch (the shortest
@@ -915,7 +918,12 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
     if (options.makeProductImages) {
       const ProductImages p =
           productPhotos(crop, maskCrop, bare->uprightFull(box), keyD.screenBgr,
-                        {.maxSidePx = options.productSizePx, .marginFraction = 0.06, .pxPerCm = s});
+                        {.maxSidePx = options.productSizePx,
+                         .minSidePx = std::max(dressedFull.cols, dressedFull.rows) >= kShopZoomPx
+                                          ? std::min(kShopZoomPx, options.productSizePx)
+                                          : 0,
+                         .marginFraction = 0.06,
+                         .pxPerCm = s});
       result.cutout = p.cutout;
       result.cutoutRect = p.cutoutRect + box.tl();
       result.product = p.square;

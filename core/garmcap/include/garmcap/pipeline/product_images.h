@@ -19,8 +19,10 @@
 namespace garmcap::pipeline {
 
 struct ProductImageOptions {
-  int maxSidePx = 4096;          // longest side of a photo; larger crops are scaled down (never
-                                 // up: the photo has the camera's detail, no more)
+  int maxSidePx = 4096;  // longest side of a photo; larger crops are scaled down
+  int minSidePx = 0;     // shortest longest side: a smaller crop is scaled up to it, by 1.5x at
+                         // most (shops zoom from 2048 px; beyond 1.5x it would be blur, not
+                         // fabric). The pipeline asks 2048 when the frame's long side has it.
   double marginFraction = 0.06;  // empty border around the garment, per side
   double pxPerCm = 0;            // frame px per cm (productPhotos: required, > 0)
 };
