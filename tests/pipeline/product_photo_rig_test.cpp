@@ -132,6 +132,7 @@ TEST(ProductPhotoRig, NoExposedFormInTheCutout) {
           type.c_str(), seed, formInCutout, formInMask, garmentLost, garmentArea, lostInMask);
       EXPECT_EQ(formInCutout, 0) << type << " seed " << seed;
       EXPECT_LE(garmentLost, lostInMask + garmentArea / 100) << type << " seed " << seed;
+      // GARMCAP_PHOTO_DEBUG=<dir>: the frame with form left (magenta) and garment lost (yellow).
       if (const char* dir = std::getenv("GARMCAP_PHOTO_DEBUG"); dir) {
         cv::Mat3b vis = dressed.clone();
         vis.setTo(cv::Scalar(255, 0, 255), (alpha > 127) & exposed);
@@ -141,6 +142,33 @@ TEST(ProductPhotoRig, NoExposedFormInTheCutout) {
         cv::imwrite(std::string(dir) + "/" + type + std::to_string(seed) + "_alpha.png", alpha);
       }
     }
+  }
+}
+
+// A garment close to the form's colour (the form's beige, a little darker): where it meets the
+// form nothing but shading tells them apart, and the cut must not take its edge for the form's.
+TEST(ProductPhotoRig, FormColouredGarmentKeepsItsOutline) {
+  const auto& form = garmcap::testing::bundledForm();
+  for (const std::string type : {"skirt", "top"}) {
+    sim::Scene scene = drawn(type, 5, {864, 1152});
+    scene.fabric.kind = sim::FabricKind::kSolid;
+    scene.fabric.base = scene.lighting.formBgr * 0.92f;
+    const sim::SceneRenderer r(form, scene);
+    pipeline::CaptureResult res;
+    try {
+      res = pipeline::runCapture(r.renderEmpty(), r.renderDressed(), r.calibration(), photosOnly());
+    } catch (const pipeline::CaptureError& e) {
+      GTEST_SKIP() << type << ": segmentation does not find it: " << e.what();
+    }
+    const cv::Mat1b alpha = alphaInFrame(res, r.scene().size);
+    cv::Mat1b garmentInner;
+    cv::erode(r.garmentCoverage() > 0.5f, garmentInner, cv::Mat());
+    const int lost = cv::countNonZero(garmentInner & (alpha <= 127));
+    const int lostInMask = cv::countNonZero(garmentInner & (res.silhouette == 0));
+    const int area = cv::countNonZero(garmentInner);
+    std::printf("%s (form-coloured): garment at alpha <= 0.5: %d of %d px (mask: %d)\n",
+                type.c_str(), lost, area, lostInMask);
+    EXPECT_LE(lost, lostInMask + area / 100) << type;
   }
 }
 

@@ -194,9 +194,14 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
   const cv::Mat3f labRaw = labOf(dressed);
   const cv::Mat1f dGarment = distance(labRaw, look);
   const cv::Mat1f dBareRaw = distance(labRaw, labOf(bare));
-  const cv::Mat1b same = (dBare < static_cast<float>(maxDeltaE)) |
-                         ((dBareRaw < 0.5f * dGarment) &
-                          (dGarment > 2.0f * static_cast<float>(maxDeltaE)) & (wsum > 0.02f));
+  // Near the bare frame counts only when nearer to it than to the garment: a fabric a shade off
+  // the form's colour is within the threshold of the bare frame at its edge too.
+  const cv::Mat1f dGarmentBlurred = distance(labD, look);
+  const cv::Mat1b nearBare =
+      (dBare < static_cast<float>(maxDeltaE)) & ((dBare < dGarmentBlurred) | (wsum <= 0.02f));
+  const cv::Mat1b same =
+      nearBare | ((dBareRaw < 0.5f * dGarment) & (dGarment > 2.0f * static_cast<float>(maxDeltaE)) &
+                  (wsum > 0.02f));
   const cv::Mat1b outside = mask == 0;
   const cv::Mat1b candidate = same & (band | outside);
   cv::Mat1i labels;
