@@ -39,8 +39,9 @@ cv::Mat1f refinedAlpha(const cv::Mat3b& bgr, const cv::Mat1b& mask, int radiusPx
 /// through such pixels: form or background, not garment. Inside the mask only within `bandPx`
 /// of its outline (deeper is the garment's own, however it looks); outside it as well (where a
 /// soft edge may reach). A pixel looks as the bare frame did when it differs from it by less than
-/// `maxDeltaE` (CIELAB, after a light blur of both), or is less than half as far from it as from
-/// the garment's colour a few px inside the outline.
+/// `maxDeltaE` (CIELAB, after a light blur of both) and is nearer to it than to the garment's
+/// colour a few px inside the outline, or is less than half as far from it as from that colour
+/// where that colour is clearly unlike it (more than 2 maxDeltaE).
 cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv::Mat1b& mask,
                       double bandPx, double maxDeltaE);
 
