@@ -43,7 +43,7 @@ void writeImage(const fs::path& path, const cv::Mat& img) {
   const std::string ext = path.extension().string();
   std::vector<int> params;
   if (ext == ".jpg")
-    params = {cv::IMWRITE_JPEG_QUALITY, 92};
+    params = {cv::IMWRITE_JPEG_QUALITY, 90};
   if (!cv::imencode(ext, img, bytes, params))
     throw drafts::FileError("cannot encode " + path.string());
   drafts::writeFileAtomic(
@@ -59,6 +59,7 @@ void writeCaptureOutputs(const fs::path& out, const pipeline::CaptureResult& r) 
   }
   writeImage(out / "cutout.png", r.cutout);
   writeImage(out / "product.jpg", r.product);
+  writeImage(out / "product_4x5.jpg", r.productPortrait);
   writeImage(out / "silhouette.png", r.silhouette);
   writeImage(out / "overlay.png", r.overlay);
   writeImage(out / "texture.png", r.texture);

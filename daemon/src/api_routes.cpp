@@ -384,7 +384,7 @@ void addApiRoutes(Router& router, Station& station) {
                                         {"type", it->type},
                                         {"size", it->baseSize},
                                         {"date", it->createdAt.substr(0, 10)}}) +
-                  ".png";
+                  (im->mediaType == "image/jpeg" ? ".jpg" : ".png");
               const ImageRef ref = *im;
               // Reading the blob happens off the strand: the catalog owner must not wait for disks.
               st->offload(

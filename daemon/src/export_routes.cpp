@@ -41,8 +41,9 @@ using drafts::GradedRun;
 using drafts::PieceText;
 
 constexpr int kMaxExportItems = 2000;
-// Image kinds that go to shops, in the order shops show them.
-const std::vector<std::string> kShopImageKinds = {"product", "cutout"};
+// Image kinds that go to shops, in the order shops show them: the square JPEG on white. The
+// cut-out is the same photo again (shops composite nothing), the 4:5 crop the same again.
+const std::vector<std::string> kShopImageKinds = {"product"};
 
 std::string extensionOf(const std::string& mediaType) {
   if (mediaType == "image/jpeg")

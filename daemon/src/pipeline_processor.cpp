@@ -105,6 +105,7 @@ class PipelineProcessor : public CaptureProcessor {
     };
     addImage("cutout", r.cutout);
     addImage("product", r.product);
+    addImage("product_4x5", r.productPortrait);
     addImage("silhouette", r.silhouette);
     addImage("overlay", r.overlay);
     addImage("texture", r.texture);

@@ -73,6 +73,20 @@ std::string encodePng(const cv::Mat& image) {
   return std::string(buf.begin(), buf.end());
 }
 
+// The photos shops show are JPEG on white (full resolution PNGs run to tens of MB, and shops
+// recompress them anyway); the cut-out keeps its alpha in PNG, the review masks stay lossless.
+bool storedAsJpeg(const std::string& kind) {
+  return kind == "product" || kind == "product_4x5";
+}
+
+std::string encodeJpeg(const cv::Mat& image) {
+  std::vector<unsigned char> buf;
+  if (!cv::imencode(".jpg", image, buf,
+                    {cv::IMWRITE_JPEG_QUALITY, 90, cv::IMWRITE_JPEG_OPTIMIZE, 1}))
+    throw std::runtime_error("cannot encode a JPEG image");
+  return std::string(buf.begin(), buf.end());
+}
+
 cv::Mat decodeImage(const std::string& bytes, const std::string& what) {
   cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data()));
   cv::Mat img = cv::imdecode(raw, cv::IMREAD_COLOR);
@@ -751,9 +765,10 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
       item->images.push_back({"dressed", dressedSha, "image/png", 0});
       item->images.push_back({"empty", cal.emptySha256, "image/png", 0});
       for (const auto& [kind, image] : r.images) {
-        const std::string png = encodePng(image);
-        item->images.push_back(
-            {kind, store_->put(png), "image/png", static_cast<std::int64_t>(png.size())});
+        const bool jpeg = storedAsJpeg(kind);
+        const std::string bytes = jpeg ? encodeJpeg(image) : encodePng(image);
+        item->images.push_back({kind, store_->put(bytes), jpeg ? "image/jpeg" : "image/png",
+                                static_cast<std::int64_t>(bytes.size())});
       }
       postToStrand([this, req, item] { onProcessed(req, item); });
     } catch (const std::exception& e) {

@@ -90,6 +90,7 @@ class FakeProcessor : public CaptureProcessor {
                             {"panels", nlohmann::json::array({{{"name", "skirt_front"}}})}};
     }
     r.images["cutout"] = cv::Mat(8, 8, CV_8UC4, cv::Scalar(1, 2, 3, 255));
+    r.images["product"] = cv::Mat(8, 8, CV_8UC3, cv::Scalar(1, 2, 3));
     r.result = {{"type", "skirt"}};
     return r;
   }

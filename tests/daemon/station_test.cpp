@@ -56,6 +56,14 @@ TEST(Station, CalibrateThenCaptureFilesAnItem) {
   EXPECT_EQ(img.result(), http::status::ok);
   EXPECT_EQ(img[http::field::content_type], "image/png");
   EXPECT_EQ(img.body().substr(1, 3), "PNG");
+  // The shop photo is stored as JPEG (the cut-out keeps its alpha in PNG), and downloads as .jpg.
+  img = rig.call(http::verb::get,
+                 "/api/items/" + std::to_string(itemId) + "/images/product?download=1");
+  EXPECT_EQ(img.result(), http::status::ok);
+  EXPECT_EQ(img[http::field::content_type], "image/jpeg");
+  EXPECT_EQ(img.body().substr(0, 3), "\xff\xd8\xff");
+  EXPECT_NE(std::string(img[http::field::content_disposition]).find(".jpg\""), std::string::npos)
+      << img[http::field::content_disposition];
   auto pj = rig.call(http::verb::get, "/api/items/" + std::to_string(itemId) + "/pattern.json");
   EXPECT_EQ(rig.json(pj)["type"], "skirt");
   auto list = rig.json(rig.call(http::verb::get, "/api/items?type=skirt"));

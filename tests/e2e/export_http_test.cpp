@@ -260,7 +260,7 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
     EXPECT_EQ(zip.body.find("patterns/" + std::to_string(cap.id) + "/"), std::string::npos);
     EXPECT_NE(zip.body.find("0 approved items"), std::string::npos);
   }
-  EXPECT_EQ(d.get("/api/export/files/images/" + std::to_string(cap.id) + "-product.png").status,
+  EXPECT_EQ(d.get("/api/export/files/images/" + std::to_string(cap.id) + "-product.jpg").status,
             404);
   ASSERT_EQ(httpCall(d.port(), http::verb::patch, at, R"({"status": "approved"})").status, 200);
 
@@ -307,8 +307,9 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   EXPECT_NE(product.at("Description").find("<td>" + baseSize + "</td>"), std::string::npos);
   const auto images = rowsWith(srows, "Product image URL", kBase + "/images/");
   ASSERT_FALSE(images.empty()) << "no image URL under the configured base";
-  EXPECT_EQ(images.front(), kBase + "/images/" + std::to_string(cap.id) + "-product.png");
-  EXPECT_EQ(d.get("/api/export/files/images/" + std::to_string(cap.id) + "-product.png").status,
+  EXPECT_EQ(images.front(), kBase + "/images/" + std::to_string(cap.id) + "-product.jpg");
+  EXPECT_EQ(images.size(), 1u) << "the cut-out is the same photo again: not a second image";
+  EXPECT_EQ(d.get("/api/export/files/images/" + std::to_string(cap.id) + "-product.jpg").status,
             200);
   // Made to order: every graded size is a variant, the piece's keeps the item's SKU.
   const auto mto =
@@ -368,7 +369,7 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
                                        "woocommerce.csv",
                                        "merchant.tsv",
                                        "README.txt",
-                                       "images/" + std::to_string(cap.id) + "-product.png",
+                                       "images/" + std::to_string(cap.id) + "-product.jpg",
                                        pdir + "base.dxf",
                                        pdir + "base.svg",
                                        pdir + "garmentcode.json",
@@ -392,8 +393,11 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   const std::string readme = entry("README.txt");
   EXPECT_NE(readme.find("1 approved items"), std::string::npos) << readme;
   EXPECT_EQ(readme.find("Not exported"), std::string::npos) << readme;
-  const std::string png = entry("images/" + std::to_string(cap.id) + "-product.png");
-  EXPECT_EQ(png.substr(1, 3), "PNG");
+  // The shop photo is a JPEG on white at the frame's resolution; the cut-out is not sent again
+  // as a second image.
+  const std::string jpeg = entry("images/" + std::to_string(cap.id) + "-product.jpg");
+  EXPECT_EQ(jpeg.substr(0, 3), "\xff\xd8\xff");
+  EXPECT_FALSE(entries.count("images/" + std::to_string(cap.id) + "-cutout.png"));
   EXPECT_EQ(d.terminate(), 0);
 }
 

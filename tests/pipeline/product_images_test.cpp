@@ -2,43 +2,142 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 using namespace garmcap::pipeline;
 
-TEST(ProductImages, GarmentIsCentredSquareAndKeepsItsColour) {
-  cv::Mat frame(600, 800, CV_8UC3, cv::Scalar(40, 200, 40));
-  cv::Mat mask = cv::Mat::zeros(frame.size(), CV_8UC1);
-  cv::rectangle(mask, cv::Rect(100, 50, 200, 400), cv::Scalar(255), cv::FILLED);
-  frame.setTo(cv::Scalar(30, 60, 200), mask);
+namespace {
 
-  const ProductImages p = makeProductImages(frame, mask, {.sizePx = 300});
-  ASSERT_EQ(p.onWhite.rows, 300);
-  ASSERT_EQ(p.onWhite.cols, 300);
-  ASSERT_EQ(p.transparent.type(), CV_8UC4);
-  // Centre pixel is garment colour; corners are white / transparent; no green survives.
-  const cv::Vec3b centre = p.onWhite.at<cv::Vec3b>(150, 150);
-  EXPECT_NEAR(centre[0], 30, 2);
-  EXPECT_NEAR(centre[2], 200, 2);
-  EXPECT_EQ(p.onWhite.at<cv::Vec3b>(0, 0), cv::Vec3b(255, 255, 255));
-  EXPECT_EQ(p.transparent.at<cv::Vec4b>(0, 0)[3], 0);
-  cv::Mat hsv;
-  cv::cvtColor(p.onWhite, hsv, cv::COLOR_BGR2HSV);
-  cv::Mat green;
-  cv::inRange(hsv, cv::Scalar(45, 100, 50), cv::Scalar(80, 255, 255), green);
-  EXPECT_EQ(cv::countNonZero(green), 0);
-  // Garment is centred horizontally: equal white margins left and right.
-  cv::Mat alpha;
-  cv::extractChannel(p.transparent, alpha, 3);
-  const cv::Rect box = cv::boundingRect(alpha > 128);
-  EXPECT_NEAR(box.x, 300 - (box.x + box.width), 2);
+const cv::Vec3b kScreen(40, 200, 40);
+const cv::Vec3b kForm(150, 180, 205);  // beige
+
+double meanA(const cv::Mat3b& bgr, const cv::Mat1b& where) {
+  cv::Mat f, lab;
+  bgr.convertTo(f, CV_32F, 1.0 / 255.0);
+  cv::cvtColor(f, lab, cv::COLOR_BGR2Lab);
+  std::vector<cv::Mat> ch;
+  cv::split(lab, ch);
+  return cv::mean(ch[1], where)[0];
 }
 
-TEST(ProductImages, NeverUpscalesAndRejectsEmptyMask) {
-  cv::Mat frame(100, 100, CV_8UC3, cv::Scalar(0, 0, 255));
-  cv::Mat mask = cv::Mat::zeros(frame.size(), CV_8UC1);
-  EXPECT_THROW(makeProductImages(frame, mask), std::invalid_argument);
-  cv::rectangle(mask, cv::Rect(10, 10, 50, 60), cv::Scalar(255), cv::FILLED);
-  const ProductImages p = makeProductImages(frame, mask, {.sizePx = 2000});
-  EXPECT_LT(p.onWhite.cols, 100);
+}  // namespace
+
+TEST(ProductImages, SquareAndPortraitCentredAtFullResolution) {
+  cv::Mat3b frame(600, 800, kScreen);
+  cv::Mat1f alpha = cv::Mat1f::zeros(frame.size());
+  cv::rectangle(frame, cv::Rect(100, 50, 200, 400), cv::Scalar(30, 60, 200), cv::FILLED);
+  cv::rectangle(alpha, cv::Rect(100, 50, 200, 400), cv::Scalar(1.0), cv::FILLED);
+
+  const ProductImages p = makeProductImages(frame, alpha, {.maxSidePx = 4096});
+  // 400 px of garment, 6 % margin a side: 455 px, never scaled down to a fixed size.
+  EXPECT_EQ(p.square.rows, 455);
+  EXPECT_EQ(p.square.cols, 455);
+  EXPECT_EQ(p.portrait.rows, 455);
+  EXPECT_EQ(p.portrait.cols, 364);
+  EXPECT_EQ(p.garmentBox, cv::Rect(100, 50, 200, 400));
+  for (const cv::Mat3b img : {p.square, p.portrait}) {
+    EXPECT_EQ(img(0, 0), cv::Vec3b(255, 255, 255));
+    const cv::Vec3b centre = img(img.rows / 2, img.cols / 2);
+    EXPECT_EQ(centre, cv::Vec3b(30, 60, 200));
+    cv::Mat1b grey;
+    cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY);
+    const cv::Rect box = cv::boundingRect(grey < 255);
+    EXPECT_NEAR(box.x, img.cols - box.br().x, 1);
+    EXPECT_NEAR(box.y, img.rows - box.br().y, 1);
+  }
+  ASSERT_EQ(p.cutout.type(), CV_8UC4);
+  EXPECT_EQ(p.cutout.size(), p.cutoutRect.size());
+  EXPECT_EQ(p.cutout.at<cv::Vec4b>(0, 0)[3], 0);
+  // A cap on the side scales down, keeping the aspect.
+  const ProductImages small = makeProductImages(frame, alpha, {.maxSidePx = 200});
+  EXPECT_EQ(small.square.cols, 200);
+  EXPECT_EQ(small.portrait.rows, 200);
+  EXPECT_EQ(small.portrait.cols, 160);
+  // A floor on the side scales up, by 1.5x at most.
+  const ProductImages zoom = makeProductImages(frame, alpha, {.minSidePx = 600});
+  EXPECT_EQ(zoom.square.cols, 600);
+  EXPECT_EQ(zoom.portrait.rows, 600);
+  EXPECT_EQ(makeProductImages(frame, alpha, {.minSidePx = 2048}).square.cols, 683);
+  EXPECT_THROW(makeProductImages(frame, cv::Mat1f::zeros(frame.size())), std::invalid_argument);
+  EXPECT_THROW(makeProductImages(frame, cv::Mat1f::zeros(10, 10)), std::invalid_argument);
+}
+
+// A garment over a form, its mask taking in a 4 px sliver of the form at its side and a rim at
+// its top (as a work-frame cut upsampled does): both look as they did in the bare frame and run
+// to the outside, so they are cut; the garment itself is kept whole.
+TEST(ProductImages, FormRemainsAtTheOutlineAreCut) {
+  cv::Mat3b bare(400, 300, kScreen);
+  cv::rectangle(bare, cv::Rect(80, 20, 140, 360), cv::Scalar(kForm), cv::FILLED);
+  cv::Mat3b dressed = bare.clone();
+  const cv::Rect garment(80, 120, 100, 150);
+  cv::rectangle(dressed, garment, cv::Scalar(90, 40, 40), cv::FILLED);
+  cv::Mat1b mask = cv::Mat1b::zeros(bare.size());
+  cv::rectangle(mask, cv::Rect(80, 114, 104, 156), cv::Scalar(255), cv::FILLED);
+
+  const cv::Mat1b cut = formRemains(dressed, bare, mask, 10, 5.0);
+  cv::Mat1b garmentMask = cv::Mat1b::zeros(bare.size());
+  cv::rectangle(garmentMask, garment, cv::Scalar(255), cv::FILLED);
+  cv::Mat1b inner;
+  cv::erode(garmentMask, inner, cv::Mat(), cv::Point(-1, -1), 2);
+  EXPECT_EQ(cv::countNonZero(cut & inner), 0) << "garment cut";
+  cv::Mat1b remains = mask & ~garmentMask;
+  cv::erode(remains, remains, cv::Mat(), cv::Point(-1, -1), 2);  // the blur's reach
+  EXPECT_EQ(cv::countNonZero(remains & ~cut), 0) << "form left";
+
+  // A print the colour of the form where the bare frame shows the form, enclosed by the garment:
+  // it looks as the bare frame did but does not reach the outline, so it stays.
+  cv::Mat3b printed = dressed.clone();
+  const cv::Rect patch(110, 160, 20, 20);
+  bare(patch).copyTo(printed(patch));
+  EXPECT_EQ(cv::countNonZero(formRemains(printed, bare, mask, 40, 5.0)(patch)), 0);
+  EXPECT_THROW(formRemains(dressed, bare, cv::Mat1b::zeros(10, 10), 5, 5), std::invalid_argument);
+}
+
+// Spill as a screen tints an edge: the pixel mixed with the screen's colour, fading inwards.
+// After the despill the edge's a* is within 2 units of the inside's; a red garment edge (no
+// spill) keeps its chroma.
+TEST(ProductImages, DespillBringsTheEdgeToTheInsideChroma) {
+  const cv::Vec3f skin(150, 175, 230);
+  cv::Mat3b img(300, 300, kScreen);
+  cv::Mat1f alpha = cv::Mat1f::zeros(img.size());
+  const cv::Rect g(50, 50, 200, 200);
+  cv::rectangle(alpha, g, cv::Scalar(1.0), cv::FILLED);
+  for (int y = g.y; y < g.br().y; ++y)
+    for (int x = g.x; x < g.br().x; ++x) {
+      const int d = std::min({x - g.x, g.br().x - 1 - x, y - g.y, g.br().y - 1 - y});
+      const float w = 0.3f * std::exp(-d / 8.0f);
+      const cv::Vec3f c = skin * (1 - w) + cv::Vec3f(kScreen[0], kScreen[1], kScreen[2]) * w;
+      img(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
+                            cv::saturate_cast<uchar>(c[2]));
+    }
+  cv::Mat1b edge = cv::Mat1b::zeros(img.size()), inside = cv::Mat1b::zeros(img.size());
+  cv::rectangle(edge, g, cv::Scalar(255), cv::FILLED);
+  cv::rectangle(edge, cv::Rect(g.x + 3, g.y + 3, g.width - 6, g.height - 6), cv::Scalar(0),
+                cv::FILLED);
+  cv::rectangle(inside, cv::Rect(g.x + 60, g.y + 60, g.width - 120, g.height - 120),
+                cv::Scalar(255), cv::FILLED);
+  const double before = meanA(img, edge) - meanA(img, inside);
+  EXPECT_LT(before, -5.0) << "the test's spill is too weak to show anything";
+  despillEdge(img, alpha, kScreen, 40);
+  EXPECT_NEAR(meanA(img, edge), meanA(img, inside), 2.0) << "before: " << before;
+
+  cv::Mat3b red(300, 300, kScreen);
+  cv::rectangle(red, g, cv::Scalar(40, 40, 200), cv::FILLED);
+  const cv::Mat3b redBefore = red.clone();
+  despillEdge(red, alpha, kScreen, 40);
+  EXPECT_NEAR(meanA(red, edge), meanA(redBefore, edge), 0.5);
+}
+
+TEST(ProductImages, RefinedAlphaFollowsTheFramesEdge) {
+  // The frame's edge at x = 100; the mask's a few px off (a work-frame cut upsampled).
+  cv::Mat3b img(100, 200, kScreen);
+  cv::rectangle(img, cv::Rect(0, 0, 100, 100), cv::Scalar(200, 200, 200), cv::FILLED);
+  cv::Mat1b mask = cv::Mat1b::zeros(img.size());
+  cv::rectangle(mask, cv::Rect(0, 0, 102, 100), cv::Scalar(255), cv::FILLED);
+  const cv::Mat1f a = refinedAlpha(img, mask, 4);
+  EXPECT_GT(a(50, 97), 0.9f);
+  EXPECT_LT(a(50, 101), 0.5f);
+  EXPECT_EQ(a(50, 20), 1.0f);
+  EXPECT_EQ(a(50, 180), 0.0f);
 }

@@ -35,6 +35,9 @@ constexpr double kMaxShiftCm = 1.0;
 constexpr double kMinShiftPx = 1.0;
 // The work frames' denoising blur, in work-frame px.
 constexpr double kDenoiseSigmaPx = 0.7;
+// Shops zoom product photos of 2048 px and more: from a frame that large, the photos reach it
+// (scaled up by 1.5x at most when the garment spans less of the frame).
+constexpr int kShopZoomPx = 2048;
 // Below the hip, pants part into legs for at least this long (the shortest shorts' inseam).
 constexpr double kPartedLegsCm = 5.0;
 // A dress's skirt covers the centre line at least this far below the crotch (the shortest
@@ -152,6 +155,9 @@ cv::Mat denoised(const cv::Mat& bgr) {
 struct BareFrame {
   std::optional<MotionReference> motion;
   calib::KeyResult key;
+  // The undistorted bare frame at full resolution, de-rolled as the dressed one is: the product
+  // photos cut what still looks as it did here.
+  cv::Mat uprightFull;
 };
 
 // The bare-form frame is the same for every garment captured after one bare-form capture, so it
@@ -199,6 +205,11 @@ std::shared_ptr<const BareFrame> prepareBareFrame(const cv::Mat& emptyRaw,
     work = rotateAbout(work, centreW, rollRad, cv::INTER_LINEAR);
   work = denoised(work);
   auto bare = std::make_shared<BareFrame>();
+  // Its own pixels, never the caller's frame: the cache outlives the call.
+  if (std::abs(rollRad) > 1e-6)
+    bare->uprightFull = rotateAbout(emptyFull, centreW / ws, rollRad, cv::INTER_LINEAR);
+  else
+    bare->uprightFull = emptyFull.data == emptyRaw.data ? emptyRaw.clone() : emptyFull;
   bare->motion.emplace(work, topBandEndRow, bottomBandStartRow);
   bare->key = key(work, "bare-form frame");
   std::lock_guard<std::mutex> lock(mutex);
@@ -910,19 +921,29 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
     box =
         cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
         cv::Rect(0, 0, garment.cols, garment.rows);
-    cv::Mat3b crop = dressedFull(box).clone();
+    const cv::Mat3b crop = dressedFull(box);
     const cv::Mat1b maskCrop = garment(box);
-    cv::Mat1b spill;
-    cv::dilate(maskCrop, spill, cv::Mat(), cv::Point(-1, -1), 2);
-    calib::despill(crop, spill);
     if (options.makeProductImages) {
-      result.cutout = makeCutout(crop, maskCrop);
-      const ProductImages p = makeProductImages(crop, maskCrop, {.sizePx = options.productSizePx});
-      result.product = p.onWhite;
+      const ProductImages p =
+          productPhotos(crop, maskCrop, bare->uprightFull(box), keyD.screenBgr,
+                        {.maxSidePx = options.productSizePx,
+                         .minSidePx = std::max(dressedFull.cols, dressedFull.rows) >= kShopZoomPx
+                                          ? std::min(kShopZoomPx, options.productSizePx)
+                                          : 0,
+                         .marginFraction = 0.06,
+                         .pxPerCm = s});
+      result.cutout = p.cutout;
+      result.cutoutRect = p.cutoutRect + box.tl();
+      result.product = p.square;
+      result.productPortrait = p.portrait;
     }
     timer.done("images");
     if (options.makeTexture) {
-      const TextureResult t = extractTexture(crop, maskCrop);
+      cv::Mat3b despilled = crop.clone();
+      cv::Mat1b spill;
+      cv::dilate(maskCrop, spill, cv::Mat(), cv::Point(-1, -1), 2);
+      calib::despill(despilled, spill);
+      const TextureResult t = extractTexture(despilled, maskCrop);
       result.texture = t.tile;
       result.attributes["fabric"] = toString(t.kind);
       timer.done("texture");

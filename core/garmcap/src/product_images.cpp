@@ -4,8 +4,97 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <vector>
 
 namespace garmcap::pipeline {
+namespace {
+
+// Band widths along the outline, in cm of the garment (scaled by the frame's px per cm).
+constexpr double kGuideRadiusCm = 0.12;  // guided filter: about the lens blur plus a mixed pixel
+constexpr double kGuideEps = 1e-3;       // guided filter regulariser (grey levels 0..1)
+constexpr double kFormBandCm = 1.0;      // how deep a remain of the form can reach into the mask
+constexpr double kFormDeltaE = 5.0;      // CIELAB difference below which a pixel is the bare frame
+constexpr double kMaxUpscale = 1.5;      // at most this much up to minSidePx: beyond, the photo
+                                         // would show interpolation, not fabric
+constexpr double kSpillBandCm = 2.5;     // green spill fades within ~1 cm of an edge; 2.5 cm is
+                                         // where a studio's spill is down to a few percent
+
+// CIELAB (L 0..100, a and b in their units) through OpenCV's 8-bit conversion: its tables make
+// it about ten times faster than the float one on a 12 MP garment's crop, and its steps (0.4 L,
+// 1 a* or b*) are well below the thresholds used here.
+cv::Mat3f labOf(const cv::Mat3b& bgr) {
+  cv::Mat3b lab8;
+  cv::cvtColor(bgr, lab8, cv::COLOR_BGR2Lab);
+  cv::Mat3f lab;
+  lab8.convertTo(lab, CV_32F);
+  cv::multiply(lab, cv::Scalar(100.0 / 255.0, 1.0, 1.0), lab);
+  cv::subtract(lab, cv::Scalar(0.0, 128.0, 128.0), lab);
+  return lab;
+}
+
+cv::Mat3b bgrOf(const cv::Mat3f& lab) {
+  cv::Mat3f scaled;
+  cv::add(lab, cv::Scalar(0.0, 128.0, 128.0), scaled);
+  cv::multiply(scaled, cv::Scalar(255.0 / 100.0, 1.0, 1.0), scaled);
+  cv::Mat3b lab8, bgr;
+  scaled.convertTo(lab8, CV_8U);
+  cv::cvtColor(lab8, bgr, cv::COLOR_Lab2BGR);
+  return bgr;
+}
+
+// Distance (px) of each pixel of `inside` to the nearest pixel outside it.
+cv::Mat1f depthInside(const cv::Mat1b& inside) {
+  cv::Mat1f d;
+  cv::distanceTransform(inside, d, cv::DIST_L2, cv::DIST_MASK_3);
+  return d;
+}
+
+cv::Mat1f boxMean(const cv::Mat1f& m, int r) {
+  cv::Mat1f out;
+  cv::boxFilter(m, out, CV_32F, cv::Size(2 * r + 1, 2 * r + 1), cv::Point(-1, -1), true,
+                cv::BORDER_REFLECT);
+  return out;
+}
+
+// Gaussian average of `value` weighted by `weight`, at reduced resolution (sigmas of tens of
+// pixels at full resolution): value and weight sums, each blurred, back at full size.
+void weightedBlur(const std::vector<cv::Mat1f>& values, const cv::Mat1f& weight, double sigmaPx,
+                  std::vector<cv::Mat1f>& sums, cv::Mat1f& weightSum) {
+  const double f = std::max(1.0, sigmaPx / 3.0);
+  const cv::Size small(std::max(1, static_cast<int>(std::lround(weight.cols / f))),
+                       std::max(1, static_cast<int>(std::lround(weight.rows / f))));
+  auto blurred = [&](const cv::Mat1f& m) {
+    cv::Mat1f s, b, out;
+    cv::resize(m, s, small, 0, 0, cv::INTER_AREA);
+    cv::GaussianBlur(s, b, cv::Size(), sigmaPx / f);
+    cv::resize(b, out, weight.size(), 0, 0, cv::INTER_LINEAR);
+    return out;
+  };
+  weightSum = blurred(weight);
+  sums.clear();
+  for (const auto& v : values)
+    sums.push_back(blurred(v.mul(weight)));
+}
+
+// A partly covered edge pixel mixes the garment with what is behind it, and behind it is what
+// the registered bare frame shows there (screen or form): its garment colour is
+// (c - (1 - alpha) bare) / alpha. Pixels under a quarter covered are left: the division would
+// amplify noise and they hardly show on white.
+void unmixEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Mat3b& bare) {
+  for (int y = 0; y < bgr.rows; ++y) {
+    const float* a = alpha.ptr<float>(y);
+    const cv::Vec3b* b = bare.ptr<cv::Vec3b>(y);
+    cv::Vec3b* p = bgr.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < bgr.cols; ++x) {
+      if (a[x] < 0.25f || a[x] >= 1.0f)
+        continue;
+      for (int c = 0; c < 3; ++c)
+        p[x][c] = cv::saturate_cast<uchar>((p[x][c] - (1.0f - a[x]) * b[x][c]) / a[x]);
+    }
+  }
+}
+
+}  // namespace
 
 cv::Mat makeCutout(const cv::Mat& bgr, const cv::Mat& mask, double featherPx) {
   if (bgr.empty() || bgr.type() != CV_8UC3)
@@ -29,42 +118,294 @@ cv::Mat makeCutout(const cv::Mat& bgr, const cv::Mat& mask, double featherPx) {
   return bgra;
 }
 
-ProductImages makeProductImages(const cv::Mat& bgr, const cv::Mat& mask,
-                                const ProductImageOptions& options) {
-  const cv::Mat cutout = makeCutout(bgr, mask, options.featherPx);
-  const cv::Rect box = cv::boundingRect(mask);
-  if (box.area() == 0)
-    throw std::invalid_argument("product image: the garment mask is empty");
+cv::Mat1f refinedAlpha(const cv::Mat3b& bgr, const cv::Mat1b& mask, int radiusPx) {
+  if (mask.size() != bgr.size())
+    throw std::invalid_argument("refinedAlpha: the mask is not the frame's size");
+  cv::Mat1f alpha;
+  const cv::Mat1b binary = mask > 0;
+  binary.convertTo(alpha, CV_32F, 1.0 / 255.0);
+  if (radiusPx < 1 || cv::countNonZero(mask) == 0)
+    return alpha;
+  // Guided filter (He, Sun and Tang): locally, alpha is a linear function of the grey level, so
+  // the ramp sits on the garment's own edge in the frame instead of on the mask's steps.
+  cv::Mat1b grey8;
+  cv::cvtColor(bgr, grey8, cv::COLOR_BGR2GRAY);
+  cv::Mat1f I;
+  grey8.convertTo(I, CV_32F, 1.0 / 255.0);
+  const int r = radiusPx;
+  const cv::Mat1f meanI = boxMean(I, r), meanP = boxMean(alpha, r);
+  const cv::Mat1f varI = boxMean(I.mul(I), r) - meanI.mul(meanI);
+  const cv::Mat1f covIP = boxMean(I.mul(alpha), r) - meanI.mul(meanP);
+  const cv::Mat1f a = covIP / (varI + static_cast<float>(kGuideEps));
+  const cv::Mat1f b = meanP - a.mul(meanI);
+  cv::Mat1f q = boxMean(a, r).mul(I) + boxMean(b, r);
+  cv::min(cv::max(q, 0.0f), 1.0f, q);
+  // Only the outline's band takes the filter's answer: deep inside and far outside the mask
+  // stays as segmentation decided (a print's contrast must not open holes).
+  const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  cv::Mat1b grown, shrunk;
+  cv::dilate(mask, grown, k);
+  cv::erode(mask, shrunk, k);
+  q.copyTo(alpha, grown & ~shrunk);
+  return alpha;
+}
 
-  // Square canvas around the garment with the margin, in frame pixels.
-  const int side = static_cast<int>(
-      std::ceil(std::max(box.width, box.height) / (1.0 - 2.0 * options.marginFraction)));
-  cv::Mat canvas(side, side, CV_8UC4, cv::Scalar(0, 0, 0, 0));
-  const cv::Point offset((side - box.width) / 2, (side - box.height) / 2);
-  cutout(box).copyTo(canvas(cv::Rect(offset, box.size())));
+cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv::Mat1b& mask,
+                      double bandPx, double maxDeltaE) {
+  if (bare.size() != dressed.size() || mask.size() != dressed.size())
+    throw std::invalid_argument("formRemains: the frames and the mask differ in size");
+  // A light blur against sensor noise; a wider one would spread a dark hem's contrast onto the
+  // form below it, and the remain right under the hem would no longer look like the bare frame.
+  cv::Mat3b d, e;
+  cv::GaussianBlur(dressed, d, cv::Size(3, 3), 0.8);
+  cv::GaussianBlur(bare, e, cv::Size(3, 3), 0.8);
+  const cv::Mat3f labD = labOf(d), labE = labOf(e);
+  auto distance = [](const cv::Mat3f& x, const cv::Mat3f& y) {
+    cv::Mat3f diff = x - y;
+    std::vector<cv::Mat1f> ch;
+    cv::split(diff, ch);
+    cv::Mat1f out;
+    cv::sqrt(ch[0].mul(ch[0]) + ch[1].mul(ch[1]) + ch[2].mul(ch[2]), out);
+    return out;
+  };
+  const cv::Mat1f dBare = distance(labD, labE);
+  const cv::Mat1f depth = depthInside(mask);
+  const cv::Mat1b band = (depth <= static_cast<float>(bandPx)) & mask;
+  // The garment's own look near each band pixel: the colour of the mask a few px in from its
+  // outline, averaged along it. A pixel much closer to the bare frame than to that is form or
+  // screen even where noise keeps it a few units from the bare frame (a mixed pixel counts with
+  // the side it is closer to); only when it is clearly unlike the garment (twice the sameness
+  // threshold), or noise would shave the hem of a garment close to the form's colour.
+  cv::Mat1f core;
+  const cv::Mat1b coreMask = depth > static_cast<float>(std::max(3.0, 0.25 * bandPx));
+  coreMask.convertTo(core, CV_32F, 1.0 / 255.0);
+  std::vector<cv::Mat1f> ch;
+  cv::split(labD, ch);
+  std::vector<cv::Mat1f> sums;
+  cv::Mat1f wsum;
+  weightedBlur(ch, core, std::max(2.0, 0.5 * bandPx), sums, wsum);
+  cv::Mat1f garmentLook[3];
+  for (int c = 0; c < 3; ++c)
+    garmentLook[c] = sums[c] / cv::max(wsum, 1e-6f);
+  cv::Mat3f look;
+  cv::merge(garmentLook, 3, look);
+  // Unblurred for this test: a two- or three-pixel sliver of form between a dark leg and the
+  // screen is closer to the bare frame than to the garment pixel by pixel, not after a blur.
+  const cv::Mat3f labRaw = labOf(dressed);
+  const cv::Mat1f dGarment = distance(labRaw, look);
+  const cv::Mat1f dBareRaw = distance(labRaw, labOf(bare));
+  // Near the bare frame counts only when nearer to it than to the garment: a fabric a shade off
+  // the form's colour is within the threshold of the bare frame at its edge too.
+  const cv::Mat1f dGarmentBlurred = distance(labD, look);
+  const cv::Mat1b nearBare =
+      (dBare < static_cast<float>(maxDeltaE)) & ((dBare < dGarmentBlurred) | (wsum <= 0.02f));
+  const cv::Mat1b same =
+      nearBare | ((dBareRaw < 0.5f * dGarment) & (dGarment > 2.0f * static_cast<float>(maxDeltaE)) &
+                  (wsum > 0.02f));
+  const cv::Mat1b outside = mask == 0;
+  const cv::Mat1b candidate = same & (band | outside);
+  cv::Mat1i labels;
+  const int n = cv::connectedComponents(candidate, labels, 8, CV_32S);
+  // A component is a remain when it reaches the outside of the mask: the bare frame's look
+  // running in from the form or the screen. One wholly inside the band is the garment's own
+  // (a fabric the colour of the form, lit as the form was).
+  std::vector<uchar> reaches(static_cast<std::size_t>(n), 0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const uchar* o = outside.ptr(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (o[x] && l[x] > 0)
+        reaches[static_cast<std::size_t>(l[x])] = 1;
+  }
+  cv::Mat1b cut = cv::Mat1b::zeros(mask.size());
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    uchar* c = cut.ptr(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (l[x] > 0 && reaches[static_cast<std::size_t>(l[x])])
+        c[x] = 255;
+  }
+  // Noise leaves single pixels of a remain a few units too far from the bare frame; enclosed by
+  // the cut, they are closed into it (never deeper than the band).
+  cv::Mat1b closed;
+  cv::morphologyEx(cut, closed, cv::MORPH_CLOSE, cv::Mat());
+  cut |= closed & (band | outside);
+  return cut;
+}
 
-  const int target = std::min(options.sizePx, side);
-  cv::Mat transparent;
-  if (target < side)
-    cv::resize(canvas, transparent, cv::Size(target, target), 0, 0, cv::INTER_AREA);
-  else
-    transparent = canvas;
+void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screenBgr,
+                 double bandPx) {
+  if (alpha.size() != bgr.size())
+    throw std::invalid_argument("despillEdge: the alpha is not the frame's size");
+  const cv::Mat1b covered = alpha > 0.0f;
+  if (cv::countNonZero(covered) == 0 || bandPx <= 0)
+    return;
+  const cv::Mat1f depth = depthInside(covered);
+  const cv::Mat3f lab = labOf(bgr);
+  std::vector<cv::Mat1f> ch;
+  cv::split(lab, ch);
+  // The garment's inside chroma near each edge pixel: a wide blur of the chroma of the ring just
+  // deeper than the band. Parts too narrow to have a ring (a strap) take the whole inside's.
+  const cv::Mat1b ring =
+      (depth > static_cast<float>(bandPx)) & (depth <= static_cast<float>(2.0 * bandPx));
+  const cv::Mat1b deep = depth > static_cast<float>(bandPx);
+  cv::Mat1f w;
+  ring.convertTo(w, CV_32F, 1.0 / 255.0);
+  std::vector<cv::Mat1f> sums;
+  cv::Mat1f wsum;
+  weightedBlur({ch[1], ch[2]}, w, 1.5 * bandPx, sums, wsum);
+  cv::Vec2f fallback;
+  if (cv::countNonZero(deep) > 0) {
+    fallback = cv::Vec2f(static_cast<float>(cv::mean(ch[1], deep)[0]),
+                         static_cast<float>(cv::mean(ch[2], deep)[0]));
+  } else {
+    // No inside at all: nothing to compare with but the screen; neutral is the safe guess.
+    fallback = cv::Vec2f(0.f, 0.f);
+  }
+  cv::Mat3b screenPx(1, 1, screenBgr);
+  const cv::Vec3f screenLab = labOf(screenPx)(0, 0);
+  const cv::Vec2f screenAB(screenLab[1], screenLab[2]);
 
-  // Composite on white with the alpha channel, in 8 bits: a float copy of a 1600x1600 image
-  // costs more than the whole composite.
-  ProductImages out;
-  out.onWhite.create(transparent.size(), CV_8UC3);
-  for (int y = 0; y < transparent.rows; ++y) {
-    const cv::Vec4b* src = transparent.ptr<cv::Vec4b>(y);
-    cv::Vec3b* dst = out.onWhite.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < transparent.cols; ++x) {
-      const int a = src[x][3];
-      for (int c = 0; c < 3; ++c)
-        dst[x][c] = static_cast<uchar>((src[x][c] * a + 255 * (255 - a) + 127) / 255);
+  cv::Mat3f out = lab.clone();
+  cv::Mat1b changed = cv::Mat1b::zeros(bgr.size());
+  for (int y = 0; y < bgr.rows; ++y) {
+    const float* dp = depth.ptr<float>(y);
+    const float* wsp = wsum.ptr<float>(y);
+    const float* sa = sums[0].ptr<float>(y);
+    const float* sb = sums[1].ptr<float>(y);
+    cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
+    uchar* c = changed.ptr(y);
+    for (int x = 0; x < bgr.cols; ++x) {
+      if (dp[x] <= 0.f || dp[x] > static_cast<float>(bandPx))
+        continue;
+      const cv::Vec2f ref = wsp[x] > 0.02f ? cv::Vec2f(sa[x] / wsp[x], sb[x] / wsp[x]) : fallback;
+      cv::Vec2f u = screenAB - ref;
+      const float len = std::hypot(u[0], u[1]);
+      if (len < 1e-3f)
+        continue;
+      u /= len;
+      const cv::Vec2f p(o[x][1], o[x][2]);
+      const float t = (p - ref).dot(u);
+      if (t <= 0.f)
+        continue;
+      o[x][1] -= t * u[0];
+      o[x][2] -= t * u[1];
+      c[x] = 255;
     }
   }
-  out.transparent = transparent;
+  bgrOf(out).copyTo(bgr, changed);
+}
+
+namespace {
+
+// The garment's box centred on a white canvas of `size` (scaled so that the box fits with the
+// margin), composited through alpha.
+cv::Mat3b onWhite(const cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Rect& box,
+                  cv::Size canvas) {
+  cv::Mat3b out(canvas, cv::Vec3b(255, 255, 255));
+  const cv::Point offset((canvas.width - box.width) / 2, (canvas.height - box.height) / 2);
+  for (int y = 0; y < box.height; ++y) {
+    const cv::Vec3b* src = bgr.ptr<cv::Vec3b>(box.y + y) + box.x;
+    const float* a = alpha.ptr<float>(box.y + y) + box.x;
+    cv::Vec3b* dst = out.ptr<cv::Vec3b>(offset.y + y) + offset.x;
+    for (int x = 0; x < box.width; ++x) {
+      const float al = a[x];
+      if (al <= 0.f)
+        continue;
+      for (int c = 0; c < 3; ++c)
+        dst[x][c] = cv::saturate_cast<uchar>(src[x][c] * al + 255.f * (1.f - al));
+    }
+  }
   return out;
+}
+
+cv::Mat3b sized(const cv::Mat3b& img, int minSidePx, int maxSidePx) {
+  const int side = std::max(img.cols, img.rows);
+  double f = 1.0;
+  if (maxSidePx > 0 && side > maxSidePx)
+    f = static_cast<double>(maxSidePx) / side;
+  else if (minSidePx > 0 && side < minSidePx)
+    f = std::min(static_cast<double>(minSidePx) / side, kMaxUpscale);
+  if (f == 1.0)
+    return img;
+  cv::Mat3b out;
+  cv::resize(img, out,
+             cv::Size(std::max(1, static_cast<int>(std::lround(img.cols * f))),
+                      std::max(1, static_cast<int>(std::lround(img.rows * f)))),
+             0, 0, f < 1.0 ? cv::INTER_AREA : cv::INTER_CUBIC);
+  return out;
+}
+
+}  // namespace
+
+ProductImages makeProductImages(const cv::Mat3b& bgr, const cv::Mat1f& alpha,
+                                const ProductImageOptions& options) {
+  if (bgr.empty() || alpha.size() != bgr.size())
+    throw std::invalid_argument("product image: the alpha is not the frame's size");
+  if (!(options.marginFraction >= 0.0 && options.marginFraction < 0.45))
+    throw std::invalid_argument("product image: the margin must be in [0, 0.45)");
+  const cv::Rect box = cv::boundingRect(alpha > 0.0f);
+  if (box.area() == 0)
+    throw std::invalid_argument("product image: the garment mask is empty");
+  const double fill = 1.0 - 2.0 * options.marginFraction;
+  ProductImages out;
+  out.garmentBox = box;
+  const int side = static_cast<int>(std::ceil(std::max(box.width, box.height) / fill));
+  out.square = sized(onWhite(bgr, alpha, box, {side, side}), options.minSidePx, options.maxSidePx);
+  // 4:5 (width:height), the garment fitting both ways with the margin.
+  const int h = static_cast<int>(
+      std::ceil(std::max(static_cast<double>(box.height), 1.25 * box.width) / fill));
+  const int w = std::max(box.width, static_cast<int>(std::lround(0.8 * h)));
+  out.portrait = sized(onWhite(bgr, alpha, box, {w, std::max(h, box.height)}), options.minSidePx,
+                       options.maxSidePx);
+  // The transparent cut-out: the box with the margin, straight (not premultiplied) alpha.
+  const int m =
+      static_cast<int>(std::lround(options.marginFraction * std::max(box.width, box.height)));
+  const cv::Rect padded(box.x - m, box.y - m, box.width + 2 * m, box.height + 2 * m);
+  cv::Mat4b cut(padded.size(), cv::Vec4b(0, 0, 0, 0));
+  const cv::Rect inFrame = padded & cv::Rect(0, 0, bgr.cols, bgr.rows);
+  for (int y = inFrame.y; y < inFrame.y + inFrame.height; ++y) {
+    const cv::Vec3b* src = bgr.ptr<cv::Vec3b>(y);
+    const float* a = alpha.ptr<float>(y);
+    cv::Vec4b* dst = cut.ptr<cv::Vec4b>(y - padded.y);
+    for (int x = inFrame.x; x < inFrame.x + inFrame.width; ++x) {
+      const uchar al = cv::saturate_cast<uchar>(a[x] * 255.f);
+      if (al > 0)
+        dst[x - padded.x] = cv::Vec4b(src[x][0], src[x][1], src[x][2], al);
+    }
+  }
+  const int cutSide = std::max(cut.cols, cut.rows);
+  if (options.maxSidePx > 0 && cutSide > options.maxSidePx) {
+    const double f = static_cast<double>(options.maxSidePx) / cutSide;
+    cv::resize(cut, cut, cv::Size(), f, f, cv::INTER_AREA);
+  }
+  out.cutout = cut;
+  out.cutoutRect = padded;
+  return out;
+}
+
+ProductImages productPhotos(const cv::Mat3b& dressed, const cv::Mat1b& mask, const cv::Mat3b& bare,
+                            const cv::Vec3b& screenBgr, const ProductImageOptions& options) {
+  if (!(options.pxPerCm > 0))
+    throw std::invalid_argument("product image: px per cm must be positive");
+  if (mask.size() != dressed.size() || (!bare.empty() && bare.size() != dressed.size()))
+    throw std::invalid_argument(
+        "product image: the frame, the bare frame and the mask differ in size");
+  const double s = options.pxPerCm;
+  cv::Mat1f alpha =
+      refinedAlpha(dressed, mask, std::max(2, static_cast<int>(std::lround(kGuideRadiusCm * s))));
+  if (!bare.empty()) {
+    // The cut covers the outside too: the guided filter's ramp reaches a few px beyond the mask,
+    // and what of it still looks as the bare frame did is no garment either.
+    const cv::Mat1b cut =
+        formRemains(dressed, bare, mask, std::max(3.0, kFormBandCm * s), kFormDeltaE);
+    alpha.setTo(0.0f, cut);
+  }
+  cv::Mat3b colour = dressed.clone();
+  if (!bare.empty())
+    unmixEdge(colour, alpha, bare);
+  despillEdge(colour, alpha, screenBgr, std::max(3.0, kSpillBandCm * s));
+  return makeProductImages(colour, alpha, options);
 }
 
 }  // namespace garmcap::pipeline

@@ -38,7 +38,8 @@ inline constexpr const char* kStatusApproved = "approved";
 inline constexpr const char* kStatusRejected = "rejected";
 
 struct ImageRef {
-  std::string kind;  // "dressed", "empty", "cutout", "product", "silhouette", "overlay", "texture"
+  std::string kind;       // "dressed", "empty", "cutout", "product", "product_4x5", "silhouette",
+                          // "overlay", "texture"
   std::string sha256;     // ContentStore name
   std::string mediaType;  // "image/png", "image/jpeg"
   std::int64_t bytes = 0;

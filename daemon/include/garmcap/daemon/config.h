@@ -68,7 +68,7 @@ struct Config {
   // [pipeline]
   bool makeProductImages = true;
   bool makeTexture = true;
-  int productSizePx = 1600;
+  int productSizePx = 4096;
   std::string sizeChart = "korean_women";
   double reviewBelowConfidence = 0.8;  // items under this confidence wait for approval
   int workerThreads = 1;

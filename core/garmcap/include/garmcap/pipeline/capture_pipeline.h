@@ -41,7 +41,9 @@ struct StageTiming {
 struct CaptureOptions {
   bool makeProductImages = true;
   bool makeTexture = true;
-  int productSizePx = 1600;  // square product photo edge, limited by the camera's resolution
+  // Longest side of the product photos; they are made at the camera frame's resolution and only
+  // scaled down beyond this.
+  int productSizePx = 4096;
   // Frames larger than this are segmented on a downscaled copy; the outline against the screen
   // is then placed at full resolution. 2 MP keeps the 4 MP rig's errors within 0.1 cm of
   // full-resolution segmentation at a fraction of its time (docs/pipeline.md).
@@ -69,11 +71,13 @@ struct CaptureResult {
   std::vector<std::string> warnings;
   std::vector<StageTiming> timings;
   drafts::Pattern pattern;
-  cv::Mat cutout;      // BGRA, garment only, soft alpha edge
-  cv::Mat product;     // BGR on white, centred and cropped
-  cv::Mat silhouette;  // CV_8U garment mask, frame size
-  cv::Mat overlay;     // BGR review image with landmarks
-  cv::Mat texture;     // BGR one-repeat tile or mean-colour swatch
+  cv::Mat cutout;           // BGRA, garment only, soft alpha edge, full resolution (PNG)
+  cv::Rect cutoutRect;      // where the cut-out lies in the upright, registered dressed frame
+  cv::Mat product;          // BGR on white, square, garment centred (the shop photo, JPEG)
+  cv::Mat productPortrait;  // BGR on white, 4:5 (width:height), garment centred (JPEG)
+  cv::Mat silhouette;       // CV_8U garment mask, frame size
+  cv::Mat overlay;          // BGR review image with landmarks
+  cv::Mat texture;          // BGR one-repeat tile or mean-colour swatch
 
   nlohmann::json toJson() const;  // result.json content (no images)
 };
