@@ -5,6 +5,7 @@
 //               --station shop1=<sha256 of its token> --admin-token-sha256 <sha256>
 //   garmcap-hub hash-token TOKEN      prints the hash to put in the config
 #include <signal.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -32,6 +33,8 @@ int main(int argc, char** argv) {
     std::cout << hub::tokenHash(token) << "\n";
     return 0;
   }
+  // Logs go to stderr (the journal under systemd); stdout carries only the "listening" line.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("garmcap-hub"));
   spdlog::set_level(spdlog::level::from_str(logLevel));
 
   hub::HubConfig config;
