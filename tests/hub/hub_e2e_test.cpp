@@ -156,7 +156,8 @@ TEST(HubE2E, TwoStationsPushThroughHubDowntimeAndAKillEveryItemOnce) {
   const auto t0 = std::chrono::steady_clock::now();
   TempDir dir;
   test::TempPostgres pg;
-  pg.createDatabase("hub_e2e");
+  const std::string db = "hub_e2e";
+  pg.createDatabase(db);
   const int hubPort = test::freeLoopbackPort();
   const auto rig = makeSimulatedRig(dir.path());
   std::vector<StationSetup> setups = {{"shop1", "token-of-shop1-abcdef", dir.path() / "s1", {}},
@@ -206,15 +207,68 @@ TEST(HubE2E, TwoStationsPushThroughHubDowntimeAndAKillEveryItemOnce) {
   itemsA.push_back(captureOne(*a, "A-4"));
   itemsA.push_back(captureOne(*a, "A-5"));
 
-  // 3. The hub comes back; station A is killed (SIGKILL) while it sends its backlog, then
-  // restarts on the same data.
+  // 3. The hub comes back; station A is killed (SIGKILL) in the middle of a push, then
+  // restarts on the same data. To be sure the kill lands mid-push, a transaction holds the lock
+  // that a push of shop1 takes at the hub (its station row): A's blobs go in, its POST waits at
+  // the hub, and A is killed while it waits. The hub then commits that push, whose answer A never
+  // read: A sends it again after its restart, and it must still be one item.
+  auto releaseLock = [&] {
+    pg.psql(db,
+            "SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE "
+            "application_name = 'lock_holder'");
+  };
+  struct Joined {  // an early ASSERT return must not leave the holder running
+    std::function<void()> release;
+    std::thread t;
+    ~Joined() {
+      if (t.joinable()) {
+        release();
+        t.join();
+      }
+    }
+  } holder{releaseLock, {}};
+  holder.t = std::thread([&] {
+    try {
+      pg.psql(db,
+              "SET application_name = 'lock_holder'; BEGIN; "
+              "SELECT 1 FROM stations WHERE id = 'shop1' FOR UPDATE; SELECT pg_sleep(60);");
+    } catch (const std::exception&) {
+      // terminated below, as intended
+    }
+  });
+  ASSERT_TRUE(waitFor(
+      [&] {
+        return pg.psql(db,
+                       "SELECT count(*) FROM pg_stat_activity WHERE application_name = "
+                       "'lock_holder' AND wait_event = 'PgSleep'") == "1";
+      },
+      20s));
+  const auto itemsBefore = pg.psql(db, "SELECT count(*) FROM items WHERE station_id = 'shop1'");
   hub = std::make_unique<HubProcess>(pg.url("hub_e2e"), hubPort, stationArgs, hubLog);
-  ASSERT_TRUE(waitFor([&] { return hubItems(hubPort, "shop1").size() >= 3; }, 30s));
+  const bool blocked = waitFor(
+      [&] {
+        return pg.psql(db,
+                       "SELECT count(*) FROM pg_stat_activity WHERE wait_event_type = "
+                       "'Lock' AND query LIKE '%FROM stations%'") != "0";
+      },
+      40s);
   a->kill9();
   const auto pendingAtKill =
       count(setups[0].data / "catalog.sqlite", "SELECT count(*) FROM outbox");
-  std::printf("[hub e2e] station A killed with %lld outbox row(s) unsent\n",
-              static_cast<long long>(pendingAtKill));
+  releaseLock();
+  holder.t.join();
+  ASSERT_TRUE(blocked) << "A's push never reached the hub's lock";
+  std::printf(
+      "[hub e2e] station A killed while its push waited at the hub, %lld outbox row(s) "
+      "unsent\n",
+      static_cast<long long>(pendingAtKill));
+  EXPECT_EQ(pendingAtKill, 3);  // none acknowledged
+  // The hub commits the push A was killed in (its answer went nowhere).
+  EXPECT_TRUE(waitFor(
+      [&] {
+        return pg.psql(db, "SELECT count(*) FROM items WHERE station_id = 'shop1'") != itemsBefore;
+      },
+      10s));
   a = std::make_unique<Daemon>(setups[0].data, options(setups[0]));
   ASSERT_TRUE(waitFor(
       [&] {
@@ -231,7 +285,6 @@ TEST(HubE2E, TwoStationsPushThroughHubDowntimeAndAKillEveryItemOnce) {
 
   // Every item exactly once, under its station and local id; every blob's bytes hash to its
   // name (PostgreSQL's own sha256), and each station's images are all at the hub.
-  const std::string db = "hub_e2e";
   EXPECT_EQ(pg.psql(db, "SELECT count(*) FROM items"),
             std::to_string(itemsA.size() + itemsB.size()));
   EXPECT_EQ(pg.psql(db,

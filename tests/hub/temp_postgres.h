@@ -10,6 +10,7 @@
 #include <sys/types.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -128,8 +129,10 @@ class TempPostgres {
   }
   /// Runs SQL through psql (the server's own client: an independent reader of the database).
   std::string psql(const std::string& database, const std::string& sql) const {
-    const auto out = dir_ / ("psql-" + std::to_string(counter_++) + ".out");
-    const auto in = dir_ / "psql.sql";
+    // Own files per call: tests call this from more than one thread.
+    const std::string n = std::to_string(counter_++);
+    const auto out = dir_ / ("psql-" + n + ".out");
+    const auto in = dir_ / ("psql-" + n + ".sql");
     std::ofstream(in) << sql;
     run(q(bin_ / "psql") + " -X -q -A -t -v ON_ERROR_STOP=1 -h 127.0.0.1 -p " +
             std::to_string(port_) + " -U garmcap -d " + database + " -f " + q(in) + " >" + q(out) +
@@ -170,7 +173,7 @@ class TempPostgres {
   int port_ = 0;
   bool asRoot_ = false;
   bool running_ = false;
-  mutable int counter_ = 0;
+  mutable std::atomic<int> counter_{0};
 };
 
 }  // namespace garmcap::hub::test

@@ -289,11 +289,20 @@ int HubStore::schemaVersion() {
 void HubStore::setStations(const std::map<std::string, std::string>& tokens) {
   withConnection([&](pqxx::connection& c) {
     pqxx::work w(c);
-    for (const auto& [station, hash] : tokens)
-      w.exec_params(
-          "INSERT INTO stations(id, token_sha256) VALUES($1, $2) "
-          "ON CONFLICT (id) DO UPDATE SET token_sha256 = EXCLUDED.token_sha256",
-          station, hash);
+    // Rows that are already right are not written: a start must not wait for the row lock
+    // that pushes of that station hold.
+    std::map<std::string, std::string> known;
+    for (const auto& r : w.exec("SELECT id, token_sha256 FROM stations"))
+      known[r[0].c_str()] = r[1].c_str();
+    for (const auto& [station, hash] : tokens) {
+      auto it = known.find(station);
+      if (it == known.end())
+        w.exec_params(
+            "INSERT INTO stations(id, token_sha256) VALUES($1, $2) ON CONFLICT (id) DO NOTHING",
+            station, hash);
+      else if (it->second != hash)
+        w.exec_params("UPDATE stations SET token_sha256 = $2 WHERE id = $1", station, hash);
+    }
     w.commit();
   });
   std::lock_guard lock(tokensMutex_);
