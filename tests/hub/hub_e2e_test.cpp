@@ -68,6 +68,12 @@ class HubProcess {
                                ")");
   }
   ~HubProcess() { stop(); }
+  void kill9() {
+    ::kill(pid_, SIGKILL);
+    int st = 0;
+    waitpid(pid_, &st, 0);
+    pid_ = -1;
+  }
   int stop() {
     if (pid_ <= 0)
       return -1;
@@ -144,6 +150,55 @@ std::int64_t count(const std::filesystem::path& db, const char* sql) {
   return v.empty() ? -1 : std::stoll(v[0]);
 }
 
+// A transaction that holds the row lock every push of `station` takes at the hub (its row of
+// `stations`), until destroyed: a push of that station then waits inside the hub.
+class StationLock {
+ public:
+  StationLock(const test::TempPostgres& pg, std::string db, const std::string& station)
+      : pg_(pg), db_(std::move(db)), name_("lock_" + station) {
+    thread_ = std::thread([this, station] {
+      try {
+        pg_.psql(db_, "SET application_name = '" + name_ +
+                          "'; BEGIN; SELECT 1 FROM stations WHERE id = '" + station +
+                          "' FOR UPDATE; SELECT pg_sleep(60);");
+      } catch (const std::exception&) {
+        // terminated by the destructor, as intended
+      }
+    });
+  }
+  ~StationLock() {
+    pg_.psql(db_,
+             "SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE "
+             "application_name = '" +
+                 name_ + "'");
+    thread_.join();
+  }
+  /// Waits until the lock is taken (bounded).
+  bool held() const {
+    return waitFor(
+        [&] {
+          return pg_.psql(db_, "SELECT count(*) FROM pg_stat_activity WHERE application_name = '" +
+                                   name_ + "' AND wait_event = 'PgSleep'") == "1";
+        },
+        20s);
+  }
+  /// True once a statement waits for a lock on `stations` (a push waiting for this one).
+  bool waitedOn(std::chrono::seconds limit) const {
+    return waitFor(
+        [&] {
+          return pg_.psql(db_,
+                          "SELECT count(*) FROM pg_stat_activity WHERE wait_event_type = "
+                          "'Lock' AND query LIKE '%FROM stations%'") != "0";
+        },
+        limit);
+  }
+
+ private:
+  const test::TempPostgres& pg_;
+  std::string db_, name_;
+  std::thread thread_;
+};
+
 struct StationSetup {
   std::string name, token;
   std::filesystem::path data, config;
@@ -212,51 +267,15 @@ TEST(HubE2E, TwoStationsPushThroughHubDowntimeAndAKillEveryItemOnce) {
   // that a push of shop1 takes at the hub (its station row): A's blobs go in, its POST waits at
   // the hub, and A is killed while it waits. The hub then commits that push, whose answer A never
   // read: A sends it again after its restart, and it must still be one item.
-  auto releaseLock = [&] {
-    pg.psql(db,
-            "SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE "
-            "application_name = 'lock_holder'");
-  };
-  struct Joined {  // an early ASSERT return must not leave the holder running
-    std::function<void()> release;
-    std::thread t;
-    ~Joined() {
-      if (t.joinable()) {
-        release();
-        t.join();
-      }
-    }
-  } holder{releaseLock, {}};
-  holder.t = std::thread([&] {
-    try {
-      pg.psql(db,
-              "SET application_name = 'lock_holder'; BEGIN; "
-              "SELECT 1 FROM stations WHERE id = 'shop1' FOR UPDATE; SELECT pg_sleep(60);");
-    } catch (const std::exception&) {
-      // terminated below, as intended
-    }
-  });
-  ASSERT_TRUE(waitFor(
-      [&] {
-        return pg.psql(db,
-                       "SELECT count(*) FROM pg_stat_activity WHERE application_name = "
-                       "'lock_holder' AND wait_event = 'PgSleep'") == "1";
-      },
-      20s));
+  auto holder = std::make_unique<StationLock>(pg, db, "shop1");
+  ASSERT_TRUE(holder->held());
   const auto itemsBefore = pg.psql(db, "SELECT count(*) FROM items WHERE station_id = 'shop1'");
   hub = std::make_unique<HubProcess>(pg.url("hub_e2e"), hubPort, stationArgs, hubLog);
-  const bool blocked = waitFor(
-      [&] {
-        return pg.psql(db,
-                       "SELECT count(*) FROM pg_stat_activity WHERE wait_event_type = "
-                       "'Lock' AND query LIKE '%FROM stations%'") != "0";
-      },
-      40s);
+  const bool blocked = holder->waitedOn(40s);
   a->kill9();
   const auto pendingAtKill =
       count(setups[0].data / "catalog.sqlite", "SELECT count(*) FROM outbox");
-  releaseLock();
-  holder.t.join();
+  holder.reset();
   ASSERT_TRUE(blocked) << "A's push never reached the hub's lock";
   std::printf(
       "[hub e2e] station A killed while its push waited at the hub, %lld outbox row(s) "
@@ -282,6 +301,27 @@ TEST(HubE2E, TwoStationsPushThroughHubDowntimeAndAKillEveryItemOnce) {
                count(setups[1].data / "catalog.sqlite", "SELECT count(*) FROM outbox") == 0;
       },
       30s));
+
+  // 3b. The hub is killed (SIGKILL) in the middle of a write: B's push waits inside the hub's
+  // transaction when the hub dies. Nothing of it is committed; B retries, and once the hub is
+  // back the item is there, once.
+  {
+    auto lockB = std::make_unique<StationLock>(pg, db, "shop2");
+    ASSERT_TRUE(lockB->held());
+    itemsB.push_back(captureOne(*b, "B-3"));
+    ASSERT_TRUE(lockB->waitedOn(30s)) << "B's push never reached the hub";
+    hub->kill9();
+    lockB.reset();
+    EXPECT_EQ(pg.psql(db, "SELECT count(*) FROM items WHERE station_id = 'shop2'"),
+              std::to_string(itemsB.size() - 1));
+    hub = std::make_unique<HubProcess>(pg.url("hub_e2e"), hubPort, stationArgs, hubLog);
+    ASSERT_TRUE(waitFor([&] { return hubItems(hubPort, "shop2").size() == itemsB.size(); }, 40s));
+    ASSERT_TRUE(waitFor(
+        [&] {
+          return count(setups[1].data / "catalog.sqlite", "SELECT count(*) FROM outbox") == 0;
+        },
+        30s));
+  }
 
   // Every item exactly once, under its station and local id; every blob's bytes hash to its
   // name (PostgreSQL's own sha256), and each station's images are all at the hub.
