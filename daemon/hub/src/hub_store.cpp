@@ -140,6 +140,28 @@ void loadDetails(pqxx::work& w, HubItem& it) {
     it.images.push_back({r[0].c_str(), r[1].c_str(), r[2].c_str()});
 }
 
+// The details of a page of items in two queries, not two per item.
+void loadDetails(pqxx::work& w, std::vector<HubItem>& items) {
+  if (items.empty())
+    return;
+  std::map<std::int64_t, HubItem*> byId;
+  std::string ids = "{";
+  for (auto& it : items) {
+    byId[it.id] = &it;
+    ids += (ids.size() > 1 ? "," : "") + std::to_string(it.id);
+  }
+  ids += "}";
+  for (const auto& r : w.exec_params("SELECT item_id, name, value_cm FROM measurements WHERE "
+                                     "item_id = ANY($1::bigint[]) ORDER BY item_id, name",
+                                     ids))
+    byId.at(r[0].as<std::int64_t>())->measurementsCm[r[1].c_str()] = r[2].as<double>();
+  for (const auto& r :
+       w.exec_params("SELECT item_id, kind, sha256, media_type FROM item_images WHERE "
+                     "item_id = ANY($1::bigint[]) ORDER BY item_id, kind",
+                     ids))
+    byId.at(r[0].as<std::int64_t>())->images.push_back({r[1].c_str(), r[2].c_str(), r[3].c_str()});
+}
+
 // Serializes the writes of one station's items and changes: the change rows of a station then
 // commit in the order of their sequence numbers, so a reader's cursor never skips one that an
 // earlier transaction was still about to commit.
@@ -452,8 +474,7 @@ HubPage HubStore::list(const HubQuery& q) {
       }
       page.items.push_back(readItem(row));
     }
-    for (auto& it : page.items)
-      loadDetails(w, it);
+    loadDetails(w, page.items);
     return page;
   });
 }
