@@ -66,10 +66,12 @@ class TempPostgres {
       throw std::runtime_error("no PostgreSQL server binaries (apt install postgresql-15)");
     bin_ = *bin;
     std::random_device rd;
-    dir_ = fs::temp_directory_path() /
+    asRoot_ = ::geteuid() == 0;
+    // As root the server runs as nobody, who must reach the folder: /tmp, not a $TMPDIR that
+    // may be private to root.
+    dir_ = (asRoot_ ? fs::path("/tmp") : fs::temp_directory_path()) /
            ("garmcap-pg-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
     fs::create_directories(dir_);
-    asRoot_ = ::geteuid() == 0;
     if (asRoot_) {
       const passwd* pw = ::getpwnam("nobody");
       if (!pw)
