@@ -19,6 +19,7 @@
 #include "garmcap/daemon/api_routes.h"
 #include "garmcap/daemon/config.h"
 #include "garmcap/daemon/http_server.h"
+#include "garmcap/daemon/hub_pusher.h"
 #include "garmcap/daemon/station.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 #include "garmcap/sim/synthetic_camera.h"
@@ -115,6 +116,7 @@ int main(int argc, char** argv) {
   asio::io_context io{1};
   std::unique_ptr<daemon::Station> station;
   std::unique_ptr<daemon::HttpServer> server;
+  std::unique_ptr<daemon::HubPusher> pusher;  // with [hub] url: the chain's hub (docs/hub.md)
   daemon::Router router;
   std::unique_ptr<daemon::StaticFiles> files;
   try {
@@ -141,6 +143,10 @@ int main(int argc, char** argv) {
     if (!cameraProblem.empty())
       station->setCameraUnavailable(cameraProblem);
     station->start();
+    if (!config.hubUrl.empty()) {
+      pusher = std::make_unique<daemon::HubPusher>(*station, config);
+      pusher->start();
+    }
     daemon::addApiRoutes(router, *station);
     for (const auto& [name, module] : daemon::routeModules()) {
       module(router, *station);
@@ -239,6 +245,7 @@ int main(int argc, char** argv) {
       spdlog::error("garmcapd: an event handler failed (non-standard exception), serving on");
     }
   }
+  pusher.reset();  // before the station: it reaches the catalog through it
   server.reset();
   station.reset();
   spdlog::info("garmcapd: stopped");

@@ -100,13 +100,26 @@ CREATE INDEX items_type ON items(type);
 CREATE INDEX jobs_state ON jobs(state);
 )sql";
 
-// Settings staff and shop owners save from the web UI (the shop's setup), as JSON per key.
+// Version 3: the outbox of changes for the hub (docs/hub.md), written in the transaction of the
+// change itself, and the pusher's small state (the hub's change cursor). AUTOINCREMENT: a
+// sequence id is never reused, even after the newest row was sent and removed. The items a station
+// already holds are queued once, so that a station joining a hub sends its whole catalog. Also
+// the settings staff and shop owners save from the web UI (the shop's setup), as JSON per key.
 constexpr const char* kMigrateV2ToV3 = R"sql(
+CREATE TABLE outbox(
+  seq INTEGER PRIMARY KEY AUTOINCREMENT,
+  kind TEXT NOT NULL CHECK(kind IN ('item_upsert','item_delete')),
+  item_id INTEGER NOT NULL,
+  created_at TEXT NOT NULL);
+CREATE TABLE hub_state(
+  key TEXT PRIMARY KEY,
+  value TEXT NOT NULL);
+INSERT INTO outbox(kind, item_id, created_at)
+  SELECT 'item_upsert', id, updated_at FROM items WHERE deleted_at IS NULL ORDER BY id;
 CREATE TABLE settings(
   key TEXT PRIMARY KEY,
   value TEXT NOT NULL,
-  updated_at TEXT NOT NULL
-);
+  updated_at TEXT NOT NULL);
 )sql";
 
 const char* text(sqlite3_stmt* s, int col) {
@@ -807,6 +820,7 @@ std::int64_t Catalog::addItem(const NewItem& n) {
       .run();
   const std::int64_t id = sqlite3_last_insert_rowid(db_);
   writeItemContents(id, n, ts);
+  queueForHub(kOutboxUpsert, id, ts);
   t.commit();
   return id;
 }
@@ -833,6 +847,7 @@ void Catalog::replaceItemResults(std::int64_t id, const NewItem& n) {
   Statement(*this, "DELETE FROM measurements WHERE item_id = ?").bind(1, id).run();
   Statement(*this, "DELETE FROM patterns WHERE item_id = ?").bind(1, id).run();
   writeItemContents(id, n, ts);
+  queueForHub(kOutboxUpsert, id, ts);
   t.commit();
 }
 
@@ -881,6 +896,18 @@ std::pair<std::vector<Item>, std::int64_t> Catalog::items(const ItemQuery& q) {
 }
 
 bool Catalog::patchItem(std::int64_t id, const ItemPatch& p) {
+  return patch(id, p, true);
+}
+
+bool Catalog::applyHubEdit(std::int64_t id, const HubEdit& e) {
+  ItemPatch p;
+  p.title = e.title;
+  p.priceCents = e.priceCents;
+  p.status = e.status;
+  return patch(id, p, false);
+}
+
+bool Catalog::patch(std::int64_t id, const ItemPatch& p, bool queue) {
   if (p.status && *p.status != kStatusNeedsReview && *p.status != kStatusApproved &&
       *p.status != kStatusRejected)
     throw CatalogError("status must be needs_review, approved or rejected, got '" + *p.status +
@@ -921,28 +948,88 @@ bool Catalog::patchItem(std::int64_t id, const ItemPatch& p) {
           .bind(2, name)
           .bind(3, cm)
           .run();
+  if (queue)
+    queueForHub(kOutboxUpsert, id, ts);
   t.commit();
   return true;
 }
 
 bool Catalog::deleteItem(std::int64_t id) {
+  Transaction t(db_);
+  const std::string ts = now();
   Statement(
       *this,
       "UPDATE items SET deleted_at = ?1, updated_at = ?1 WHERE id = ?2 AND deleted_at IS NULL")
-      .bind(1, now())
+      .bind(1, ts)
       .bind(2, id)
       .run();
-  return sqlite3_changes(db_) > 0;
+  if (sqlite3_changes(db_) == 0)
+    return false;
+  queueForHub(kOutboxDelete, id, ts);
+  t.commit();
+  return true;
 }
 
 bool Catalog::restoreItem(std::int64_t id) {
+  Transaction t(db_);
+  const std::string ts = now();
   Statement(
       *this,
       "UPDATE items SET deleted_at = NULL, updated_at = ? WHERE id = ? AND deleted_at IS NOT NULL")
-      .bind(1, now())
+      .bind(1, ts)
       .bind(2, id)
       .run();
+  if (sqlite3_changes(db_) == 0)
+    return false;
+  queueForHub(kOutboxUpsert, id, ts);
+  t.commit();
+  return true;
+}
+
+// --- outbox (docs/hub.md) --------------------------------------------------------------------
+
+// Inside the caller's transaction: the change and its outbox row commit or roll back together.
+void Catalog::queueForHub(const char* kind, std::int64_t itemId, const std::string& ts) {
+  Statement(*this, "INSERT INTO outbox(kind, item_id, created_at) VALUES(?,?,?)")
+      .bind(1, kind)
+      .bind(2, itemId)
+      .bind(3, ts)
+      .run();
+}
+
+std::vector<OutboxEntry> Catalog::outbox(int limit) {
+  Statement s(*this, "SELECT seq, kind, item_id, created_at FROM outbox ORDER BY seq LIMIT ?");
+  s.bind(1, std::clamp(limit, 1, 10000));
+  std::vector<OutboxEntry> out;
+  while (s.step())
+    out.push_back({sqlite3_column_int64(s.get(), 0), text(s.get(), 1),
+                   sqlite3_column_int64(s.get(), 2), text(s.get(), 3)});
+  return out;
+}
+
+bool Catalog::removeOutbox(std::int64_t seq) {
+  Statement(*this, "DELETE FROM outbox WHERE seq = ?").bind(1, seq).run();
   return sqlite3_changes(db_) > 0;
+}
+
+std::int64_t Catalog::outboxSize() {
+  Statement s(*this, "SELECT count(*) FROM outbox");
+  return s.step() ? sqlite3_column_int64(s.get(), 0) : 0;
+}
+
+std::optional<std::string> Catalog::hubState(const std::string& key) {
+  Statement s(*this, "SELECT value FROM hub_state WHERE key = ?");
+  s.bind(1, key);
+  if (!s.step())
+    return std::nullopt;
+  return std::string(text(s.get(), 0));
+}
+
+void Catalog::setHubState(const std::string& key, const std::string& value) {
+  Statement(*this, "INSERT OR REPLACE INTO hub_state(key, value) VALUES(?,?)")
+      .bind(1, key)
+      .bind(2, value)
+      .run();
 }
 
 std::optional<nlohmann::json> Catalog::pattern(std::int64_t itemId, const std::string& size) {

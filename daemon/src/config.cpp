@@ -10,7 +10,6 @@
 #include <toml.hpp>
 
 #include "garmcap/daemon/utf8.h"
-#include "garmcap/sim/synthetic_camera.h"
 
 namespace garmcap::daemon {
 
@@ -124,7 +123,9 @@ Setter shopBool(bool ShopConfig::*member) {
 const std::map<std::string, std::map<std::string, Setter>>& schema() {
   static const std::map<std::string, std::map<std::string, Setter>> kSchema = {
       {"camera",
-       {{"backend", oneOf(&Config::cameraBackend, sim::cameraBackends())},
+       // The names of capture::cameraBackends() and sim's "synthetic", spelled out: this file is in
+       // garmcap::http, which the hub links without the camera or the simulator.
+       {{"backend", oneOf(&Config::cameraBackend, {"libcamera", "v4l2", "replay", "synthetic"})},
         {"device", stringKey(&Config::cameraDevice)},
         {"form", stringKey(&Config::formPath)},
         {"still_width", intKey(&Config::stillWidth, 0, 16384)},
@@ -221,6 +222,17 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
          }},
         {"made_to_order", shopBool(&ShopConfig::madeToOrder)},
         {"allow_loopback", shopBool(&ShopConfig::allowLoopback)}}},
+      {"hub",
+       {{"url",
+         [](const toml::value& v, Config& c, const std::string& key) {
+           const std::string s = v.is_string() ? v.as_string().str : "";
+           if (!s.empty() && !parseHubUrl(s))
+             bad(key, "must be http://HOST:PORT with an IP address or name, got '" + quoteInput(s) +
+                          "' (https is not supported yet: docs/hub.md)");
+           c.hubUrl = s;
+         }},
+        {"token", stringKey(&Config::hubToken)},
+        {"poll_ms", intKey(&Config::hubPollMs, 50, 600000)}}},
   };
   return kSchema;
 }
@@ -279,6 +291,35 @@ void Config::validate() const {
     throw ConfigError("[gpio] button_line: required with the gpiod back end");
   if (namingTemplate.empty())
     throw ConfigError("[naming] template: must not be empty");
+  if (!hubUrl.empty() && hubToken.empty())
+    throw ConfigError("[hub] token: required with [hub] url (this station's token at the hub)");
+}
+
+std::optional<HubAddress> parseHubUrl(const std::string& url) {
+  constexpr std::string_view kScheme = "http://";
+  if (url.rfind(kScheme, 0) != 0)
+    return std::nullopt;
+  std::string rest = url.substr(kScheme.size());
+  while (!rest.empty() && rest.back() == '/')
+    rest.pop_back();
+  const std::size_t colon = rest.rfind(':');
+  if (colon == std::string::npos || colon == 0 || rest.find('/') != std::string::npos)
+    return std::nullopt;
+  HubAddress a;
+  a.host = rest.substr(0, colon);
+  const std::string port = rest.substr(colon + 1);
+  if (port.empty() || port.size() > 5 ||
+      !std::all_of(port.begin(), port.end(), [](char ch) { return ch >= '0' && ch <= '9'; }))
+    return std::nullopt;
+  const int p = std::stoi(port);
+  if (p < 1 || p > 65535)
+    return std::nullopt;
+  if (!std::all_of(a.host.begin(), a.host.end(), [](char ch) {
+        return std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-';
+      }))
+    return std::nullopt;
+  a.port = static_cast<std::uint16_t>(p);
+  return a;
 }
 
 Config loadConfig(const std::filesystem::path& file, Config config) {

@@ -27,6 +27,8 @@ ALLOWED = {
     "core/garmcap": {"pipeline", "dsw", "calib", "drafts"},
     "core/dsw": {"dsw", "drafts"},
     "daemon": None,  # the daemon and the CLI tools may use every library
+    # The hub serves with the daemon's HTTP layer and never links the capture pipeline.
+    "daemon/hub": {"hub", "daemon"},
 }
 
 # Headers outside capture/sim that belong to the simulator: core must not include them either.

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "garmcap/daemon/http_server.h"
+#include "garmcap/sim/synthetic_camera.h"
 #include "test_util.h"
 
 namespace garmcap::daemon {
@@ -50,6 +51,14 @@ template = "{id}-{kind}"
   EXPECT_EQ(c.listenPort, 9000);
   EXPECT_DOUBLE_EQ(c.reviewBelowConfidence, 0.5);
   EXPECT_NO_THROW(c.validate());
+}
+
+// config.cpp spells the backend names out (it is in garmcap::http, without the camera or the
+// simulator): they must stay the names the camera factory knows.
+TEST(Config, AcceptsEveryCameraBackendTheFactoryKnows) {
+  test::TempDir dir;
+  for (const auto& b : sim::cameraBackends())
+    EXPECT_EQ(loadConfig(write(dir, "[camera]\nbackend = \"" + b + "\"\n")).cameraBackend, b);
 }
 
 TEST(Config, RefusesWithKeyAndReason) {

@@ -106,6 +106,21 @@ TEST(RefuseRequest, WriteBodiesMustBeJson) {
                              {}));
   // No body, no type needed (curl -X POST /api/button).
   EXPECT_FALSE(refuseRequest(request(http::verb::post, "/api/button", "127.0.0.1"), {}));
+  // Raw bytes only with PUT (the hub's blobs), never with the other writes.
+  EXPECT_FALSE(refuseRequest(request(http::verb::put, "/api/hub/blobs/x", "127.0.0.1", "\x89PNG",
+                                     "application/octet-stream"),
+                             {}));
+  for (auto verb : {http::verb::post, http::verb::patch, http::verb::delete_}) {
+    auto raw = refuseRequest(
+        request(verb, "/api/hub/push", "127.0.0.1", "\x89PNG", "application/octet-stream"), {});
+    ASSERT_TRUE(raw);
+    EXPECT_EQ(raw->status, http::status::unsupported_media_type);
+  }
+  auto form = refuseRequest(request(http::verb::put, "/api/hub/blobs/x", "127.0.0.1", "a=b",
+                                    "application/x-www-form-urlencoded"),
+                            {});
+  ASSERT_TRUE(form);
+  EXPECT_EQ(form->status, http::status::unsupported_media_type);
 }
 
 }  // namespace

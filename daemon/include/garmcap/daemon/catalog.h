@@ -100,6 +100,24 @@ struct ItemPatch {
   std::optional<std::map<std::string, double>> measurementsCm;  // replaces listed names only
 };
 
+/// What the hub may change on an item once it owns it (docs/hub.md, ownership rule).
+struct HubEdit {
+  std::optional<std::string> title, status;
+  std::optional<std::optional<std::int64_t>> priceCents;  // set to nullopt to clear
+};
+
+/// Outbox kinds: the item's current state is to be sent, or the item was deleted.
+inline constexpr const char* kOutboxUpsert = "item_upsert";
+inline constexpr const char* kOutboxDelete = "item_delete";
+
+/// One change waiting for the hub, in commit order (`seq` only grows).
+struct OutboxEntry {
+  std::int64_t seq = 0;
+  std::string kind;  // kOutboxUpsert | kOutboxDelete
+  std::int64_t itemId = 0;
+  std::string createdAt;
+};
+
 struct ItemQuery {
   std::string search;    // substring of sku, title, notes or tags (case-insensitive)
   std::string type;      // exact type filter, "" = any
@@ -206,7 +224,20 @@ class Catalog {
   bool patchItem(std::int64_t id, const ItemPatch& patch);
   bool deleteItem(std::int64_t id);  // soft delete (restorable)
   bool restoreItem(std::int64_t id);
+  /// Applies what the hub changed (title, price, status) without queueing the item for the hub
+  /// again (the hub has it already). Same checks as patchItem; false if no such live item.
+  bool applyHubEdit(std::int64_t id, const HubEdit& edit);
   std::optional<nlohmann::json> pattern(std::int64_t itemId, const std::string& size);
+
+  // --- outbox for the hub (docs/hub.md) -------------------------------------------------------
+  // addItem, replaceItemResults, patchItem, deleteItem and restoreItem each add one row in their
+  // own transaction; the pusher reads them in order and removes a row once the hub took it.
+  std::vector<OutboxEntry> outbox(int limit = 100);  // oldest first
+  bool removeOutbox(std::int64_t seq);
+  std::int64_t outboxSize();
+  /// The pusher's state (e.g. "changes_cursor"); nullopt when never set.
+  std::optional<std::string> hubState(const std::string& key);
+  void setHubState(const std::string& key, const std::string& value);
   std::optional<nlohmann::json> sizeGuide(std::int64_t itemId);
   std::optional<nlohmann::json> result(std::int64_t itemId);
 
@@ -221,6 +252,8 @@ class Catalog {
   void checkReadable();
   void loadItemDetails(Item& item);
   void writeItemContents(std::int64_t id, const NewItem& n, const std::string& ts);
+  bool patch(std::int64_t id, const ItemPatch& patch, bool queue);
+  void queueForHub(const char* kind, std::int64_t itemId, const std::string& ts);
   std::string now() const;
 
   sqlite3* db_ = nullptr;

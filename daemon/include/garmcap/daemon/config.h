@@ -81,6 +81,10 @@ struct Config {
   std::string namingTemplate = "{sku}_{kind}";
   // [shop]
   ShopConfig shop;
+  // [hub]: the chain's hub this station pushes its catalog to (docs/hub.md); "" = none.
+  std::string hubUrl;    // http://HOST:PORT (loopback or a TLS proxy on this machine)
+  std::string hubToken;  // this station's token at the hub
+  int hubPollMs = 2000;  // how often the outbox and the hub's edits are looked at
 
   /// Throws ConfigError if the combination is unsafe or incomplete (e.g. a non-loopback
   /// address without a token).
@@ -96,6 +100,13 @@ struct Config {
 void applyShopSettings(const nlohmann::json& settings, ShopConfig& shop);
 /// The [shop] keys of `shop`, as applyShopSettings reads them.
 nlohmann::json shopSettingsJson(const ShopConfig& shop);
+
+/// Where [hub] url points: http://HOST:PORT (no path, no https yet).
+struct HubAddress {
+  std::string host;
+  std::uint16_t port = 0;
+};
+std::optional<HubAddress> parseHubUrl(const std::string& url);
 
 /// Reads a TOML file over the defaults. Throws ConfigError ("<file>: [http] port: must be
 /// 1..65535, got 0").

@@ -38,7 +38,8 @@ struct Refusal {
 /// The checks in order: target length (414), target bytes (400), Host (403), and for state-
 /// changing methods (POST, PUT, PATCH, DELETE) a cross-origin Origin (403: a browser always sends
 /// Origin on a cross-origin write) and a body that is not application/json (415: the only body a
-/// write takes, and one a cross-origin form cannot send without a preflight).
+/// write takes, and one a cross-origin form cannot send without a preflight), except that a PUT
+/// may send application/octet-stream (the hub's blobs; neither needs less than a preflight).
 std::optional<Refusal> refuseRequest(const Request& request,
                                      const std::vector<std::string>& serverNames);
 

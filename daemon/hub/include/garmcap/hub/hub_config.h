@@ -1,0 +1,53 @@
+#pragma once
+// garmcap-hub configuration: a TOML file, then command-line flags on top (docs/hub.md).
+//
+//   [database]
+//   url = "host=/run/postgresql dbname=garmcap_hub"   # a libpq connection string
+//   connections = 4
+//   [http]
+//   listen = "127.0.0.1:8090"
+//   admin_token_sha256 = "<64 hex>"   # reads and edits at the hub (garmcap-hub hash-token T)
+//   body_limit_bytes = 67108864       # the largest blob a station may send
+//   [stations]
+//   shop1 = "<64 hex: sha256 of shop1's token>"
+//
+// Only hashes of tokens are stored: a leaked config file does not let anyone push. Strict like
+// the station's: an unknown key, a wrong type or a bad value throws HubConfigError naming the
+// file and the key.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+namespace garmcap::hub {
+
+class HubConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct HubConfig {
+  std::string databaseUrl;
+  int connections = 4;
+  std::string listenAddress = "127.0.0.1";
+  std::uint16_t listenPort = 8090;
+  std::string adminTokenSha256;                           // "" = no admin access over HTTP
+  std::map<std::string, std::string> stationTokenSha256;  // station id -> token hash
+  std::size_t bodyLimitBytes = 64u << 20;
+  int threads = 4;
+
+  /// Throws HubConfigError when incomplete (no database) or unsafe.
+  void validate() const;
+};
+
+/// Reads a TOML file over the defaults.
+HubConfig loadHubConfig(const std::filesystem::path& file, HubConfig defaults = {});
+/// "NAME=HASH" of --station; throws HubConfigError naming the flag.
+void addStation(HubConfig& config, const std::string& spec, const std::string& what);
+/// The hash the hub keeps of a token (lower-case hex sha256).
+std::string tokenHash(const std::string& token);
+bool validStationId(const std::string& id);
+
+}  // namespace garmcap::hub

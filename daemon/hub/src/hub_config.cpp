@@ -1,0 +1,138 @@
+#include "garmcap/hub/hub_config.h"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <toml.hpp>
+
+#include "garmcap/daemon/config.h"
+#include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/utf8.h"
+
+namespace garmcap::hub {
+
+namespace {
+
+[[noreturn]] void bad(const std::string& where, const std::string& reason) {
+  throw HubConfigError(where + ": " + reason);
+}
+
+std::string hashValue(const toml::value& v, const std::string& key) {
+  if (!v.is_string() || !daemon::isSha256Hex(v.as_string().str))
+    bad(key, "must be 64 lower-case hex digits (garmcap-hub hash-token TOKEN prints them)");
+  return v.as_string().str;
+}
+
+}  // namespace
+
+bool validStationId(const std::string& id) {
+  return !id.empty() && id.size() <= 64 && std::all_of(id.begin(), id.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
+  });
+}
+
+std::string tokenHash(const std::string& token) {
+  return daemon::sha256Hex(token);
+}
+
+void addStation(HubConfig& config, const std::string& spec, const std::string& what) {
+  const std::size_t eq = spec.find('=');
+  if (eq == std::string::npos)
+    bad(what, "expected NAME=TOKEN_SHA256, got '" + daemon::quoteInput(spec) + "'");
+  const std::string name = spec.substr(0, eq), hash = spec.substr(eq + 1);
+  if (!validStationId(name))
+    bad(what,
+        "station name must be 1..64 of [A-Za-z0-9_-], got '" + daemon::quoteInput(name) + "'");
+  if (!daemon::isSha256Hex(hash))
+    bad(what, "the token hash of '" + name + "' must be 64 lower-case hex digits");
+  config.stationTokenSha256[name] = hash;
+}
+
+void HubConfig::validate() const {
+  if (databaseUrl.empty())
+    throw HubConfigError("[database] url: required (a libpq connection string)");
+  daemon::Config probe;
+  probe.listenAddress = listenAddress;
+  if (!probe.loopbackOnly())
+    throw HubConfigError("[http] listen: " + listenAddress +
+                         " is not a loopback address, and this hub has no TLS yet: put it behind "
+                         "a TLS proxy on this machine and listen on 127.0.0.1 (docs/hub.md)");
+  std::map<std::string, std::string> seen;
+  for (const auto& [station, hash] : stationTokenSha256) {
+    if (hash == adminTokenSha256)
+      throw HubConfigError("[stations] " + station + ": same token as the admin token");
+    if (auto [it, fresh] = seen.emplace(hash, station); !fresh)
+      throw HubConfigError("[stations] " + station + ": same token as station " + it->second);
+  }
+}
+
+HubConfig loadHubConfig(const std::filesystem::path& file, HubConfig c) {
+  const std::string f = file.string();
+  toml::value root;
+  try {
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+      throw HubConfigError(f + ": cannot be read");
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string bytes = text.str();
+    // toml11 3.7 reads past its buffer on invalid UTF-8 (see daemon/src/config.cpp).
+    if (!daemon::validUtf8(bytes))
+      throw HubConfigError(f + ": not valid UTF-8 (TOML files are UTF-8)");
+    std::istringstream stream(bytes);
+    root = toml::parse(stream, f);
+  } catch (const HubConfigError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw HubConfigError(f + ": " + e.what());
+  }
+  if (!root.is_table())
+    throw HubConfigError(f + ": not a TOML table");
+  for (const auto& [section, table] : root.as_table()) {
+    if (!table.is_table())
+      bad(f + ": " + section, "must be a table [" + section + "]");
+    for (const auto& [key, v] : table.as_table()) {
+      const std::string name = f + ": [" + section + "] " + key;
+      auto integer = [&](long long lo, long long hi) {
+        if (!v.is_integer() || v.as_integer() < lo || v.as_integer() > hi)
+          bad(name, "must be an integer " + std::to_string(lo) + ".." + std::to_string(hi));
+        return v.as_integer();
+      };
+      if (section == "database" && key == "url") {
+        if (!v.is_string())
+          bad(name, "must be a string");
+        c.databaseUrl = v.as_string().str;
+      } else if (section == "database" && key == "connections") {
+        c.connections = static_cast<int>(integer(1, 64));
+      } else if (section == "http" && key == "listen") {
+        if (!v.is_string())
+          bad(name, "must be a string \"HOST:PORT\"");
+        daemon::Config probe;
+        try {
+          daemon::parseListen(v.as_string().str, probe, name);
+        } catch (const daemon::ConfigError& e) {
+          throw HubConfigError(e.what());
+        }
+        c.listenAddress = probe.listenAddress;
+        c.listenPort = probe.listenPort;
+      } else if (section == "http" && key == "admin_token_sha256") {
+        c.adminTokenSha256 = hashValue(v, name);
+      } else if (section == "http" && key == "body_limit_bytes") {
+        c.bodyLimitBytes = static_cast<std::size_t>(integer(1024, 1LL << 30));
+      } else if (section == "http" && key == "threads") {
+        c.threads = static_cast<int>(integer(1, 64));
+      } else if (section == "stations") {
+        if (!validStationId(key))
+          bad(name, "a station name is 1..64 of [A-Za-z0-9_-]");
+        c.stationTokenSha256[key] = hashValue(v, name);
+      } else if (section != "database" && section != "http" && section != "stations") {
+        bad(f + ": [" + section + "]", "unknown section");
+      } else {
+        bad(name, "unknown key");
+      }
+    }
+  }
+  return c;
+}
+
+}  // namespace garmcap::hub

@@ -1,0 +1,166 @@
+// The hub's HTTP API in process (HubService on a loopback port, a real PostgreSQL): who may call
+// what, the blob hash check, the push and patch answers, and the station's request guard.
+#include <gtest/gtest.h>
+
+#include "../e2e/daemon_harness.h"
+#include "garmcap/daemon/content_store.h"
+#include "garmcap/hub/hub_service.h"
+#include "temp_postgres.h"
+
+namespace garmcap::hub {
+namespace {
+
+using e2e::Json;
+using e2e::Reply;
+namespace http = e2e::http;
+
+class HubHttpTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (!test::postgresBinDir())
+      return;
+    pg_ = new test::TempPostgres();
+    pg_->createDatabase("hub_http");
+    HubConfig c;
+    c.databaseUrl = pg_->url("hub_http");
+    c.listenPort = 0;
+    c.adminTokenSha256 = tokenHash("admin-secret");
+    c.stationTokenSha256 = {{"shop1", tokenHash("shop1-secret")},
+                            {"shop2", tokenHash("shop2-secret")}};
+    service_ = new HubService(c);
+    service_->start();
+  }
+  static void TearDownTestSuite() {
+    delete service_;
+    delete pg_;
+    service_ = nullptr;
+    pg_ = nullptr;
+  }
+  void SetUp() override {
+    if (!pg_)
+      GTEST_SKIP() << "PostgreSQL server binaries not found under /usr/lib/postgresql "
+                      "(apt install postgresql-15; ./station.sh deps installs it)";
+  }
+  static Reply call(http::verb verb, const std::string& target, const std::string& token,
+                    const std::string& body = "", const std::string& type = "application/json",
+                    const std::string& host = "127.0.0.1") {
+    std::vector<std::pair<std::string, std::string>> fields = {{"Host", host}};
+    if (!token.empty())
+      fields.emplace_back("Authorization", "Bearer " + token);
+    if (!body.empty())
+      fields.emplace_back("Content-Type", type);
+    return e2e::httpCallWith(service_->port(), verb, target, fields, body);
+  }
+  static std::string pushBody(std::int64_t localId, const std::string& sha,
+                              const std::string& status = "needs_review") {
+    Json item{{"sku", "S" + std::to_string(localId)},
+              {"title", "T" + std::to_string(localId)},
+              {"status", status},
+              {"type", "skirt"},
+              {"measurements", {{"waist_circ", 70.0}}},
+              {"images", Json::object()}};
+    if (!sha.empty())
+      item["images"]["dressed"] = {{"sha256", sha}, {"media_type", "image/png"}};
+    return Json{{"local_id", localId}, {"item", item}, {"deleted", false}}.dump();
+  }
+
+  static test::TempPostgres* pg_;
+  static HubService* service_;
+};
+test::TempPostgres* HubHttpTest::pg_ = nullptr;
+HubService* HubHttpTest::service_ = nullptr;
+
+TEST_F(HubHttpTest, BlobsAreCheckedByTheirHashAndSentByStationsOnly) {
+  const std::string bytes = std::string("\x89PNG\r\n\x1a\n", 8) + std::string(5000, '\x07');
+  const std::string sha = daemon::sha256Hex(bytes);
+  const std::string url = "/api/hub/blobs/" + sha;
+  EXPECT_EQ(call(http::verb::head, url, "shop1-secret").status, 404);
+  EXPECT_EQ(call(http::verb::put, url, "", bytes, "application/octet-stream").status, 401);
+  EXPECT_EQ(call(http::verb::put, url, "admin-secret", bytes, "application/octet-stream").status,
+            401);
+  // One flipped byte: refused, and nothing stored.
+  std::string flipped = bytes;
+  flipped[100] ^= 1;
+  const auto bad = call(http::verb::put, url, "shop1-secret", flipped, "application/octet-stream");
+  EXPECT_EQ(bad.status, 400);
+  EXPECT_NE(bad.body.find(daemon::sha256Hex(flipped)), std::string::npos) << bad.body;
+  EXPECT_EQ(call(http::verb::head, url, "shop1-secret").status, 404);
+  EXPECT_EQ(call(http::verb::put, url, "shop1-secret", bytes, "application/octet-stream").status,
+            201);
+  EXPECT_EQ(call(http::verb::put, url, "shop2-secret", bytes, "application/octet-stream").status,
+            200);
+  EXPECT_EQ(call(http::verb::head, url, "shop2-secret").status, 200);
+  const auto got = call(http::verb::get, url, "admin-secret");
+  ASSERT_EQ(got.status, 200);
+  EXPECT_EQ(got.body, bytes);
+  EXPECT_EQ(call(http::verb::head, "/api/hub/blobs/ABC", "shop1-secret").status, 400);
+  // Raw bytes with another verb are refused by the station's guard.
+  EXPECT_EQ(
+      call(http::verb::post, "/api/hub/push", "shop1-secret", bytes, "application/octet-stream")
+          .status,
+      415);
+}
+
+TEST_F(HubHttpTest, PushPatchAndChangesFollowTheOwnershipRule) {
+  const std::string bytes = "frame-of-item-41";
+  const std::string sha = daemon::sha256Hex(bytes);
+  EXPECT_EQ(call(http::verb::post, "/api/hub/push", "admin-secret", pushBody(41, sha)).status, 401);
+  const auto missing = call(http::verb::post, "/api/hub/push", "shop1-secret", pushBody(41, sha));
+  EXPECT_EQ(missing.status, 409);
+  EXPECT_NE(missing.body.find(sha), std::string::npos);
+  ASSERT_EQ(call(http::verb::put, "/api/hub/blobs/" + sha, "shop1-secret", bytes,
+                 "application/octet-stream")
+                .status,
+            201);
+  const auto pushed = call(http::verb::post, "/api/hub/push", "shop1-secret", pushBody(41, sha));
+  ASSERT_EQ(pushed.status, 200) << pushed.body;
+  EXPECT_TRUE(pushed.json()["created"].get<bool>());
+  const auto again = call(http::verb::post, "/api/hub/push", "shop1-secret", pushBody(41, sha));
+  EXPECT_EQ(again.json()["id"], pushed.json()["id"]);
+  EXPECT_FALSE(again.json()["created"].get<bool>());
+  EXPECT_EQ(call(http::verb::post, "/api/hub/push", "shop1-secret", R"({"local_id": 0})").status,
+            400);
+  EXPECT_EQ(
+      call(http::verb::post, "/api/hub/push", "shop1-secret", pushBody(42, "", "sold")).status,
+      400);
+
+  const std::string item = "/api/items/" + pushed.json()["id"].dump();
+  EXPECT_EQ(call(http::verb::patch, item, "shop1-secret", R"({"title": "x"})").status, 401);
+  EXPECT_EQ(call(http::verb::patch, item, "admin-secret", R"({"title": "x"})").status, 409);
+  EXPECT_EQ(call(http::verb::patch, item, "admin-secret", R"({"sku": "x"})").status, 400);
+  const auto approved = call(http::verb::patch, item, "admin-secret",
+                             R"({"status": "approved", "title": "Hub", "price_cents": 990})");
+  ASSERT_EQ(approved.status, 200) << approved.body;
+  EXPECT_EQ(approved.json()["title"], "Hub");
+  EXPECT_TRUE(approved.json()["hub_owned"].get<bool>());
+  EXPECT_EQ(approved.json()["images"]["dressed"]["sha256"], sha);
+
+  const auto changes = call(http::verb::get, "/api/hub/changes?since=0", "shop1-secret").json();
+  ASSERT_EQ(changes["changes"].size(), 1u) << changes.dump();
+  EXPECT_EQ(changes["changes"][0]["local_id"], 41);
+  EXPECT_EQ(changes["changes"][0]["price_cents"], 990);
+  EXPECT_EQ(call(http::verb::get, "/api/hub/changes?since=0", "shop2-secret").json()["changes"],
+            Json::array());
+  const auto after =
+      call(http::verb::get, "/api/hub/changes?since=" + changes["next"].dump(), "shop1-secret");
+  EXPECT_EQ(after.json()["changes"], Json::array());
+  EXPECT_EQ(call(http::verb::get, "/api/hub/changes?since=0", "admin-secret").status, 401);
+}
+
+TEST_F(HubHttpTest, ListsValidateTheirQueryAndTheGuardApplies) {
+  EXPECT_EQ(call(http::verb::get, "/api/items", "").status, 401);
+  EXPECT_EQ(call(http::verb::get, "/api/items", "wrong").status, 401);
+  EXPECT_EQ(call(http::verb::get, "/api/items?limit=0", "admin-secret").status, 400);
+  EXPECT_EQ(call(http::verb::get, "/api/items?after=abc", "admin-secret").status, 400);
+  EXPECT_EQ(call(http::verb::get, "/api/items?station=a%2Fb", "admin-secret").status, 400);
+  EXPECT_EQ(call(http::verb::get, "/api/items?limit=5", "admin-secret").status, 200);
+  EXPECT_EQ(call(http::verb::get, "/api/items/999999", "admin-secret").status, 404);
+  // DNS rebinding: a name that is not the hub's is refused before any route.
+  EXPECT_EQ(call(http::verb::get, "/api/items", "admin-secret", "", "", "evil.example:8090").status,
+            403);
+  const auto health = call(http::verb::get, "/api/hub/health", "").json();
+  EXPECT_EQ(health["schema"], kHubSchemaVersion);
+}
+
+}  // namespace
+}  // namespace garmcap::hub

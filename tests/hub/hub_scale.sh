@@ -1,0 +1,58 @@
+#!/bin/sh
+# The hub at the issue's scale, by hand (not in ctest: ~2 minutes): a throwaway PostgreSQL, a
+# garmcap-hub, 100,000 items of 3 stations with 300,000 images (small distinct blobs) loaded in
+# SQL, then 200 list pages (keyset, per station, deep cursors) and 200 searches through the
+# HTTP API, timed by curl. Prints p50 and p99 in ms.
+#   tests/hub/hub_scale.sh build/bin/garmcap-hub [ITEMS]
+set -eu
+hub=$(readlink -f "$1"); items=${2:-100000}
+bin=$(ls -d /usr/lib/postgresql/*/bin | sort | tail -1)
+tmp=$(mktemp -d); chmod 755 "$tmp"
+run() { if [ "$(id -u)" = 0 ]; then runuser -u nobody -- sh -c "$1"; else sh -c "$1"; fi; }
+[ "$(id -u)" = 0 ] && chown nobody "$tmp"
+port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+hport=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+cleanup() { kill "$hubpid" 2>/dev/null || true; run "$bin/pg_ctl -D $tmp/data -m immediate stop" >/dev/null 2>&1 || true; rm -rf "$tmp"; }
+hubpid=
+trap cleanup EXIT
+run "$bin/initdb -D $tmp/data -U garmcap --auth=trust -E UTF8 --no-locale --no-sync" >/dev/null
+run "$bin/pg_ctl -D $tmp/data -l $tmp/log -o '-p $port -k $tmp -c listen_addresses=127.0.0.1' -w start" >/dev/null
+psql="$bin/psql -X -q -h 127.0.0.1 -p $port -U garmcap"
+$psql -d postgres -c 'CREATE DATABASE scale'
+admin=$("$hub" hash-token admin-token)
+"$hub" --db "host=127.0.0.1 port=$port user=garmcap dbname=scale" --listen "127.0.0.1:$hport" \
+  --admin-token-sha256 "$admin" --station "shop1=$("$hub" hash-token t1)" \
+  --station "shop2=$("$hub" hash-token t2)" --station "shop3=$("$hub" hash-token t3)" \
+  >"$tmp/hub.out" 2>"$tmp/hub.err" &
+hubpid=$!
+for i in $(seq 100); do grep -qs listening "$tmp/hub.out" && break; sleep 0.1; done
+start=$(date +%s.%N)
+$psql -d scale <<SQL
+INSERT INTO items(station_id, local_id, sku, title, status, type, doc)
+  SELECT 'shop' || (1 + g % 3), g, 'SKU-' || g, 'Skirt ' || md5(g::text), 'needs_review', 'skirt', '{}'
+  FROM generate_series(1, $items) g;
+INSERT INTO measurements(item_id, name, value_cm) SELECT id, 'waist_circ', 60 + id % 30 FROM items;
+INSERT INTO images(sha256, bytes, size)
+  SELECT encode(sha256(('blob' || g)::bytea), 'hex'), ('blob' || g)::bytea, 8 FROM generate_series(1, 3 * $items) g;
+INSERT INTO item_images(item_id, kind, sha256, media_type)
+  SELECT i.id, k.kind, encode(sha256(('blob' || (3 * (i.id - 1) + k.n))::bytea), 'hex'), 'image/png'
+  FROM items i CROSS JOIN (VALUES (1, 'dressed'), (2, 'cutout'), (3, 'product')) AS k(n, kind);
+ANALYZE;
+SQL
+echo "loaded $items items, $((3 * items)) images in $(echo "$(date +%s.%N) - $start" | bc) s"
+$psql -d scale -A -t -c "SELECT 'items ' || count(*) FROM items" -c "SELECT 'images ' || count(*) FROM images"
+url="http://127.0.0.1:$hport"
+time_requests() {  # $1 = label, stdin = targets
+  while read -r t; do
+    curl -s -o /dev/null -w '%{time_total}\n' -H 'Authorization: Bearer admin-token' "$url$t"
+  done | sort -n | awk -v label="$1" '{ a[NR] = $1 * 1000 } END {
+    printf "%s: %d requests, p50 %.1f ms, p99 %.1f ms, max %.1f ms\n", label, NR, a[int(NR * 0.5)], a[int(NR * 0.99)], a[NR] }'
+}
+maxid=$($psql -d scale -A -t -c 'SELECT max(id) FROM items')
+for i in $(seq 200); do
+  after=$(( (i * 7919) % maxid + 1 ))
+  echo "/api/items?limit=50&station=shop$((1 + i % 3))&after=$after"
+done | time_requests "list 50 per page (station, keyset)"
+for i in $(seq 200); do
+  echo "/api/items?limit=50&q=$(echo "$i" | md5sum | cut -c1-4)"
+done | time_requests "search 50 (trigram, 4 hex chars)"
