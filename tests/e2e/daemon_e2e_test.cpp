@@ -214,7 +214,10 @@ TEST(DaemonE2E, CaptureBareFormAndFiveGarments) {
     for (const auto& [kind, im] : item["images"].items()) {
       auto img = d.get(im["url"].get<std::string>());
       EXPECT_EQ(img.status, 200) << kind;
-      EXPECT_EQ(img.contentType, "image/png");
+      // Shop photos are JPEG, the frames, cutout and review images PNG; served as stored.
+      const bool shopPhoto = kind == "product" || kind == "product_4x5";
+      EXPECT_EQ(img.contentType, shopPhoto ? "image/jpeg" : "image/png") << kind;
+      EXPECT_EQ(img.contentType, im.value("media_type", "")) << kind;
     }
     EXPECT_EQ(d.get("/api/items/" + std::to_string(id) + "/pattern.json").status, 200);
     EXPECT_EQ(d.get("/api/items/" + std::to_string(id) + "/sizeguide.csv").status, 200);
