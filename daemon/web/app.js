@@ -351,7 +351,7 @@ async function showLastResult(id) {
   try {
     const it = await api('GET', '/api/items/' + id);
     $('#last').hidden = false;
-    $('#last-img').src = imageUrl(it, ['product', 'cutout']) || '';
+    $('#last-img').src = imageUrl(it, ['product_4x5', 'product', 'cutout']) || '';
     $('#last-type').textContent = itemTitle(it);
     $('#last-sku').textContent = (it.sku ? 'SKU ' + it.sku + ' · ' : 'No SKU · ') + (STATUS_NAMES[it.status] || it.status) +
       (it.base_size ? ' · fits size ' + it.base_size : '');
