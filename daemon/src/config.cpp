@@ -153,6 +153,7 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
         {"request_timeout_s", intKey(&Config::requestTimeoutS, 1, 3600)},
         {"header_timeout_s", intKey(&Config::headerTimeoutS, 1, 600)},
         {"max_connections", intKey(&Config::maxConnections, 1, 10000)},
+        {"max_connections_per_client", intKey(&Config::maxConnectionsPerClient, 1, 10000)},
         {"server_names",
          [](const toml::value& v, Config& c, const std::string& key) {
            if (!v.is_array())

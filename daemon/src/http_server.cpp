@@ -97,23 +97,47 @@ class Listener : public std::enable_shared_from_this<Listener> {
   void onAccept(beast::error_code ec, tcp::socket socket) {
     if (ec == asio::error::operation_aborted || !acceptor_.is_open())
       return;
-    if (!ec) {
-      // Full: the new client takes the slot of the one that has waited longest for its own
-      // request's header; only when every slot is busy serving is the answer 503.
-      if (shared_->sessions.load() >= shared_->config.maxConnections &&
-          !shared_->waiting.evictOldest()) {
-        // Over the limit: a short answer instead of silently queueing the client.
-        static const char kBusy[] =
-            "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\n"
-            "Content-Length: 33\r\nConnection: close\r\n\r\n{\"error\": \"too many connections\"}";
-        beast::error_code wec;
-        asio::write(socket, asio::buffer(kBusy, sizeof(kBusy) - 1), wec);
-        socket.close(wec);
-      } else {
-        serveConnection(beast::tcp_stream(std::move(socket)), shared_);
-      }
-    }
+    if (!ec)
+      admit(std::move(socket));
     doAccept();
+  }
+
+  // A client over its own limit gives up the slot of its connection that has waited longest
+  // for a request header, or is refused; then, with every slot of the server taken, the new
+  // client takes the slot of whichever connection has waited longest; only when every slot is
+  // busy serving is the answer 503.
+  void admit(tcp::socket socket) {
+    beast::error_code aec;
+    const auto peer = socket.remote_endpoint(aec);
+    if (aec)
+      return;  // gone already
+    const std::string address = peer.address().to_string();
+    const int perClient = shared_->config.maxConnectionsPerClient;
+    auto slot = shared_->clients.acquire(address, perClient);
+    if (!slot && shared_->waiting.evictOldest(address))
+      slot = shared_->clients.acquire(address, perClient, /*force=*/true);
+    if (!slot) {
+      refuse(socket, "too many connections from this client");
+      return;
+    }
+    if (shared_->sessions.load() >= shared_->config.maxConnections &&
+        !shared_->waiting.evictOldest()) {
+      refuse(socket, "too many connections");
+      return;
+    }
+    serveConnection(beast::tcp_stream(std::move(socket)), shared_, std::move(slot));
+  }
+
+  // A short answer instead of silently queueing the client.
+  static void refuse(tcp::socket& socket, const std::string& why) {
+    const std::string body = "{\"error\": \"" + why + "\"}";
+    const std::string answer =
+        "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\nRetry-After: "
+        "1\r\nContent-Length: " +
+        std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
+    beast::error_code wec;
+    asio::write(socket, asio::buffer(answer), wec);
+    socket.close(wec);
   }
 
   asio::io_context& io_;

@@ -274,3 +274,51 @@ TEST(HttpSession, EventStreamStartsWithTheStatus) {
 
 }  // namespace
 }  // namespace garmcap::daemon
+
+namespace garmcap::daemon {
+namespace {
+
+struct Victim : Evictable {
+  int evicted = 0;
+  void evict() override { ++evicted; }
+};
+
+TEST(ClientConnections, EachAddressHoldsAtMostItsLimitAndGetsItsSlotsBack) {
+  ClientConnections clients;
+  std::vector<ClientConnections::Slot> a;
+  for (int i = 0; i < 3; ++i) {
+    auto s = clients.acquire("10.0.0.2", 3);
+    ASSERT_TRUE(s);
+    a.push_back(std::move(*s));
+  }
+  EXPECT_FALSE(clients.acquire("10.0.0.2", 3));
+  EXPECT_TRUE(clients.acquire("10.0.0.3", 3)) << "another address is not limited by the first";
+  EXPECT_EQ(clients.count("10.0.0.2"), 3);
+  EXPECT_TRUE(clients.acquire("10.0.0.2", 3, /*force=*/true));  // released again at once
+  a.pop_back();
+  EXPECT_EQ(clients.count("10.0.0.2"), 2);
+  EXPECT_TRUE(clients.acquire("10.0.0.2", 3));
+  a.clear();
+  EXPECT_EQ(clients.count("10.0.0.2"), 0);
+}
+
+TEST(WaitingSessions, EvictsTheOldestOfOneClientOrOfAll) {
+  WaitingSessions waiting;
+  auto first = std::make_shared<Victim>(), second = std::make_shared<Victim>(),
+       third = std::make_shared<Victim>();
+  waiting.add(first, "10.0.0.2");
+  waiting.add(second, "10.0.0.3");
+  waiting.add(third, "10.0.0.3");
+  EXPECT_TRUE(waiting.evictOldest(std::string("10.0.0.3")));
+  EXPECT_EQ(first->evicted, 0);
+  EXPECT_EQ(second->evicted, 1);
+  EXPECT_FALSE(waiting.evictOldest(std::string("10.0.0.9")));
+  EXPECT_TRUE(waiting.evictOldest());
+  EXPECT_EQ(first->evicted, 1);
+  EXPECT_EQ(third->evicted, 0);
+  third.reset();  // a session that is gone is skipped, not evicted
+  EXPECT_FALSE(waiting.evictOldest());
+}
+
+}  // namespace
+}  // namespace garmcap::daemon

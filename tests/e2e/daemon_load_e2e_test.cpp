@@ -13,8 +13,19 @@
 namespace garmcap::e2e {
 namespace {
 
-int connectTo(int port) {
+// `from`: the client's own address (any of 127.0.0.0/8 is this machine's loopback), so that one
+// test can be several clients.
+int connectTo(int port, const char* from = nullptr) {
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  if (from) {
+    sockaddr_in src{};
+    src.sin_family = AF_INET;
+    inet_pton(AF_INET, from, &src.sin_addr);
+    if (bind(fd, reinterpret_cast<sockaddr*>(&src), sizeof src) != 0) {
+      close(fd);
+      return -1;
+    }
+  }
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_port = htons(static_cast<std::uint16_t>(port));
@@ -78,6 +89,56 @@ TEST(DaemonLoad, ThreeHundredSlowClientsDoNotStarveANormalOne) {
   std::printf("normal client beside 300 slow ones: median %.1f ms, max %.1f ms, %d reconnects\n",
               ms[ms.size() / 2], ms.back(), reconnects.load());
   EXPECT_LT(ms.back(), 1000.0);
+  EXPECT_EQ(d.terminate(), 0);
+}
+
+// One address holding connections that are all busy being served (event streams: nothing to
+// evict) takes at most max_connections_per_client slots; other clients still get in. Without the
+// per-client limit the 60 streams fill all 40 slots and the normal client gets 503.
+TEST(DaemonLoad, OneClientsOpenStreamsCannotTakeEverySlot) {
+  TempDir dir;
+  const auto conf = dir.path() / "garmcapd.toml";
+  std::ofstream(conf) << "[http]\nmax_connections = 40\nmax_connections_per_client = 12\n";
+  Daemon d(dir.path() / "data", {"--config", conf.string()});
+  std::vector<int> streams;
+  int refused = 0, open = 0;
+  for (int i = 0; i < 60; ++i) {
+    const int fd = connectTo(d.port(), "127.0.0.2");
+    ASSERT_GE(fd, 0) << "cannot connect from 127.0.0.2";
+    sendAll(fd, "GET /api/events HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
+    timeval tv{2, 0};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    char buf[512];
+    const ssize_t n = recv(fd, buf, sizeof buf - 1, 0);
+    const std::string head = n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "";
+    if (head.rfind("HTTP/1.1 200", 0) == 0) {
+      ++open;
+    } else {
+      EXPECT_NE(head.find("503"), std::string::npos) << head;
+      EXPECT_NE(head.find("too many connections from this client"), std::string::npos) << head;
+      ++refused;
+    }
+    streams.push_back(fd);
+  }
+  EXPECT_EQ(open, 12);
+  EXPECT_EQ(refused, 48);
+  for (int i = 0; i < 10; ++i) {
+    auto r = d.get("/api/status");
+    EXPECT_EQ(r.status, 200) << "request " << i << ": " << r.body;
+  }
+  for (int fd : streams)
+    close(fd);
+  // Closed streams give their slots back: the same address is served again.
+  std::this_thread::sleep_for(300ms);
+  const int fd = connectTo(d.port(), "127.0.0.2");
+  ASSERT_GE(fd, 0);
+  sendAll(fd, "GET /api/status HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+  timeval tv{2, 0};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  char buf[64];
+  const ssize_t n = recv(fd, buf, sizeof buf - 1, 0);
+  close(fd);
+  EXPECT_EQ(std::string(buf, n > 12 ? 12 : 0), "HTTP/1.1 200");
   EXPECT_EQ(d.terminate(), 0);
 }
 

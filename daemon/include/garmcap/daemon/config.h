@@ -61,6 +61,9 @@ struct Config {
   int requestTimeoutS = 30;  // a request's body; a response gets this plus 1 s per 32 KiB
   int headerTimeoutS = 10;   // a request's header, counted from the connection or last answer
   int maxConnections = 256;
+  // Of those, what one client address may hold: a tablet's browser opens about six, plus the
+  // event stream and the preview; a hub pusher one.
+  int maxConnectionsPerClient = 32;
   // Host names the station answers to besides IP literals and "localhost" (a tablet's
   // "station.local"); requests for any other name are refused (DNS rebinding). garmcapd adds the
   // machine's own host name and <hostname>.local at start-up.

@@ -26,6 +26,7 @@
 #include <optional>
 #include <string>
 
+#include "garmcap/daemon/client_connections.h"
 #include "garmcap/daemon/config.h"
 #include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
@@ -47,24 +48,29 @@ class Evictable {
 class WaitingSessions {
  public:
   using Handle = std::uint64_t;  // removing a handle twice, or after an eviction, is harmless
-  Handle add(std::weak_ptr<Evictable> s) {
+  Handle add(std::weak_ptr<Evictable> s, std::string client = {}) {
     std::lock_guard lock(mutex_);
     const Handle h = next_++;
-    waiting_.emplace(h, std::move(s));
+    waiting_.emplace(h, Entry{std::move(s), std::move(client)});
     return h;
   }
   void remove(Handle h) {
     std::lock_guard lock(mutex_);
     waiting_.erase(h);
   }
-  /// Evicts the oldest waiting session still alive; false when none waits.
-  bool evictOldest() {
+  /// Evicts the oldest waiting session still alive (of `client` only, when given); false when
+  /// none waits.
+  bool evictOldest(const std::optional<std::string>& client = std::nullopt) {
     std::shared_ptr<Evictable> victim;
     {
       std::lock_guard lock(mutex_);
-      while (!waiting_.empty() && !victim) {
-        victim = waiting_.begin()->second.lock();
-        waiting_.erase(waiting_.begin());
+      for (auto it = waiting_.begin(); it != waiting_.end() && !victim;) {
+        if (client && it->second.client != *client) {
+          ++it;
+          continue;
+        }
+        victim = it->second.session.lock();
+        it = waiting_.erase(it);
       }
     }
     if (!victim)
@@ -76,7 +82,11 @@ class WaitingSessions {
  private:
   std::mutex mutex_;
   Handle next_ = 0;
-  std::map<Handle, std::weak_ptr<Evictable>> waiting_;  // oldest first
+  struct Entry {
+    std::weak_ptr<Evictable> session;
+    std::string client;  // the peer's address ("" where there is none: test streams)
+  };
+  std::map<Handle, Entry> waiting_;  // oldest first
 };
 
 /// What every session of one server shares. The router and files outlive the server.
@@ -86,6 +96,7 @@ struct ServerShared {
   const StaticFiles& files;
   std::atomic<int> sessions{0};
   WaitingSessions waiting{};
+  ClientConnections clients{};
   LoginSessions logins{};
 };
 
@@ -114,8 +125,9 @@ class SessionSinkBase : public StreamSink {
 template <class Stream>
 class Session : public Evictable, public std::enable_shared_from_this<Session<Stream>> {
  public:
-  Session(Stream&& stream, std::shared_ptr<ServerShared> shared)
-      : stream_(std::move(stream)), shared_(std::move(shared)) {
+  Session(Stream&& stream, std::shared_ptr<ServerShared> shared,
+          std::optional<ClientConnections::Slot> client = std::nullopt)
+      : stream_(std::move(stream)), shared_(std::move(shared)), client_(std::move(client)) {
     ++shared_->sessions;
   }
   ~Session() override {
@@ -207,7 +219,8 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
     parser_->header_limit(16 * 1024);
     expiresAfter(std::chrono::seconds(shared_->config.headerTimeoutS));
     if (!waitingHandle_)
-      waitingHandle_ = shared_->waiting.add(this->weak_from_this());
+      waitingHandle_ = shared_->waiting.add(this->weak_from_this(),
+                                            client_ ? client_->address() : std::string());
     http::async_read_header(
         stream_, buffer_, *parser_,
         beast::bind_front_handler(&Session::onHeader, this->shared_from_this()));
@@ -465,6 +478,7 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   bool streamClosed_ = false;
   std::shared_ptr<Sink> sink_;
   std::optional<WaitingSessions::Handle> waitingHandle_;
+  std::optional<ClientConnections::Slot> client_;  // counts this connection against its peer
 };
 
 }  // namespace detail
@@ -472,8 +486,10 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
 /// Serves one connection on `stream` until the peer leaves. The session keeps itself alive
 /// through its pending operations; `shared` counts it.
 template <class Stream>
-void serveConnection(Stream stream, std::shared_ptr<ServerShared> shared) {
-  std::make_shared<detail::Session<Stream>>(std::move(stream), std::move(shared))->run();
+void serveConnection(Stream stream, std::shared_ptr<ServerShared> shared,
+                     std::optional<ClientConnections::Slot> client = std::nullopt) {
+  std::make_shared<detail::Session<Stream>>(std::move(stream), std::move(shared), std::move(client))
+      ->run();
 }
 
 }  // namespace garmcap::daemon
