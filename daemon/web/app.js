@@ -208,6 +208,10 @@ function showBanner(title, detail, kind = 'bad', action = null) {
 }
 function hideBanner() { $('#banner').hidden = true; }
 
+// Buttons that change the catalog or the station (off while the station is read-only).
+const WRITE_CONTROLS = ['last-approve', 'bulk-approve', 'f-save', 'f-approve', 'f-reject',
+  'btn-rerun', 'btn-delete', 's-save'];
+
 function applyStatus(s) {
   ui.status = Object.assign(ui.status || {}, s);
   const st = ui.status;
@@ -216,11 +220,19 @@ function applyStatus(s) {
   $('#state-text').textContent = STATE_NAMES[state] || state;
   const cam = st.camera || {};
   const busy = state === 'capturing' || state === 'processing';
-  $('#btn-capture').disabled = !st.calibrated || cam.open === false || state === 'error' || state === 'stopping';
-  $('#btn-empty').disabled = cam.open === false || state === 'stopping';
+  // Started on a full disk, the station serves what it has and refuses every write (507):
+  // say so once, and turn off every control that would only fail.
+  const readOnly = st.read_only === true;
+  document.body.classList.toggle('read-only', readOnly);
+  for (const id of WRITE_CONTROLS) { const el = $('#' + id); if (el) el.disabled = readOnly; }
+  $('#btn-capture').disabled = readOnly || !st.calibrated || cam.open === false || state === 'error' || state === 'stopping';
+  $('#btn-empty').disabled = readOnly || cam.open === false || state === 'stopping';
   $('#btn-capture').textContent = busy ? 'Capturing…' : 'Capture garment';
   $('#btn-capture').classList.toggle('busy', busy);
-  if (cam.open === false) {
+  if (readOnly) {
+    showBanner('Read-only: the disk is full.', st.last_error ||
+      'Free space in the station\'s data folder, then restart the station.');
+  } else if (cam.open === false) {
     showBanner('Camera not found.', (cam.error ? cam.error + ' — ' : '') +
       'Check the camera cable and power, then wait: the station retries by itself.');
   } else if (!st.calibrated) {

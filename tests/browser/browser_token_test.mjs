@@ -4,9 +4,11 @@
 // then the event stream, the live MJPEG preview and the item's photo (none of which can send an
 // Authorization header) must all load.
 //   node browser_token_test.mjs GARMCAPD WEB_DIR CASE_DIR
+// Then the same catalog on a full disk (a small tmpfs, where one can be mounted): the station
+// starts read-only, and the UI says so, turns off every write, and still shows the item.
 // Prints one line per step and "N passed, N failed"; exits 1 on the first failure.
-import { spawn } from 'node:child_process';
-import { copyFileSync, existsSync, mkdtempSync, rmSync, mkdirSync, writeFileSync } from 'node:fs';
+import { spawn, spawnSync } from 'node:child_process';
+import { closeSync, copyFileSync, cpSync, existsSync, mkdtempSync, openSync, rmSync, mkdirSync, writeFileSync, writeSync } from 'node:fs';
 import { createServer } from 'node:net';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -48,6 +50,38 @@ const port = await freePort();
 const base = `http://127.0.0.1:${port}`;
 let daemon = null, context = null, daemonLog = '';
 
+async function startDaemon(dataDir) {
+  daemon = spawn(garmcapd, ['--simulated', '--data', dataDir, '--listen', `127.0.0.1:${port}`,
+    '--web-dir', webDir, '--token', TOKEN, '--camera', 'replay', '--device', join(work, 'rig')],
+  { stdio: ['ignore', 'pipe', 'pipe'] });
+  daemon.stdout.on('data', (d) => { daemonLog += d; });
+  daemon.stderr.on('data', (d) => { daemonLog += d; });
+  await waitFor(async () => (await fetch(base + '/')).ok, 30000, 'garmcapd to answer');
+}
+
+async function stopDaemon() {
+  const exited = new Promise((r) => daemon.once('exit', r));
+  daemon.kill('SIGTERM');
+  await exited;
+}
+
+// The catalog copied onto a tmpfs that is then filled to the last byte; false where no tmpfs can
+// be mounted (not root).
+let tmpfsAt = null;
+function fullDiskCopyOf(dataDir) {
+  const at = join(work, 'small-disk');
+  mkdirSync(at);
+  if (spawnSync('mount', ['-t', 'tmpfs', '-o', 'size=48m', 'tmpfs', at]).status !== 0) return null;
+  tmpfsAt = at;
+  cpSync(dataDir, join(at, 'data'), { recursive: true });
+  const fd = openSync(join(at, 'filler.bin'), 'w');
+  const mb = Buffer.alloc(1 << 20, 7);
+  try { for (;;) writeSync(fd, mb); } catch (e) { if (e.code !== 'ENOSPC') throw e; }
+  try { for (;;) writeSync(fd, mb.subarray(0, 512)); } catch (e) { if (e.code !== 'ENOSPC') throw e; }
+  closeSync(fd);
+  return join(at, 'data');
+}
+
 async function main() {
   mkdirSync(join(work, 'rig', 'c1'), { recursive: true });
   for (const f of ['empty.png', 'empty.jpg', 'dressed.png', 'dressed.jpg', 'truth.json']) {
@@ -57,12 +91,7 @@ async function main() {
     format: 'garmcap-rig', version: 1,
     cases: [{ id: 'c1', dir: 'c1', type: 'skirt', attributes: {}, hard: false }],
   }));
-  daemon = spawn(garmcapd, ['--simulated', '--data', join(work, 'data'), '--listen', `127.0.0.1:${port}`,
-    '--web-dir', webDir, '--token', TOKEN, '--camera', 'replay', '--device', join(work, 'rig')],
-  { stdio: ['ignore', 'pipe', 'pipe'] });
-  daemon.stdout.on('data', (d) => { daemonLog += d; });
-  daemon.stderr.on('data', (d) => { daemonLog += d; });
-  await waitFor(async () => (await fetch(base + '/')).ok, 30000, 'garmcapd to answer');
+  await startDaemon(join(work, 'data'));
   if ((await fetch(base + '/api/status')).status !== 401) throw new Error('the API must need the token');
   if ((await fetch(base + '/stream.mjpg')).status !== 401) throw new Error('the preview must need the token');
   step('garmcapd --token answers; the API and the preview refuse a request without it');
@@ -125,6 +154,36 @@ async function main() {
   if (out !== 200 || after !== 401) throw new Error(`log-out: DELETE ${out}, then /api/items ${after}`);
   step('DELETE /api/session logs out: the API answers 401 again');
   if (pageErrors.length) throw new Error('page errors: ' + pageErrors.join('; '));
+
+  await stopDaemon();
+  const fullData = fullDiskCopyOf(join(work, 'data'));
+  if (!fullData) {
+    console.log('skip the read-only station: no tmpfs can be mounted here (needs root)');
+    return;
+  }
+  await startDaemon(fullData);
+  const st = await (await fetch(base + '/api/status', { headers: { Authorization: 'Bearer ' + TOKEN } })).json();
+  if (st.read_only !== true) throw new Error('expected a read-only start on the full disk: ' + JSON.stringify(st));
+  const items = await (await fetch(base + '/api/items', { headers: { Authorization: 'Bearer ' + TOKEN } })).json();
+  const id = (items.items || items)[0].id;
+  await page.goto(base + '/#/capture');
+  await page.reload();  // a new daemon: log in again
+  await waitFor(async () => /Read-only/.test(await page.textContent('#banner-title') || ''), 30000,
+    'the read-only banner');
+  const detail = await page.textContent('#banner-detail');
+  if (!/disk is full/.test(detail)) throw new Error('the banner should say why: ' + detail);
+  for (const b of ['#btn-capture', '#btn-empty'])
+    if (!(await page.isDisabled(b))) throw new Error(b + ' should be off on a read-only station');
+  step('full disk: the UI says "Read-only: the disk is full." and both capture buttons are off');
+  await page.goto(base + '/#/item/' + id);
+  await waitFor(async () => page.evaluate(() => {
+    const img = document.querySelector('#photos img');
+    return img && img.complete && img.naturalWidth > 0;
+  }), 20000, "the item's photo on the read-only station");
+  for (const b of ['#f-save', '#btn-delete', '#btn-rerun'])
+    if (!(await page.isDisabled(b))) throw new Error(b + ' should be off on a read-only station');
+  step("read-only: the item and its photo are shown; save, delete and re-run are off");
+  if (pageErrors.length) throw new Error('page errors: ' + pageErrors.join('; '));
 }
 
 let code = 0;
@@ -139,6 +198,7 @@ try {
   if (daemon && daemon.exitCode === null) daemon.kill('SIGTERM');
   await new Promise((r) => setTimeout(r, 500));
   if (daemon && daemon.exitCode === null) daemon.kill('SIGKILL');
+  if (tmpfsAt) spawnSync('umount', ['-l', tmpfsAt]);
   rmSync(work, { recursive: true, force: true });
 }
 console.log(`${passed} passed, ${code ? 1 : 0} failed`);
