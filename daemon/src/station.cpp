@@ -641,6 +641,7 @@ void Station::startNext() {
   cc.stillWidth = config_.stillWidth;
   cc.stillHeight = config_.stillHeight;
   cc.timeout = std::chrono::milliseconds(config_.captureTimeoutMs);
+  stillInFlight_ = true;
   asio::post(cameraThread_, [this, req, shot, cc] {
     try {
       // After a disconnect the camera is closed: opening it again is the reconnect (and throws
@@ -655,6 +656,7 @@ void Station::startNext() {
       const std::string png = encodePng(frame.bgr);
       const std::string sha = store_->put(png);
       postToStrand([this, req, bgr = frame.bgr, sha, n = static_cast<std::int64_t>(png.size())] {
+        stillInFlight_ = false;
         cameraOpen_ = true;
         cameraError_.clear();
         onFrameStored(req, bgr, sha, n);
@@ -665,6 +667,7 @@ void Station::startNext() {
       if (gone)
         camera_->close();
       postToStrand([this, req, gone, msg = std::string("camera: ") + e.what()] {
+        stillInFlight_ = false;
         if (gone)
           cameraOpen_ = false;
         cameraError_ = msg;
@@ -672,6 +675,7 @@ void Station::startNext() {
       });
     } catch (const std::exception& e) {
       postToStrand([this, req, msg = std::string("capture failed: ") + e.what()] {
+        stillInFlight_ = false;
         failJob(req, msg, false);
       });
     }
@@ -953,8 +957,9 @@ void Station::previewTick() {
     }
     return;
   }
-  // The camera thread is shared with stills: while a capture runs, the preview simply pauses.
-  if (!previewInFlight_ && !running_ && cameraOpen_ && camera_) {
+  // The camera thread is shared with stills: while one is taken the preview pauses; while the
+  // pipeline works on it the preview goes on (staff dress the form for the next garment).
+  if (!previewInFlight_ && !stillInFlight_ && cameraOpen_ && camera_) {
     previewInFlight_ = true;
     previewRunning_ = true;
     asio::post(cameraThread_, [this] {

@@ -164,6 +164,7 @@ TEST(DaemonE2E, FiftyConcurrentClientsWhileACaptureRuns) {
   std::atomic<int> failures{0};
   for (int c = 0; c < 50; ++c)
     clients.emplace_back([&, c] {
+      clientAddress = "127.0.1." + std::to_string(c + 1);  // 50 tablets, one address each
       for (int i = 0; i < 6; ++i) {
         const auto t0 = std::chrono::steady_clock::now();
         auto r = i % 2 ? d.get("/api/items?limit=10") : d.get("/api/status");

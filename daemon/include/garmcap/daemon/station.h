@@ -230,6 +230,7 @@ class Station : public RouteContext {
   std::vector<std::weak_ptr<StreamSink>> eventSinks_;
   std::vector<std::weak_ptr<StreamSink>> previewSinks_;
   bool previewInFlight_ = false;
+  bool stillInFlight_ = false;  // the camera thread is taking (and storing) a still
   bool previewRunning_ = false;
   bool stopping_ = false;
   std::function<void()> shutdownDone_;
