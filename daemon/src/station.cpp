@@ -16,6 +16,10 @@ namespace garmcap::daemon {
 namespace asio = boost::asio;
 using Clock = std::chrono::steady_clock;
 
+static long long msBetween(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(b - a).count();
+}
+
 const char* toString(StationState s) {
   switch (s) {
     case StationState::kUncalibrated:
@@ -624,7 +628,10 @@ void Station::startNext() {
         if (!bytes)
           throw std::runtime_error("the stored dressed frame " + sha + " is missing");
         cv::Mat frame = decodeImage(*bytes, "dressed frame");
-        postToStrand([this, req, frame, sha] { runDressed(req, frame, sha); });
+        std::promise<StoredFrame> stored;  // a re-run's frame is stored and recorded already
+        stored.set_value({sha, 0, false});
+        postToStrand(
+            [this, req, frame, f = stored.get_future().share()] { runDressed(req, frame, f); });
       } catch (const std::exception& e) {
         postToStrand([this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
       }
@@ -652,9 +659,37 @@ void Station::startNext() {
       }
       capture::StillRequest sr;
       sr.shot = shot;
+      const auto t0 = Clock::now();
       capture::Frame frame = camera_->captureStill(sr);
+      const auto t1 = Clock::now();
+      if (shot == capture::Shot::kDressed) {
+        // The pipeline starts on the frame in memory while this thread encodes and stores it
+        // (PNG is single-threaded: a second or more at 12 MP); the item waits for the stored
+        // frame before it is filed, so the blob is still durable before any row names it.
+        auto stored = std::make_shared<std::promise<StoredFrame>>();
+        std::shared_future<StoredFrame> frameStored = stored->get_future().share();
+        postToStrand([this, req, bgr = frame.bgr, frameStored] {
+          cameraOpen_ = true;
+          cameraError_.clear();
+          runDressed(req, bgr, frameStored);
+        });
+        try {
+          const std::string png = encodePng(frame.bgr);
+          const auto t2 = Clock::now();
+          stored->set_value({store_->put(png), static_cast<std::int64_t>(png.size()), true});
+          spdlog::info("station: job {}: still {} ms, PNG {} ms, stored {} ms", req.jobId,
+                       msBetween(t0, t1), msBetween(t1, t2), msBetween(t2, Clock::now()));
+        } catch (...) {
+          stored->set_exception(std::current_exception());
+        }
+        postToStrand([this] { stillInFlight_ = false; });
+        return;
+      }
       const std::string png = encodePng(frame.bgr);
+      const auto t2 = Clock::now();
       const std::string sha = store_->put(png);
+      spdlog::info("station: job {}: still {} ms, PNG {} ms, stored {} ms", req.jobId,
+                   msBetween(t0, t1), msBetween(t1, t2), msBetween(t2, Clock::now()));
       postToStrand([this, req, bgr = frame.bgr, sha, n = static_cast<std::int64_t>(png.size())] {
         stillInFlight_ = false;
         cameraOpen_ = true;
@@ -688,10 +723,7 @@ void Station::onFrameStored(Pending req, cv::Mat frame, std::string sha, std::in
   } catch (const std::exception& e) {
     return failJob(req, std::string("cannot record the frame: ") + e.what(), false);
   }
-  if (req.kind == JobKind::kEmpty)
-    runEmpty(std::move(req), std::move(frame), std::move(sha));
-  else
-    runDressed(std::move(req), std::move(frame), std::move(sha));
+  runEmpty(std::move(req), std::move(frame), std::move(sha));
 }
 
 void Station::runEmpty(Pending req, cv::Mat frame, std::string sha) {
@@ -725,28 +757,48 @@ void Station::onCalibrated(Pending req, std::string emptySha, nlohmann::json cal
   finishJob();
 }
 
-void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
+// The calibration's bare-form frame, decoded once per calibration (a 12 MP PNG takes a few
+// hundred milliseconds to read and decode, on every capture before). Called on the worker pool.
+cv::Mat Station::bareFrame(const Calibration& cal) {
+  {
+    std::lock_guard lock(bareFrameMutex_);
+    if (bareFrameSha_ == cal.emptySha256 && !bareFrame_.empty())
+      return bareFrame_;
+  }
+  auto bytes = store_->read(cal.emptySha256);
+  if (!bytes)
+    throw std::runtime_error("the bare-form frame of calibration " + std::to_string(cal.id) +
+                             " is missing");
+  cv::Mat empty = decodeImage(*bytes, "bare-form frame");
+  std::lock_guard lock(bareFrameMutex_);
+  bareFrameSha_ = cal.emptySha256;
+  bareFrame_ = empty;  // shared, never written: the pipeline reads its frames
+  return empty;
+}
+
+void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<StoredFrame> stored) {
   auto cal = catalog_->latestCalibration();
   if (!cal)
     return failJob(req, "the station is not calibrated: capture the bare form first", false);
-  catalog_->setJobFrames(req.jobId, cal->emptySha256, dressedSha);
   setState(StationState::kProcessing);
   setStage("garmcap", 0.2, true);
   const double threshold = config_.reviewBelowConfidence;
-  asio::post(*pool_, [this, req, dressed, dressedSha, cal = *cal, threshold] {
+  asio::post(*pool_, [this, req, dressed, stored, cal = *cal, threshold] {
     try {
-      auto bytes = store_->read(cal.emptySha256);
-      if (!bytes)
-        throw std::runtime_error("the bare-form frame of calibration " + std::to_string(cal.id) +
-                                 " is missing");
-      cv::Mat empty = decodeImage(*bytes, "bare-form frame");
-      std::string sku = req.sku;
-      if (sku.empty())
-        sku = decodeHangTagSku(dressed);
+      const auto t0 = Clock::now();
+      // The hang tag is read beside the pipeline (zbar is single-threaded: about a second on a
+      // 12 MP frame).
+      std::future<std::string> tag;
+      if (req.sku.empty())
+        tag = std::async(std::launch::async, [dressed] { return decodeHangTagSku(dressed); });
+      cv::Mat empty = bareFrame(cal);
+      const auto t1 = Clock::now();
       auto progress = [this](const std::string& stage, double p) {
         postToStrand([this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
       };
       ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress);
+      const auto t2 = Clock::now();
+      const std::string sku = tag.valid() ? tag.get() : req.sku;
       // Encoding and fsyncing the product images takes a noticeable moment at full resolution.
       postToStrand([this] { setStage("store", 0.92, false); });
       auto item = std::make_shared<NewItem>();
@@ -766,19 +818,50 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
       item->jobId = req.jobId;
       item->needsReview = r.confidence < threshold || !r.warnings.empty();
       // Blobs are durable before the transaction that names them (content_store.h).
-      item->images.push_back({"dressed", dressedSha, "image/png", 0});
-      item->images.push_back({"empty", cal.emptySha256, "image/png", 0});
       for (const auto& [kind, image] : r.images) {
         const bool jpeg = storedAsJpeg(kind);
         const std::string bytes = jpeg ? encodeJpeg(image) : encodePng(image);
         item->images.push_back({kind, store_->put(bytes), jpeg ? "image/jpeg" : "image/png",
                                 static_cast<std::int64_t>(bytes.size())});
       }
-      postToStrand([this, req, item] { onProcessed(req, item); });
+      const StoredFrame frame = stored.get();  // throws what storing the still threw
+      item->images.push_back({"dressed", frame.sha256, "image/png", 0});
+      item->images.push_back({"empty", cal.emptySha256, "image/png", 0});
+      spdlog::info(
+          "station: job {}: bare frame {} ms, pipeline {} ms, then hang tag, still and "
+          "photos stored {} ms",
+          req.jobId, msBetween(t0, t1), msBetween(t1, t2), msBetween(t2, Clock::now()));
+      postToStrand([this, req, item, frame, emptySha = cal.emptySha256] {
+        if (recordFrame(req, emptySha, frame))
+          onProcessed(req, item);
+      });
     } catch (const std::exception& e) {
-      postToStrand([this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+      // A failed job keeps its frames, as before (what staff or a developer look at).
+      std::optional<StoredFrame> frame;
+      try {
+        frame = stored.get();
+      } catch (const std::exception& se) {
+        spdlog::error("station: job {}: the still was not stored either: {}", req.jobId, se.what());
+      }
+      postToStrand([this, req, frame, emptySha = cal.emptySha256, msg = std::string(e.what())] {
+        if (!frame || recordFrame(req, emptySha, *frame))
+          failJob(req, msg, false);
+      });
     }
   });
+}
+
+bool Station::recordFrame(const Pending& req, const std::string& emptySha,
+                          const StoredFrame& frame) {
+  try {
+    if (frame.toRecord)
+      catalog_->addImage(frame.sha256, "image/png", frame.bytes);
+    catalog_->setJobFrames(req.jobId, emptySha, frame.sha256);
+    return true;
+  } catch (const std::exception& e) {
+    failJob(req, std::string("cannot record the frame: ") + e.what(), false);
+    return false;
+  }
 }
 
 void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {

@@ -6,7 +6,11 @@
 // clients. The two phases run in one process, so their ratio is what to read, not the
 // absolute times (a loaded machine moves both).
 //
-//   daemon_load_bench [--clients 50] [--captures 5] [--seconds-idle 8]
+//   daemon_load_bench [--clients 50] [--captures 5] [--seconds-idle 8] [--case CASE_DIR]
+// --case: the rig case whose frames the station replays (default: the bundled rig's case_002,
+// 864x1152; a 12 MP one: `garmcap rig make --count 1 --seed 7 --width 3000 --height 4000`).
+// The first capture after the bare form is timed on its own: it includes what the station
+// prepares per calibration.
 //   GARMCAP_GARMCAPD=/path/to/other/garmcapd daemon_load_bench ...   (another build)
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -173,6 +177,7 @@ void print(const char* name, const Phase& p) {
 int main(int argc, char** argv) {
   int clients = 50, captures = 5;
   double idleSeconds = 8;
+  std::string caseDir;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--clients")
@@ -181,19 +186,24 @@ int main(int argc, char** argv) {
       captures = std::stoi(argv[i + 1]);
     else if (a == "--seconds-idle")
       idleSeconds = std::stod(argv[i + 1]);
+    else if (a == "--case")
+      caseDir = argv[i + 1];
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
     }
   }
   TempDir dir;
-  Daemon d(dir.path() / "data", {}, makeSimulatedRig(dir.path()));
+  Daemon d(dir.path() / "data", {},
+           caseDir.empty() ? makeSimulatedRig(dir.path()) : makeSimulatedRig(dir.path(), caseDir));
   if (d.waitJob(d.post("/api/capture/empty").json()["job"].get<std::int64_t>())["state"] !=
       "done") {
     std::fprintf(stderr, "the bare-form capture failed\n");
     return 1;
   }
+  const auto f0 = Clock::now();
   const auto first = d.waitJob(d.post("/api/capture", R"({"sku": "LOAD-SEED"})").json()["job"]);
+  const double firstMs = msSince(f0);
   if (first["state"] != "done") {
     std::fprintf(stderr, "the first capture failed: %s\n", first.dump().c_str());
     return 1;
@@ -207,7 +217,7 @@ int main(int argc, char** argv) {
   std::printf("garmcapd %s, %d clients, %d captures, urls:", kBin.c_str(), clients, captures);
   for (const auto& u : urls)
     std::printf(" %s", u.c_str());
-  std::printf("\n");
+  std::printf("\nfirst capture after the bare form: %.0f ms (request to item)\n", firstMs);
   const Phase alone = runPhase(d, 0, captures, 0, urls);
   const Phase idle = runPhase(d, clients, 0, idleSeconds, urls);
   const Phase busy = runPhase(d, clients, captures, 0, urls);

@@ -125,9 +125,11 @@ inline std::filesystem::path makeRig(const std::filesystem::path& root) {
 
 // A one-case replay rig holding a case of the bundled simulator rig (a real form on a green
 // screen, with its dressed frame): the station calibrates on it and GarmCap measures it.
-inline std::filesystem::path makeSimulatedRig(const std::filesystem::path& root) {
+inline std::filesystem::path makeSimulatedRig(
+    const std::filesystem::path& root,
+    const std::filesystem::path& src = std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig" /
+                                       "case_002") {
   const auto rig = root / "simrig";
-  const auto src = std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig" / "case_002";
   std::filesystem::create_directories(rig / "c1");
   // The frames as the case holds them, PNG or JPEG (docs/formats.md).
   for (const char* f : {"empty.png", "empty.jpg", "dressed.png", "dressed.jpg", "truth.json"}) {

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <future>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -138,6 +139,7 @@ class Station : public RouteContext {
 #endif
 
  private:
+  cv::Mat bareFrame(const Calibration& cal);  // decoded once per calibration
   // The setup screen's saved shop settings over the config's [shop] (start-up).
   void loadShopSettings();
   struct Pending {
@@ -162,7 +164,14 @@ class Station : public RouteContext {
   void setStage(const std::string& stage, double progress, bool persist);
   void onFrameStored(Pending req, cv::Mat frame, std::string sha, std::int64_t bytes);
   void runEmpty(Pending req, cv::Mat frame, std::string sha);
-  void runDressed(Pending req, cv::Mat dressed, std::string dressedSha);
+  struct StoredFrame {
+    std::string sha256;
+    std::int64_t bytes = 0;
+    bool toRecord = true;  // its images row is still to be written (false: a re-run's frame)
+  };
+  void runDressed(Pending req, cv::Mat dressed, std::shared_future<StoredFrame> stored);
+  // On the strand: the still's images row and the job's frames; false (the job failed) if not.
+  bool recordFrame(const Pending& req, const std::string& emptySha, const StoredFrame& frame);
   void onCalibrated(Pending req, std::string emptySha, nlohmann::json calibration);
   void onProcessed(Pending req, std::shared_ptr<NewItem> item);
   void failJob(const Pending& req, const std::string& error, bool cameraFault);
@@ -230,7 +239,10 @@ class Station : public RouteContext {
   std::vector<std::weak_ptr<StreamSink>> eventSinks_;
   std::vector<std::weak_ptr<StreamSink>> previewSinks_;
   bool previewInFlight_ = false;
-  bool stillInFlight_ = false;  // the camera thread is taking (and storing) a still
+  bool stillInFlight_ = false;
+  std::mutex bareFrameMutex_;  // the worker pool may hold more than one thread
+  std::string bareFrameSha_;
+  cv::Mat bareFrame_;  // the camera thread is taking (and storing) a still
   bool previewRunning_ = false;
   bool stopping_ = false;
   std::function<void()> shutdownDone_;
