@@ -10,6 +10,7 @@
 #include "garmcap/capture/camera.h"
 #include "garmcap/capture/gpio.h"
 #include "garmcap/daemon/disk_full.h"
+#include "garmcap/daemon/tape.h"
 
 namespace garmcap::daemon {
 
@@ -780,6 +781,7 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
 void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {
   try {
     setStage("filing", 0.95, false);
+    applyTapeCorrections(*item);
     std::int64_t id = 0;
     if (req.kind == JobKind::kRerun) {
       // Keep the original frames on the item; the re-run belongs to the new job.
@@ -795,6 +797,27 @@ void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {
     return failJob(req, std::string("cannot file the item: ") + e.what(), false);
   }
   finishJob();
+}
+
+// The shop's tape corrections (daemon/tape.h) are fitted here, on the strand that owns the
+// catalog, from the rows as they are now: a capture (or re-run) filed after staff taped garments
+// is corrected, items filed before are not rewritten. The raw readings stay in result.json's
+// `corrections`. The pattern and size guide were drafted from the raw readings on the worker.
+void Station::applyTapeCorrections(NewItem& item) {
+  const pipeline::CorrectionTable table = tapeCorrections(*catalog_);
+  if (table.corrections.empty())
+    return;
+  const std::size_t warningsBefore = item.result.is_object() && item.result.contains("warnings")
+                                         ? item.result["warnings"].size()
+                                         : 0;
+  const auto applied =
+      pipeline::applyCorrections(table, item.type, item.measurementsCm, item.result);
+  if (item.result.is_object() && item.result.contains("warnings"))
+    for (std::size_t i = warningsBefore; i < item.result["warnings"].size(); ++i)
+      item.warnings.push_back(item.result["warnings"][i].get<std::string>());
+  if (!applied.empty())
+    spdlog::info("station: tape corrections applied to {} reading(s) of a {}", applied.size(),
+                 item.type);
 }
 
 void Station::failJob(const Pending& req, const std::string& error, bool cameraFault) {
