@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "daemon_harness.h"
 
@@ -106,6 +107,31 @@ TEST(TapeE2E, ThreeTapedGarmentsCorrectTheNextCapture) {
   const auto del = httpCall(d.port(), http::verb::delete_, "/api/tape/" + first);
   EXPECT_EQ(del.status, 200) << del.body;
   EXPECT_EQ(d.get("/api/tape").json()["tape"].size(), 3u);
+
+  // The command line takes the same body (here the measurements alone, with --item) and lists.
+  const auto run = [&](const std::string& args, const std::string& input) {
+    const std::string cmd = "echo '" + input +
+                            "' | GARMCAPD_URL=http://127.0.0.1:" + std::to_string(d.port()) + " " +
+                            GARMCAP_BIN_DIR + "/garmcapctl tape " + args + " 2>&1";
+    std::string out;
+    if (FILE* p = popen(cmd.c_str(), "r")) {
+      char buf[512];
+      while (std::fgets(buf, sizeof buf, p))
+        out += buf;
+      out += "exit " + std::to_string(pclose(p));
+    }
+    return out;
+  };
+  const double waist = item["measurements"]["waist_circ"];
+  const std::string posted =
+      run("--item " + next + " --json -", Json{{"waist_circ", waist + 1}}.dump());
+  EXPECT_NE(posted.find("\"waist_circ\""), std::string::npos) << posted;
+  EXPECT_NE(posted.find("exit 0"), std::string::npos) << posted;
+  const std::string listed = run("--list", "");
+  EXPECT_NE(listed.find("hem_circ"), std::string::npos) << listed;
+  EXPECT_NE(listed.find("(tape 2 more)"), std::string::npos) << listed;  // waist: 1 of 3
+  const std::string bad = run("--item " + next + " --json -", R"({"waist_circ": 0})");
+  EXPECT_NE(bad.find("HTTP 400"), std::string::npos) << bad;
   EXPECT_EQ(d.terminate(), 0);
 }
 
