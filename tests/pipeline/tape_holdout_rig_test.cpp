@@ -48,23 +48,32 @@ struct Err {
 struct SplitResult {
   std::map<std::string, Err> before, after;
   std::map<std::string, int> corrected;  // readings that got a correction
+  int scaled = 0;                        // of them, by scale and offset
   Err allBefore, allAfter;
 };
 
-// Fits on the cases whose position is `fitParity`, scores the others. Only cases typed right are
-// taped (staff tape a garment whose type they know) and scored (a wrong type measures another
-// garment; physical_rig_test counts those as missing).
-SplitResult holdout(const std::vector<CaseReading>& cases, std::size_t fitParity) {
+// Fits on the cases `fitOn` accepts, scores those `scoreOn` accepts, adding to `out`. Only cases
+// typed right are taped (staff tape a garment whose type they know) and scored (a wrong type
+// measures another garment; physical_rig_test counts those as missing).
+template <class FitOn, class ScoreOn>
+void holdoutFold(const std::vector<CaseReading>& cases, FitOn fitOn, ScoreOn scoreOn, bool verbose,
+                 SplitResult& out) {
   std::vector<pipeline::TapeRecord> tape;
   for (const auto& c : cases)
-    if (c.index % 2 == fitParity && c.type == c.truthType)
+    if (fitOn(c) && c.type == c.truthType)
       for (const auto& [name, measured] : c.raw)
         if (c.truth.count(name))
           tape.push_back({c.type, name, measured, c.truth.at(name)});
   const pipeline::CorrectionTable table = pipeline::fitCorrections(tape);
-  SplitResult out;
+  if (verbose)
+    for (const auto& row : pipeline::correctionTableJson(table))
+      if (row["kind"] != "none")
+        std::printf("  %s %s %d %s %+.2f %.3f %.2f\n", row["type"].get<std::string>().c_str(),
+                    row["measurement"].get<std::string>().c_str(), row["n"].get<int>(),
+                    row["kind"].get<std::string>().c_str(), row["offset_cm"].get<double>(),
+                    row["scale"].get<double>(), row["residual_cm"].get<double>());
   for (const auto& c : cases) {
-    if (c.index % 2 == fitParity || c.type != c.truthType)
+    if (!scoreOn(c) || c.type != c.truthType)
       continue;
     std::map<std::string, double> corrected = c.raw;
     nlohmann::json result = {{"measurements", c.raw}, {"warnings", nlohmann::json::array()}};
@@ -72,6 +81,7 @@ SplitResult holdout(const std::vector<CaseReading>& cases, std::size_t fitParity
     EXPECT_EQ(corrected.size(), c.raw.size()) << c.id << ": a correction added or lost a reading";
     for (const auto& name : applied) {
       ++out.corrected[name];
+      out.scaled += result["corrections"][name]["kind"] == "scale_offset";
       EXPECT_DOUBLE_EQ(result["corrections"][name]["raw_cm"].get<double>(), c.raw.at(name));
     }
     for (const auto& [name, truth] : c.truth) {
@@ -84,6 +94,26 @@ SplitResult holdout(const std::vector<CaseReading>& cases, std::size_t fitParity
       out.allAfter.add(corrected.at(name) - truth);
     }
   }
+}
+
+SplitResult holdout(const std::vector<CaseReading>& cases, std::size_t fitParity) {
+  std::printf("corrections fitted on the %s cases (type measurement n kind offset scale LOO):\n",
+              fitParity == 0 ? "even" : "odd");
+  SplitResult out;
+  holdoutFold(
+      cases, [&](const CaseReading& c) { return c.index % 2 == fitParity; },
+      [&](const CaseReading& c) { return c.index % 2 != fitParity; }, true, out);
+  return out;
+}
+
+// Each case corrected by the fit on all the others: 4-7 garments of a type, so the scale path
+// gets its chance where a type has 6 or more.
+SplitResult leaveOneCaseOut(const std::vector<CaseReading>& cases) {
+  SplitResult out;
+  for (const auto& held : cases)
+    holdoutFold(
+        cases, [&](const CaseReading& c) { return c.index != held.index; },
+        [&](const CaseReading& c) { return c.index == held.index; }, false, out);
   return out;
 }
 
@@ -100,6 +130,8 @@ void print(const char* title, const SplitResult& s) {
   }
   std::printf("| all | %d | | %.2f | %.2f | %.2f | %.2f |\n", s.allBefore.n, s.allBefore.mean(),
               s.allBefore.max, s.allAfter.mean(), s.allAfter.max);
+  std::printf("(%d of the corrected readings by scale and offset, the others by an offset)\n",
+              s.scaled);
 }
 
 }  // namespace
@@ -135,7 +167,9 @@ TEST(TapeHoldout, CorrectionsFittedOnHalfThePhysicalRigHelpTheOtherHalf) {
   const SplitResult oddFit = holdout(cases, 1);
   print("fitted on the even cases, scored on the odd ones:", evenFit);
   print("fitted on the odd cases, scored on the even ones:", oddFit);
-  for (const auto* s : {&evenFit, &oddFit}) {
+  const SplitResult loo = leaveOneCaseOut(cases);
+  print("each case corrected by the fit on the other 23:", loo);
+  for (const auto* s : {&evenFit, &oddFit, &loo}) {
     ASSERT_GT(s->allBefore.n, 0);
     int corrected = 0;
     for (const auto& [name, n] : s->corrected)
