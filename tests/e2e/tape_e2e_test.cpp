@@ -133,6 +133,30 @@ TEST(TapeE2E, ThreeTapedGarmentsCorrectTheNextCapture) {
   const std::string bad = run("--item " + next + " --json -", R"({"waist_circ": 0})");
   EXPECT_NE(bad.find("HTTP 400"), std::string::npos) << bad;
   EXPECT_EQ(d.terminate(), 0);
+
+  // garmcap tape on the stopped station's catalog: the same checks and table.
+  const auto offline = [&](const std::string& args, const std::string& input) {
+    const std::string cmd = "echo '" + input + "' | " + GARMCAP_BIN_DIR + "/garmcap tape --data " +
+                            dir.path().string() + " " + args + " 2>&1";
+    std::string out;
+    if (FILE* p = popen(cmd.c_str(), "r")) {
+      char buf[512];
+      while (std::fgets(buf, sizeof buf, p))
+        out += buf;
+      out += "exit " + std::to_string(pclose(p));
+    }
+    return out;
+  };
+  const std::string table = offline("--list", "");
+  EXPECT_NE(table.find("offset"), std::string::npos) << table;
+  EXPECT_NE(table.find("4 taped measurement(s)"), std::string::npos) << table;
+  const std::string refused = offline("--item " + first + " --json -", R"({"hem_circ": 1000})");
+  EXPECT_NE(refused.find("measurements.hem_circ"), std::string::npos) << refused;
+  EXPECT_EQ(refused.find("exit 0"), std::string::npos) << refused;
+  const std::string stored =
+      offline("--item " + first + " --json -", Json{{"hem_circ", rawHem[0] + 3.5}}.dump());
+  EXPECT_NE(stored.find("exit 0"), std::string::npos) << stored;
+  EXPECT_NE(offline("--list", "").find("5 taped measurement(s)"), std::string::npos);
 }
 
 }  // namespace
