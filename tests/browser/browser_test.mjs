@@ -237,6 +237,8 @@ async function main() {
     await page.click('#tape-save');
     await waitFor(async () => ((await (await fetch(`${base}/api/tape`)).json()).tape || []).some((r) => String(r.item) === id && r.measurement === tapeName && r.tape_cm === 88.5), 10000, 'the taped measurement');
     await waitFor(async () => /none yet \(2 more\)/.test(await page.textContent('#corrections')), 10000, 'the corrections panel');
+    await page.evaluate(() => document.querySelector('#tape-form').scrollIntoView());
+    await shot('item-tape');
     step(`${tapeName} taped at 88.5 cm; the corrections panel waits for 2 more garments`);
   }
 
