@@ -730,7 +730,18 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
   setState(StationState::kProcessing);
   setStage("garmcap", 0.2, true);
   const double threshold = config_.reviewBelowConfidence;
-  asio::post(*pool_, [this, req, dressed, dressedSha, cal = *cal, threshold] {
+  // The shop's tape corrections (daemon/tape.h), fitted here on the strand that owns the catalog
+  // from the rows as they are now: a capture (or re-run) started after staff taped garments is
+  // corrected, pattern and size run included; items filed before are not rewritten.
+  std::shared_ptr<const pipeline::CorrectionTable> corrections;
+  try {
+    auto table = tapeCorrections(*catalog_);
+    if (!table.corrections.empty())
+      corrections = std::make_shared<const pipeline::CorrectionTable>(std::move(table));
+  } catch (const std::exception& e) {
+    return failJob(req, std::string("cannot read the tape corrections: ") + e.what(), false);
+  }
+  asio::post(*pool_, [this, req, dressed, dressedSha, cal = *cal, threshold, corrections] {
     try {
       auto bytes = store_->read(cal.emptySha256);
       if (!bytes)
@@ -743,7 +754,7 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
       auto progress = [this](const std::string& stage, double p) {
         postToStrand([this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
       };
-      ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress);
+      ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress, corrections);
       // Encoding and fsyncing the product images takes a noticeable moment at full resolution.
       postToStrand([this] { setStage("store", 0.92, false); });
       auto item = std::make_shared<NewItem>();
@@ -781,7 +792,6 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::string dressedSha) {
 void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {
   try {
     setStage("filing", 0.95, false);
-    applyTapeCorrections(*item);
     std::int64_t id = 0;
     if (req.kind == JobKind::kRerun) {
       // Keep the original frames on the item; the re-run belongs to the new job.
@@ -797,27 +807,6 @@ void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {
     return failJob(req, std::string("cannot file the item: ") + e.what(), false);
   }
   finishJob();
-}
-
-// The shop's tape corrections (daemon/tape.h) are fitted here, on the strand that owns the
-// catalog, from the rows as they are now: a capture (or re-run) filed after staff taped garments
-// is corrected, items filed before are not rewritten. The raw readings stay in result.json's
-// `corrections`. The pattern and size guide were drafted from the raw readings on the worker.
-void Station::applyTapeCorrections(NewItem& item) {
-  const pipeline::CorrectionTable table = tapeCorrections(*catalog_);
-  if (table.corrections.empty())
-    return;
-  const std::size_t warningsBefore = item.result.is_object() && item.result.contains("warnings")
-                                         ? item.result["warnings"].size()
-                                         : 0;
-  const auto applied =
-      pipeline::applyCorrections(table, item.type, item.measurementsCm, item.result);
-  if (item.result.is_object() && item.result.contains("warnings"))
-    for (std::size_t i = warningsBefore; i < item.result["warnings"].size(); ++i)
-      item.warnings.push_back(item.result["warnings"][i].get<std::string>());
-  if (!applied.empty())
-    spdlog::info("station: tape corrections applied to {} reading(s) of a {}", applied.size(),
-                 item.type);
 }
 
 void Station::failJob(const Pending& req, const std::string& error, bool cameraFault) {

@@ -59,6 +59,16 @@ TEST(TapeE2E, ThreeTapedGarmentsCorrectTheNextCapture) {
   const Json item = d.get("/api/items/" + next).json();
   EXPECT_NEAR(item["measurements"]["hem_circ"].get<double>(), raw + 3.5, 1e-6);
   EXPECT_FALSE(result["corrections"].contains("waist_circ")) << "nothing taped, nothing changed";
+  // The size run is graded from the corrected reading: the item's own row holds it.
+  const Json guide = d.get("/api/items/" + next + "/sizeguide.json").json();
+  bool sawBase = false;
+  for (const auto& row : guide.value("rows", Json::array()))
+    if (row.value("size", "") == guide.value("base_size", "") &&
+        row["garment"].contains("hem_circ")) {
+      sawBase = true;
+      EXPECT_NEAR(row["garment"]["hem_circ"].get<double>(), raw + 3.5, 0.051) << guide.dump();
+    }
+  EXPECT_TRUE(sawBase) << guide.dump();
   // A correction never adds a reading the capture did not make.
   for (const auto& [name, v] : result["measurements"].items())
     EXPECT_TRUE(item["measurements"].contains(name)) << name;

@@ -165,7 +165,6 @@ class Station : public RouteContext {
   void runDressed(Pending req, cv::Mat dressed, std::string dressedSha);
   void onCalibrated(Pending req, std::string emptySha, nlohmann::json calibration);
   void onProcessed(Pending req, std::shared_ptr<NewItem> item);
-  void applyTapeCorrections(NewItem& item);
   void failJob(const Pending& req, const std::string& error, bool cameraFault);
   void finishJob();
   void broadcast(const std::string& event, const nlohmann::json& data);

@@ -1,7 +1,8 @@
 #pragma once
 // The shop's tape measure on the station (issue 15 part 7): staff tape a few garments once, the
 // catalog keeps each taped value with the pipeline's uncorrected reading, and every later capture
-// (and re-run) is corrected per type and measurement (pipeline/measurement_correction.h).
+// (and re-run) is corrected per type and measurement (pipeline/measurement_correction.h): the
+// station fits the table when a capture starts and the pipeline applies it before drafting.
 //
 //   POST   /api/tape         {"item": 12, "measurements": {"bust_circ": 92.5, ...}}  (cm)
 //     -> 200 {"item": 12, "tape": [...the item's rows...], "corrections": [...table...]}
