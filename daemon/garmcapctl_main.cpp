@@ -3,6 +3,7 @@
 //   garmcapctl list [--q TEXT] [--type T] [--limit N] | show ID
 //   garmcapctl export ID --what pattern.json|pattern.svg|sizeguide.csv|sizeguide.json|image
 //                     [--size S] [--kind product] --out FILE
+//   garmcapctl tape --json FILE|- [--item ID] | tape --list | tape --delete ID
 // Options: --url http://127.0.0.1:8080 (env GARMCAPD_URL), --token T (env GARMCAPD_TOKEN).
 // Exit status: 0 ok, 1 the API answered an error (printed), 2 cannot reach the daemon.
 #include <CLI/CLI.hpp>
@@ -11,9 +12,11 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <thread>
 
 namespace asio = boost::asio;
@@ -165,6 +168,17 @@ int main(int argc, char** argv) {
   exp->add_option("--size", size, "pattern size (default: as measured)");
   exp->add_option("--kind", kind, "image kind (product, cutout, dressed, ...)");
   exp->add_option("--out", out, "output file (default: stdout)");
+  // The shop's tape measure (issue 15 part 7): the body is {"item": id, "measurements": {name:
+  // cm}}; with --item the file may hold the measurements alone. Through the daemon, which owns
+  // the catalog's one writer connection and checks every value (docs/api.md).
+  std::string tapeJson;
+  bool tapeList = false;
+  std::int64_t tapeItem = 0, tapeDelete = 0;
+  auto* tape = app.add_subcommand("tape", "record tape measurements, list the corrections");
+  tape->add_option("--json", tapeJson, "file with the taped measurements, - for stdin");
+  tape->add_option("--item", tapeItem, "item id (else the JSON's \"item\")");
+  tape->add_flag("--list", tapeList, "list taped measurements and the corrections per type");
+  tape->add_option("--delete", tapeDelete, "remove an item's taped measurements");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -205,6 +219,54 @@ int main(int argc, char** argv) {
       std::cout
           << jsonOrThrow(request(t, http::verb::get, "/api/items/" + std::to_string(id))).dump(2)
           << "\n";
+    } else if (*tape) {
+      if (tapeList) {
+        auto j = jsonOrThrow(request(t, http::verb::get, "/api/tape"));
+        std::printf("%-6s %-18s %3s %-12s %8s %6s %9s\n", "type", "measurement", "n", "kind",
+                    "offset", "scale", "LOO (cm)");
+        for (const auto& c : j["corrections"]) {
+          if (c["kind"] == "none") {
+            std::printf("%-6s %-18s %3d %-12s (tape %d more)\n",
+                        c["type"].get<std::string>().c_str(),
+                        c["measurement"].get<std::string>().c_str(), c["n"].get<int>(), "none",
+                        c["needs"].get<int>());
+            continue;
+          }
+          std::printf("%-6s %-18s %3d %-12s %+8.2f %6.3f %9.2f\n",
+                      c["type"].get<std::string>().c_str(),
+                      c["measurement"].get<std::string>().c_str(), c["n"].get<int>(),
+                      c["kind"].get<std::string>().c_str(), c["offset_cm"].get<double>(),
+                      c["scale"].get<double>(), c["residual_cm"].get<double>());
+        }
+        std::printf("%zu taped measurement(s)\n", j["tape"].size());
+      } else if (tapeDelete > 0) {
+        std::cout << jsonOrThrow(
+                         request(t, http::verb::delete_, "/api/tape/" + std::to_string(tapeDelete)))
+                         .dump(2)
+                  << "\n";
+      } else {
+        if (tapeJson.empty())
+          throw Failure("tape: give --json FILE|-, --list or --delete ID");
+        std::stringstream text;
+        if (tapeJson == "-") {
+          text << std::cin.rdbuf();
+        } else {
+          std::ifstream f(tapeJson);
+          if (!f)
+            throw Failure("tape: cannot read " + tapeJson);
+          text << f.rdbuf();
+        }
+        auto body = nlohmann::json::parse(text.str(), nullptr, false);
+        if (body.is_discarded() || !body.is_object())
+          throw Failure("tape: " + tapeJson + " is not a JSON object");
+        if (tapeItem > 0) {
+          if (!body.contains("measurements"))
+            body = nlohmann::json{{"measurements", body}};
+          body["item"] = tapeItem;
+        }
+        std::cout << jsonOrThrow(request(t, http::verb::post, "/api/tape", body.dump())).dump(2)
+                  << "\n";
+      }
     } else if (*exp) {
       std::string path = "/api/items/" + std::to_string(id) + "/";
       if (what == "image")

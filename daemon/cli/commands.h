@@ -13,5 +13,6 @@ void addDswCommands(CLI::App& app);       // dsw_commands.cpp: coords, grade, si
 void addCalibCommands(CLI::App& app);     // calib_commands.cpp: form, calibrate, calibrate-camera
 void addCaptureCommands(CLI::App& app);   // capture_commands.cpp: render, rig make
 void addPipelineCommands(CLI::App& app);  // pipeline_commands.cpp: capture, rig eval
+void addTapeCommands(CLI::App& app);      // tape_commands.cpp: tape (the station's catalog)
 
 }  // namespace garmcap::cli

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   garmcap::cli::addCalibCommands(app);
   garmcap::cli::addCaptureCommands(app);
   garmcap::cli::addPipelineCommands(app);
+  garmcap::cli::addTapeCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

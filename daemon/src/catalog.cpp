@@ -122,6 +122,23 @@ CREATE TABLE settings(
   updated_at TEXT NOT NULL);
 )sql";
 
+// Version 4: the shop's tape measurements (issue 15 part 7). Each row keeps, beside the taped
+// value, the item's type and the pipeline's uncorrected reading at the time of taping, so the
+// corrections fitted from them do not drift as corrections change later captures, re-runs or
+// staff edits. Rows go with the item when it is purged (CASCADE); a soft-deleted item's rows stay
+// but are not fitted on.
+constexpr const char* kMigrateV3ToV4 = R"sql(
+CREATE TABLE tape_measurements(
+  item_id INTEGER NOT NULL REFERENCES items(id) ON DELETE CASCADE,
+  name TEXT NOT NULL,
+  type TEXT NOT NULL,
+  tape_cm REAL NOT NULL CHECK(tape_cm > 0),
+  measured_cm REAL NOT NULL CHECK(measured_cm > 0),
+  created_at TEXT NOT NULL,
+  PRIMARY KEY(item_id, name));
+CREATE INDEX tape_measurements_type ON tape_measurements(type, name);
+)sql";
+
 const char* text(sqlite3_stmt* s, int col) {
   const unsigned char* t = sqlite3_column_text(s, col);
   return t ? reinterpret_cast<const char*>(t) : "";
@@ -157,6 +174,8 @@ std::string catalogSchemaSql(int version) {
     return std::string(kSchemaV1) + kMigrateV1ToV2;
   if (version == 3)
     return std::string(kSchemaV1) + kMigrateV1ToV2 + kMigrateV2ToV3;
+  if (version == 4)
+    return std::string(kSchemaV1) + kMigrateV1ToV2 + kMigrateV2ToV3 + kMigrateV3ToV4;
   throw CatalogError("no catalog schema version " + std::to_string(version));
 }
 
@@ -367,7 +386,8 @@ void Catalog::migrate() {
     throw CatalogError("catalog " + file_.string() + ": bad schema version " +
                        std::to_string(version));
   // Ordered migrations, each in its own transaction together with its user_version.
-  static const std::vector<const char*> kMigrations = {kMigrateV1ToV2, kMigrateV2ToV3};
+  static const std::vector<const char*> kMigrations = {kMigrateV1ToV2, kMigrateV2ToV3,
+                                                       kMigrateV3ToV4};
   while (version < kCatalogSchemaVersion) {
     spdlog::info("catalog: migrating {} from schema {} to {}", file_.string(), version,
                  version + 1);
@@ -484,6 +504,54 @@ void Catalog::setSetting(const std::string& key, const nlohmann::json& value) {
       .bind(2, value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))
       .bind(3, now())
       .run();
+}
+
+// --- tape measurements -----------------------------------------------------------------------
+
+void Catalog::setTape(std::int64_t itemId, const std::vector<TapeEntry>& entries) {
+  Transaction t(db_);
+  const std::string ts = now();
+  for (const auto& e : entries)
+    Statement(*this,
+              "INSERT INTO tape_measurements(item_id, name, type, tape_cm, measured_cm, "
+              "created_at) VALUES(?,?,?,?,?,?) ON CONFLICT(item_id, name) DO UPDATE SET "
+              "type = excluded.type, tape_cm = excluded.tape_cm, measured_cm = "
+              "excluded.measured_cm, created_at = excluded.created_at")
+        .bind(1, itemId)
+        .bind(2, e.name)
+        .bind(3, e.type)
+        .bind(4, e.tapeCm)
+        .bind(5, e.measuredCm)
+        .bind(6, ts)
+        .run();
+  t.commit();
+}
+
+std::vector<TapeEntry> Catalog::tapes(std::optional<std::int64_t> itemId) {
+  Statement s(*this,
+              "SELECT t.item_id, t.name, t.type, t.tape_cm, t.measured_cm, t.created_at "
+              "FROM tape_measurements t JOIN items i ON i.id = t.item_id "
+              "WHERE i.deleted_at IS NULL AND (?1 IS NULL OR t.item_id = ?1) "
+              "ORDER BY t.type, t.name, t.item_id");
+  s.bind(1, itemId);
+  std::vector<TapeEntry> out;
+  while (s.step()) {
+    TapeEntry e;
+    e.itemId = sqlite3_column_int64(s.get(), 0);
+    e.name = text(s.get(), 1);
+    e.type = text(s.get(), 2);
+    e.tapeCm = sqlite3_column_double(s.get(), 3);
+    e.measuredCm = sqlite3_column_double(s.get(), 4);
+    e.createdAt = text(s.get(), 5);
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+int Catalog::deleteTape(std::int64_t itemId) {
+  Statement s(*this, "DELETE FROM tape_measurements WHERE item_id = ?");
+  s.bind(1, itemId).run();
+  return sqlite3_changes(db_);
 }
 
 // --- jobs ------------------------------------------------------------------------------------

@@ -65,12 +65,14 @@ class PipelineProcessor : public CaptureProcessor {
   }
 
   ProcessedCapture process(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
-                           const nlohmann::json& calibration, const ProgressFn& progress) override {
+                           const nlohmann::json& calibration, const ProgressFn& progress,
+                           std::shared_ptr<const pipeline::CorrectionTable> corrections) override {
     // The pipeline runs from 5 % to 80 % of this call; each stage's end moves the bar by the
     // share of time that stage takes on this station, and names the stage that runs next.
     constexpr double kPipelineFrom = 0.05, kPipelineTo = 0.8;
     progress("context", kPipelineFrom);
     pipeline::CaptureOptions options = options_;
+    options.corrections = std::move(corrections);
     double doneShare = 0;
     options.onStageDone = [&](const pipeline::StageTiming& t) {
       const StageProgress::Step step = stageProgress_.after(t.stage);

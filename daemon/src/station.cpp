@@ -10,6 +10,7 @@
 #include "garmcap/capture/camera.h"
 #include "garmcap/capture/gpio.h"
 #include "garmcap/daemon/disk_full.h"
+#include "garmcap/daemon/tape.h"
 
 namespace garmcap::daemon {
 
@@ -783,7 +784,18 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<Stored
   setState(StationState::kProcessing);
   setStage("garmcap", 0.2, true);
   const double threshold = config_.reviewBelowConfidence;
-  asio::post(*pool_, [this, req, dressed, stored, cal = *cal, threshold] {
+  // The shop's tape corrections (daemon/tape.h), fitted here on the strand that owns the catalog
+  // from the rows as they are now: a capture (or re-run) started after staff taped garments is
+  // corrected, pattern and size run included; items filed before are not rewritten.
+  std::shared_ptr<const pipeline::CorrectionTable> corrections;
+  try {
+    auto table = tapeCorrections(*catalog_);
+    if (!table.corrections.empty())
+      corrections = std::make_shared<const pipeline::CorrectionTable>(std::move(table));
+  } catch (const std::exception& e) {
+    return failJob(req, std::string("cannot read the tape corrections: ") + e.what(), false);
+  }
+  asio::post(*pool_, [this, req, dressed, stored, cal = *cal, threshold, corrections] {
     try {
       const auto t0 = Clock::now();
       // The hang tag is read beside the pipeline (zbar is single-threaded: about a second on a
@@ -796,7 +808,7 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<Stored
       auto progress = [this](const std::string& stage, double p) {
         postToStrand([this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
       };
-      ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress);
+      ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress, corrections);
       const auto t2 = Clock::now();
       const std::string sku = tag.valid() ? tag.get() : req.sku;
       // Encoding and fsyncing the product images takes a noticeable moment at full resolution.

@@ -465,6 +465,7 @@ async function loadItem(id) {
   $('#f-sleeve-field').hidden = !(it.type === 'top' || it.type === 'dress');
   $('#f-skirt-field').hidden = !(it.type === 'skirt' || it.type === 'dress');
   loadMeasurementEditor(it);
+  loadTape(it);
   $('#f-approve').hidden = it.status === 'approved';
   $('#f-reject').hidden = it.status === 'rejected';
   const note = reviewNote(it);
@@ -555,10 +556,12 @@ async function loadMeasurementEditor(it) {
   const box = $('#f-meas');
   let measured = {};
   let uncertainty = {};
+  let corrections = {};
   try {
     const r = (await api('GET', '/api/items/' + it.id + '/result.json')) || {};
     measured = r.measurements || {};
     uncertainty = r.uncertainty_cm || {};
+    corrections = r.corrections || {};
   } catch (e) { measured = {}; }
   const m = it.measurements || {};
   box.replaceChildren(...sortedMeas(Object.assign({}, measured, m)).map((n) => {
@@ -569,8 +572,64 @@ async function loadMeasurementEditor(it) {
     return el('label', { class: 'meas-row' + (changed ? ' changed' : '') },
       el('span', { text: measName(n) }),
       el('input', { 'data-name': n, inputmode: 'decimal', value: now == null ? '' : cm(now), 'aria-label': measName(n) + ' in cm' }),
-      el('small', { class: 'muted', text: orig == null ? '' : (changed ? 'measured ' + cm(orig) + pm : 'as measured' + pm) }));
+      el('small', { class: 'muted', text: orig == null ? '' : (changed ? 'measured ' + cm(orig) + pm
+        : corrections[n] ? 'tape-corrected from ' + cm(corrections[n].raw_cm) : 'as measured' + pm) }));
   }));
+}
+// The shop's tape measure (POST /api/tape): one input per measurement the capture made, filled
+// with what was taped before. The corrections panel lists every type's fit with its
+// leave-one-out residual: the error a new garment can expect after correction.
+async function loadTape(it) {
+  const box = $('#tape-meas');
+  let data = { tape: [], corrections: [] };
+  try { data = await api('GET', '/api/tape'); } catch (e) { $('#tape-msg').textContent = e.message; }
+  const mine = {};
+  for (const row of data.tape) if (row.item === it.id) mine[row.measurement] = row;
+  const names = sortedMeas(it.measurements || {});
+  box.replaceChildren(...names.map((n) => el('label', { class: 'meas-row' },
+    el('span', { text: measName(n) }),
+    el('input', { 'data-name': n, inputmode: 'decimal', value: mine[n] ? cm(mine[n].tape_cm) : '', placeholder: cm(it.measurements[n]), 'aria-label': measName(n) + ' taped, cm' }),
+    el('small', { class: 'muted', text: mine[n] ? 'station read ' + cm(mine[n].measured_cm) : '' }))));
+  $('#tape-form').hidden = !it.type || !names.length;
+  $('#tape-clear').hidden = !Object.keys(mine).length;
+  $('#tape-msg').textContent = '';
+  renderCorrections(data.corrections, it.type);
+}
+function renderCorrections(rows, type) {
+  const box = $('#corrections');
+  if (!rows || !rows.length) { box.replaceChildren(el('span', { class: 'muted', text: 'Nothing taped yet.' })); return; }
+  const fmt = (r) => r.kind === 'none' ? 'none yet (' + r.needs + ' more)'
+    : (r.kind === 'scale_offset' ? '\u00d7' + r.scale.toFixed(3) + ' ' : '') + (r.offset_cm >= 0 ? '+' : '') + cm(r.offset_cm) + ' cm';
+  box.replaceChildren(el('table', { class: 'guide' },
+    el('thead', {}, el('tr', {}, ...['Type', 'Measurement', 'n', 'Correction', 'Left-out error'].map((t) => el('th', { text: t })))),
+    el('tbody', {}, ...rows.map((r) => el('tr', { class: r.type === type ? 'base' : '' },
+      el('td', { text: TYPE_NAMES[r.type] || r.type }), el('td', { text: measName(r.measurement) }),
+      el('td', { text: String(r.n) }), el('td', { text: fmt(r) }),
+      el('td', { text: r.kind === 'none' ? '\u2013' : cm(r.residual_cm) + ' cm (was ' + cm(r.raw_error_cm) + ')' }))))));
+}
+async function saveTape(ev) {
+  ev.preventDefault();
+  const it = ui.item;
+  const measurements = {};
+  for (const input of $$('#tape-meas input')) {
+    const v = input.value.trim().replace(',', '.');
+    if (v === '') continue;
+    if (!/^\d+(\.\d+)?$/.test(v) || !(parseFloat(v) > 0 && parseFloat(v) <= 400)) {
+      toast(measName(input.dataset.name) + ': a length in cm like 72.5', true);
+      input.focus();
+      return;
+    }
+    measurements[input.dataset.name] = parseFloat(v);
+  }
+  if (!Object.keys(measurements).length) { toast('Type at least one taped measurement.', true); return; }
+  try {
+    await api('POST', '/api/tape', { item: it.id, measurements });
+    toast('Tape measurements saved: they correct the next captures');
+    loadTape(it);
+  } catch (e) { toast(e.message, true); }
+}
+async function clearTape() {
+  try { await api('DELETE', '/api/tape/' + ui.item.id); toast('Tape measurements removed'); loadTape(ui.item); } catch (e) { toast(e.message, true); }
 }
 function attributePatch(it) {
   const a = Object.assign({}, it.attributes || {});
@@ -737,6 +796,8 @@ function init() {
   $('#status-filter').addEventListener('change', (e) => { ui.catalog.status = e.target.value; loadCatalog(true); });
   $('#more').addEventListener('click', () => loadCatalog(false));
   $('#item-form').addEventListener('submit', saveItem);
+  $('#tape-form').addEventListener('submit', saveTape);
+  $('#tape-clear').addEventListener('click', clearTape);
   $('#f-approve').addEventListener('click', () => setStatus('approved', 'Approved'));
   $('#f-reject').addEventListener('click', () => setStatus('rejected', 'Rejected: it will not be exported'));
   $('#bulk-approve').addEventListener('click', approvePicked);

@@ -229,6 +229,17 @@ async function main() {
     await waitFor(svgDrawn, 10000, 'the pattern SVG of size ' + sizes[sizes.length - 1]);
     await page.selectOption('#size-select', sizes[0]);
     step(`pattern panels drawn for sizes ${sizes.join(', ')}; size guide has ${guideRows} rows`);
+    // The tape measure: a taped value is stored with the station's reading, and the corrections
+    // panel lists the item's type and measurement, waiting for two more garments.
+    await page.waitForSelector('#tape-meas input');
+    const tapeName = await page.getAttribute('#tape-meas input', 'data-name');
+    await page.fill(`#tape-meas input[data-name="${tapeName}"]`, '88.5');
+    await page.click('#tape-save');
+    await waitFor(async () => ((await (await fetch(`${base}/api/tape`)).json()).tape || []).some((r) => String(r.item) === id && r.measurement === tapeName && r.tape_cm === 88.5), 10000, 'the taped measurement');
+    await waitFor(async () => /none yet \(2 more\)/.test(await page.textContent('#corrections')), 10000, 'the corrections panel');
+    await page.evaluate(() => document.querySelector('#tape-form').scrollIntoView());
+    await shot('item-tape');
+    step(`${tapeName} taped at 88.5 cm; the corrections panel waits for 2 more garments`);
   }
 
   // The review gate: an item waiting for review says so and stays out of the shop files.

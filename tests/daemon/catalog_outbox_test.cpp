@@ -146,7 +146,7 @@ TEST(CatalogOutbox, MigrationFromVersion2QueuesTheLiveItemsOnce) {
   }
   {
     Catalog c(file);
-    EXPECT_EQ(c.schemaVersion(), 3);
+    EXPECT_EQ(c.schemaVersion(), kCatalogSchemaVersion);
     using V = std::vector<std::pair<std::string, std::int64_t>>;
     EXPECT_EQ(kinds(c), (V{{kOutboxUpsert, 1}, {kOutboxUpsert, 2}}));
   }

@@ -72,7 +72,8 @@ class FakeProcessor : public CaptureProcessor {
     return {{"fake", true}, {"width", empty.cols}};
   }
   ProcessedCapture process(const cv::Mat&, const cv::Mat& dressed, const nlohmann::json& cal,
-                           const ProgressFn& progress) override {
+                           const ProgressFn& progress,
+                           std::shared_ptr<const pipeline::CorrectionTable>) override {
     progress("masks", 0.3);
     if (fail)
       throw std::runtime_error("no garment found on the form");

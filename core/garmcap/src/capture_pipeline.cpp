@@ -468,6 +468,8 @@ nlohmann::json CaptureResult::toJson() const {
   j["measurements"] = measurements;
   j["uncertainty_cm"] = uncertaintyCm;
   j["warnings"] = warnings;
+  if (!corrections.empty())
+    j["corrections"] = corrections;
   nlohmann::json t = nlohmann::json::object();
   double total = 0;
   for (const auto& s : timings) {
@@ -893,6 +895,14 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
     for (const auto& [name, value] : result.measurements)
       if (const auto u = measurementUncertaintyCm(name))
         result.uncertaintyCm[name] = *u;
+    if (options.corrections) {
+      nlohmann::json applied = {{"warnings", nlohmann::json::array()}};
+      applyCorrections(*options.corrections, result.type, result.measurements, applied);
+      if (applied.contains("corrections"))
+        result.corrections = applied["corrections"];
+      for (const auto& w : applied["warnings"])
+        result.warnings.push_back(w.get<std::string>());
+    }
     if (gm.measurements.count("hem_circ") && gm.measurements.count("hip_circ") &&
         result.attributes.count("skirt"))
       result.attributes["skirt"] =

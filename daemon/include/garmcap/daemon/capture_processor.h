@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "garmcap/pipeline/measurement_correction.h"
+
 namespace garmcap::daemon {
 
 struct Config;
@@ -40,10 +42,12 @@ class CaptureProcessor {
   virtual ~CaptureProcessor() = default;
   /// Calibration JSON (docs/formats.md) from the bare-form frame.
   virtual nlohmann::json calibrate(const cv::Mat& emptyBgr, const ProgressFn& progress) = 0;
-  /// GarmCap on the dressed frame against the bare-form frame, then grading.
-  virtual ProcessedCapture process(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
-                                   const nlohmann::json& calibration,
-                                   const ProgressFn& progress) = 0;
+  /// GarmCap on the dressed frame against the bare-form frame, then grading. `corrections`
+  /// (the shop's tape corrections, fitted by the station from the catalog; may be null) are
+  /// applied to the readings before the pattern is drafted and graded.
+  virtual ProcessedCapture process(
+      const cv::Mat& emptyBgr, const cv::Mat& dressedBgr, const nlohmann::json& calibration,
+      const ProgressFn& progress, std::shared_ptr<const pipeline::CorrectionTable> corrections) = 0;
 };
 
 /// The production processor on calib/, core/garmcap and core/dsw.

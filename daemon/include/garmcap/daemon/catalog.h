@@ -29,7 +29,7 @@ class CatalogError : public std::runtime_error {
 };
 
 inline constexpr std::int32_t kCatalogApplicationId = 0x47434150;  // "GCAP"
-inline constexpr int kCatalogSchemaVersion = 3;
+inline constexpr int kCatalogSchemaVersion = 4;
 
 /// Review status of an item: a capture with low confidence or warnings starts as kNeedsReview and
 /// cannot be exported until a person approves it.
@@ -115,6 +115,17 @@ struct OutboxEntry {
   std::int64_t seq = 0;
   std::string kind;  // kOutboxUpsert | kOutboxDelete
   std::int64_t itemId = 0;
+  std::string createdAt;
+};
+
+/// One taped measurement of an item (issue 15 part 7): what staff measured with a tape and what
+/// the pipeline had read, uncorrected, when it was taped, under the item's type at that time.
+struct TapeEntry {
+  std::int64_t itemId = 0;
+  std::string name;  // measurement name
+  std::string type;  // top | dress | skirt | pants
+  double tapeCm = 0;
+  double measuredCm = 0;
   std::string createdAt;
 };
 
@@ -212,6 +223,15 @@ class Catalog {
   std::optional<nlohmann::json> setting(const std::string& key);
   void setSetting(const std::string& key, const nlohmann::json& value);
 
+  // --- tape measurements (issue 15 part 7) ----------------------------------------------------
+  /// Adds or replaces the item's taped measurements (by name), one transaction. The caller has
+  /// validated names, values and the item (api: recordTape).
+  void setTape(std::int64_t itemId, const std::vector<TapeEntry>& entries);
+  /// Taped measurements of live items (all, or one item's), by type, name, item.
+  std::vector<TapeEntry> tapes(std::optional<std::int64_t> itemId = std::nullopt);
+  /// Removes the item's taped measurements; returns how many there were.
+  int deleteTape(std::int64_t itemId);
+
   // --- items ---------------------------------------------------------------------------------
   /// Inserts the item, measurements, images, patterns, size guide and finishes `jobId`, in one
   /// transaction. Returns the new id.
@@ -261,7 +281,7 @@ class Catalog {
   bool readOnly_ = false;
 };
 
-/// The schema of version `version` (1, 2 or 3) as SQL, for fixtures in tests.
+/// The schema of version `version` (1..4) as SQL, for fixtures in tests.
 std::string catalogSchemaSql(int version);
 
 }  // namespace garmcap::daemon

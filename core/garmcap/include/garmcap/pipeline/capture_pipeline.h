@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "garmcap/drafts/pattern.h"
+#include "garmcap/pipeline/measurement_correction.h"
 
 namespace garmcap::pipeline {
 
@@ -51,6 +53,10 @@ struct CaptureOptions {
   // Called on the pipeline's thread as each stage ends, with its name and duration, so a caller
   // can show real progress; it must not throw.
   std::function<void(const StageTiming&)> onStageDone;
+  // The shop's tape corrections (measurement_correction.h), applied to the readings right after
+  // they are measured, so the pattern, the size run and result.json all use the corrected values;
+  // null: none. Shared, read-only: fitted once per capture by the caller.
+  std::shared_ptr<const CorrectionTable> corrections;
 };
 
 /// Makes the C allocator keep the freed memory of frame-sized buffers for the next one instead
@@ -69,6 +75,9 @@ struct CaptureResult {
   // Per measurement, how far it may be off (cm, 95 %): measurementUncertaintyCm.
   std::map<std::string, double> uncertaintyCm;
   std::vector<std::string> warnings;
+  // Per corrected measurement {kind, offset_cm, scale, n, residual_cm, raw_cm} (applyCorrections);
+  // empty when no correction applied.
+  nlohmann::json corrections = nlohmann::json::object();
   std::vector<StageTiming> timings;
   drafts::Pattern pattern;
   cv::Mat cutout;           // BGRA, garment only, soft alpha edge, full resolution (PNG)

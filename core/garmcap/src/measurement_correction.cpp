@@ -1,0 +1,219 @@
+// Tape corrections: the fit rules are in the header; here is why each step is as it is.
+
+#include "garmcap/pipeline/measurement_correction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace garmcap::pipeline {
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+struct Line {
+  double scale = 1, offset = 0;
+};
+
+double medianOffset(const std::vector<TapePair>& p) {
+  std::vector<double> d;
+  d.reserve(p.size());
+  for (const auto& x : p)
+    d.push_back(x.tapeCm - x.measuredCm);
+  return median(std::move(d));
+}
+
+// Ordinary least squares of tape on measured; nullopt when the measured values do not vary
+// (a slope of garments all of one size is undefined).
+std::optional<Line> leastSquares(const std::vector<TapePair>& p) {
+  const double n = static_cast<double>(p.size());
+  double mx = 0, my = 0;
+  for (const auto& x : p) {
+    mx += x.measuredCm;
+    my += x.tapeCm;
+  }
+  mx /= n;
+  my /= n;
+  double sxx = 0, sxy = 0;
+  for (const auto& x : p) {
+    sxx += (x.measuredCm - mx) * (x.measuredCm - mx);
+    sxy += (x.measuredCm - mx) * (x.tapeCm - my);
+  }
+  if (!(sxx > 1e-9 * n))
+    return std::nullopt;
+  Line l;
+  l.scale = sxy / sxx;
+  l.offset = my - l.scale * mx;
+  return l;
+}
+
+// Leave-one-out residuals of a fitting rule: pair i predicted by the rule fitted on the others.
+// A fit that fails without the pair (too few distinct values left) counts that pair at its raw
+// error, so a fragile rule is not flattered.
+template <class Fit>
+std::pair<double, double> looResiduals(const std::vector<TapePair>& p, Fit fit) {
+  double sum = 0, max = 0;
+  std::vector<TapePair> rest;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    rest.clear();
+    for (std::size_t j = 0; j < p.size(); ++j)
+      if (j != i)
+        rest.push_back(p[j]);
+    const std::optional<Line> l = fit(rest);
+    const double predicted = l ? l->scale * p[i].measuredCm + l->offset : p[i].measuredCm;
+    const double e = std::abs(p[i].tapeCm - predicted);
+    sum += e;
+    max = std::max(max, e);
+  }
+  return {sum / static_cast<double>(p.size()), max};
+}
+
+std::optional<Line> offsetFit(const std::vector<TapePair>& p) {
+  if (p.empty())
+    return std::nullopt;
+  return Line{1, medianOffset(p)};
+}
+
+std::optional<Line> scaleFit(const std::vector<TapePair>& p) {
+  if (p.size() < 2)
+    return std::nullopt;
+  auto l = leastSquares(p);
+  if (!l || l->scale < kMinPlausibleScale || l->scale > kMaxPlausibleScale)
+    return offsetFit(p);  // the same fallback as the full fit, so LOO judges the real rule
+  return l;
+}
+
+}  // namespace
+
+const char* toString(CorrectionKind kind) {
+  return kind == CorrectionKind::kScaleOffset ? "scale_offset" : "offset";
+}
+
+std::optional<Correction> fitCorrection(const std::vector<TapePair>& all) {
+  std::vector<TapePair> p;
+  for (const auto& x : all)
+    if (std::isfinite(x.measuredCm) && std::isfinite(x.tapeCm))
+      p.push_back(x);
+  if (static_cast<int>(p.size()) < kMinPairsForOffset)
+    return std::nullopt;
+  Correction c;
+  c.n = static_cast<int>(p.size());
+  for (const auto& x : p)
+    c.rawMeanCm += std::abs(x.tapeCm - x.measuredCm);
+  c.rawMeanCm /= static_cast<double>(p.size());
+
+  c.offsetCm = medianOffset(p);
+  std::tie(c.looMeanCm, c.looMaxCm) = looResiduals(p, offsetFit);
+  if (c.n < kMinPairsForScale)
+    return c;
+  const auto line = leastSquares(p);
+  if (!line || line->scale < kMinPlausibleScale || line->scale > kMaxPlausibleScale)
+    return c;
+  // Six garments fit two parameters, but barely: a slope that does not predict the held-out
+  // garments better than the offset does is noise, and the simpler correction is kept.
+  const auto [looMean, looMax] = looResiduals(p, scaleFit);
+  if (!(looMean < c.looMeanCm))
+    return c;
+  c.kind = CorrectionKind::kScaleOffset;
+  c.scale = line->scale;
+  c.offsetCm = line->offset;
+  c.looMeanCm = looMean;
+  c.looMaxCm = looMax;
+  return c;
+}
+
+CorrectionTable fitCorrections(const std::vector<TapeRecord>& records) {
+  std::map<CorrectionKey, std::vector<TapePair>> byKey;
+  for (const auto& r : records)
+    byKey[{r.type, r.name}].push_back({r.measuredCm, r.tapeCm});
+  CorrectionTable t;
+  for (const auto& [key, pairs] : byKey) {
+    t.pairs[key] = static_cast<int>(pairs.size());
+    if (auto c = fitCorrection(pairs))
+      t.corrections[key] = *c;
+  }
+  return t;
+}
+
+namespace {
+double round3(double v) {
+  return std::round(v * 1000) / 1000;
+}
+}  // namespace
+
+nlohmann::json correctionTableJson(const CorrectionTable& table) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& [key, n] : table.pairs) {
+    nlohmann::json row = {{"type", key.first}, {"measurement", key.second}, {"n", n}};
+    const auto it = table.corrections.find(key);
+    if (it == table.corrections.end()) {
+      row["kind"] = "none";
+      row["needs"] = kMinPairsForOffset - n;
+    } else {
+      const Correction& c = it->second;
+      row["kind"] = toString(c.kind);
+      row["offset_cm"] = round3(c.offsetCm);
+      row["scale"] = round3(c.scale);
+      row["residual_cm"] = round3(c.looMeanCm);
+      row["residual_max_cm"] = round3(c.looMaxCm);
+      row["raw_error_cm"] = round3(c.rawMeanCm);
+    }
+    out.push_back(row);
+  }
+  return out;
+}
+
+std::vector<std::string> applyCorrections(const CorrectionTable& table, const std::string& type,
+                                          std::map<std::string, double>& measurements,
+                                          nlohmann::json& result) {
+  std::vector<std::string> applied;
+  nlohmann::json corrections = nlohmann::json::object();
+  for (auto& [name, value] : measurements) {
+    const auto it = table.corrections.find({type, name});
+    if (it == table.corrections.end())
+      continue;
+    const Correction& c = it->second;
+    const double corrected = c.apply(value);
+    if (!(std::isfinite(corrected) && corrected > 0)) {
+      if (result.is_object())
+        result["warnings"].push_back("tape correction of " + name + " left out: it would make " +
+                                     std::to_string(value) + " cm not positive");
+      continue;
+    }
+    corrections[name] = {{"kind", toString(c.kind)},           {"offset_cm", round3(c.offsetCm)},
+                         {"scale", round3(c.scale)},           {"n", c.n},
+                         {"residual_cm", round3(c.looMeanCm)}, {"raw_cm", value}};
+    value = corrected;
+    applied.push_back(name);
+    if (result.is_object())
+      result["measurements"][name] = corrected;
+  }
+  if (result.is_object() && !applied.empty())
+    result["corrections"] = corrections;
+  return applied;
+}
+
+std::optional<double> rawMeasurement(const nlohmann::json& result, const std::string& name) {
+  if (!result.is_object())
+    return std::nullopt;
+  const auto c = result.find("corrections");
+  if (c != result.end() && c->is_object()) {
+    const auto e = c->find(name);
+    if (e != c->end() && e->is_object() && e->contains("raw_cm") && (*e)["raw_cm"].is_number())
+      return (*e)["raw_cm"].get<double>();
+  }
+  const auto m = result.find("measurements");
+  if (m != result.end() && m->is_object()) {
+    const auto v = m->find(name);
+    if (v != m->end() && v->is_number())
+      return v->get<double>();
+  }
+  return std::nullopt;
+}
+
+}  // namespace garmcap::pipeline
