@@ -41,6 +41,21 @@ Eigen::Vector2d rotate(const Eigen::Vector2d& d, double roll) {
   return {c * d.x() + s * d.y(), -s * d.x() + c * d.y()};
 }
 
+// The form height on its axis (plane z = 0) seen at image row `row`: the projection is monotone
+// in height along the axis for the small rolls a station has, so bisection finds it.
+double heightAtRow(const FormModel& form, const FormPose& pose, double row) {
+  double lo = form.minYCm() - form.heightCm(), hi = form.maxYCm() + form.heightCm();
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    // Image rows grow downward: a point below the row is lower on the form.
+    if (projectPoint(pose, {form.axisXCm(), mid, 0}).y() > row)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 }  // namespace
 
 Registration registerForm(const FormModel& form, const cv::Mat3b& frame, const std::string& what,
@@ -57,19 +72,28 @@ Registration registerForm(const FormModel& form, const cv::Mat3b& frame, const s
   if (opt.intrinsics && opt.distanceCm)
     pose.perspective = *opt.intrinsics;
   const cv::Rect box = cv::boundingRect(key.mask);
+  // A form cut off at the bottom starts from the same guess (too small a scale); the model is
+  // rendered into the frame and clipped at its bottom edge like the form, so the moments'
+  // fixed point is still the pose that reproduces the visible part. It converges more slowly.
   pose.pxPerCm = box.height / form.heightCm();
+  const int maxIterations = key.cutAtBottom ? 4 * opt.maxIterations : opt.maxIterations;
   if (pose.perspective) {
     // Distance sets the scale in perspective; start from the given distance only when it agrees
     // roughly with the observed height, else from the height.
     const double fromDistance = pose.perspective->fx / *opt.distanceCm;
-    if (std::abs(fromDistance / pose.pxPerCm - 1) < 0.3)
+    if (std::abs(fromDistance / pose.pxPerCm - 1) < 0.3 ||
+        (key.cutAtBottom && fromDistance > pose.pxPerCm && fromDistance < 4 * pose.pxPerCm))
       pose.pxPerCm = fromDistance;
   }
-  pose.offsetPx = {box.x + box.width / 2.0, box.y + box.height + form.minYCm() * pose.pxPerCm};
+  // The start's vertical place: the feet on the silhouette's lowest row, or, when the frame
+  // cuts the form, the head on its top row.
+  pose.offsetPx = {box.x + box.width / 2.0,
+                   key.cutAtBottom ? box.y + form.maxYCm() * pose.pxPerCm
+                                   : box.y + box.height + form.minYCm() * pose.pxPerCm};
 
   // Moment matching: scale from the area ratio, offset from the centroids, roll from the
   // principal axes; a similarity about the observed centroid, iterated on the rendered model.
-  for (reg.iterations = 1; reg.iterations <= opt.maxIterations; ++reg.iterations) {
+  for (reg.iterations = 1; reg.iterations <= maxIterations; ++reg.iterations) {
     const cv::Mat1f model = renderCoverage(form.mesh(), pose, size, opt.supersample);
     const Shape mod = shapeOf(model);
     if (mod.area <= 0)
@@ -87,7 +111,7 @@ Registration registerForm(const FormModel& form, const cv::Mat3b& frame, const s
     if (std::abs(k - 1) < 2e-5 && shift < 0.01 && std::abs(dRoll) < 1e-5)
       break;
   }
-  reg.iterations = std::min(reg.iterations, opt.maxIterations);
+  reg.iterations = std::min(reg.iterations, maxIterations);
   reg.modelMask = renderSilhouette(form.mesh(), pose, size);
   reg.observedMask = key.mask;
   reg.iou = iouOf(reg.modelMask, reg.observedMask);
@@ -97,6 +121,24 @@ Registration registerForm(const FormModel& form, const cv::Mat3b& frame, const s
         << " < " << opt.minIou << "): is it the right form, bare, and facing the "
         << "camera?";
     throw CalibError(CalibErrorKind::kFitFailed, msg.str());
+  }
+  if (key.cutAtBottom) {
+    reg.frameBottomCm = heightAtRow(form, pose, size.height);
+    const auto& lm = form.landmarks();
+    const std::optional<double> needed = lm.hip ? lm.hip : lm.waist;
+    const char* neededName = lm.hip ? "hip" : "waist";
+    if (!needed || *reg.frameBottomCm > *needed - kMinBelowHipCm) {
+      std::ostringstream msg;
+      msg.precision(1);
+      msg << std::fixed << what << ": the form is cut off by the frame's bottom edge at "
+          << *reg.frameBottomCm << " cm on the form";
+      if (needed)
+        msg << ", less than " << kMinBelowHipCm << " cm below its " << neededName << " (" << *needed
+            << " cm)";
+      msg << "; registration needs the form from its head to below its hips in view: move the "
+             "camera back, lower it or zoom out";
+      throw CalibError(CalibErrorKind::kFormCutOff, msg.str());
+    }
   }
   reg.landmarks = landmarkPoints(form, pose);
   return reg;
@@ -144,6 +186,7 @@ Calibration makeCalibration(const FormModel& form, const Registration& reg,
   c.iou = reg.iou;
   c.landmarks = reg.landmarks;
   c.landmarkHeightsCm = form.landmarks().toMap();
+  c.frameBottomCm = reg.frameBottomCm;
   return c;
 }
 
@@ -180,6 +223,7 @@ std::string calibrationToJson(const Calibration& c) {
   j["landmark_heights_cm"] = json::object();
   for (const auto& [name, h] : c.landmarkHeightsCm)
     j["landmark_heights_cm"][name] = r4(h);
+  j["frame_bottom_cm"] = c.frameBottomCm ? json(r4(*c.frameBottomCm)) : json(nullptr);
   return j.dump(2) + "\n";
 }
 
@@ -194,8 +238,8 @@ Calibration readCalibration(const std::filesystem::path& path) {
 Calibration calibrationFromJson(const nlohmann::json& j, const std::string& what) {
   using drafts::ParseError;
   static const std::set<std::string> kKnown = {
-      "version", "units", "form", "empty_frame",  "image_size",
-      "camera",  "pose",  "fit",  "landmarks_px", "landmark_heights_cm"};
+      "version", "units", "form",         "empty_frame",         "image_size",     "camera",
+      "pose",    "fit",   "landmarks_px", "landmark_heights_cm", "frame_bottom_cm"};
   if (!j.is_object())
     throw ParseError(what + ": calibration must be a JSON object");
   for (const auto& [k, v] : j.items()) {
@@ -259,6 +303,12 @@ Calibration calibrationFromJson(const nlohmann::json& j, const std::string& what
     if (!h.is_number())
       throw ParseError(what + ": landmark_heights_cm." + name + " must be a number");
     c.landmarkHeightsCm[name] = h.get<double>();
+  }
+  // Optional (calibrations before it had none): null or absent when the whole form is in view.
+  if (const auto it = j.find("frame_bottom_cm"); it != j.end() && !it->is_null()) {
+    if (!it->is_number())
+      throw ParseError(what + ": field 'frame_bottom_cm' must be a number or null");
+    c.frameBottomCm = it->get<double>();
   }
   return c;
 }
