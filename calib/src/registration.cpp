@@ -115,13 +115,6 @@ Registration registerForm(const FormModel& form, const cv::Mat3b& frame, const s
   reg.modelMask = renderSilhouette(form.mesh(), pose, size);
   reg.observedMask = key.mask;
   reg.iou = iouOf(reg.modelMask, reg.observedMask);
-  if (reg.iou < opt.minIou) {
-    std::ostringstream msg;
-    msg << what << ": the form model does not match the silhouette in the frame (IoU " << reg.iou
-        << " < " << opt.minIou << "): is it the right form, bare, and facing the "
-        << "camera?";
-    throw CalibError(CalibErrorKind::kFitFailed, msg.str());
-  }
   if (key.cutAtBottom) {
     reg.frameBottomCm = heightAtRow(form, pose, size.height);
     const auto& lm = form.landmarks();
@@ -139,6 +132,22 @@ Registration registerForm(const FormModel& form, const cv::Mat3b& frame, const s
              "camera back, lower it or zoom out";
       throw CalibError(CalibErrorKind::kFormCutOff, msg.str());
     }
+  }
+  if (reg.iou < opt.minIou) {
+    std::ostringstream msg;
+    msg << what << ": the form model does not match the silhouette in the frame (IoU " << reg.iou
+        << " < " << opt.minIou << "): is it the right form, bare, and facing the "
+        << "camera?";
+    if (key.cutAtBottom) {
+      // Too little of the form in view fits many poses badly: the fit then drifts, and the
+      // frame's edge is the likelier cause than the form.
+      msg << " The form also runs out of the frame at the bottom: registration needs it from "
+             "its head to at least "
+          << kMinBelowHipCm << " cm below its hip in view; move the camera back, lower it or "
+          << "zoom out";
+      throw CalibError(CalibErrorKind::kFormCutOff, msg.str());
+    }
+    throw CalibError(CalibErrorKind::kFitFailed, msg.str());
   }
   reg.landmarks = landmarkPoints(form, pose);
   return reg;

@@ -55,7 +55,7 @@ MotionReference::MotionReference(const cv::Mat& bareBgr, int topEndRow, int bott
   const int t1 = std::clamp(static_cast<int>(topEndRow * scale_), 0, edges_.rows);
   const int b0 = std::clamp(static_cast<int>(bottomStartRow * scale_), 0, edges_.rows);
   bands_ = t1 >= kMinBandRows && edges_.rows - b0 >= kMinBandRows && b0 - t1 >= kMinBandRows;
-  topOnly_ = !bands_ && b0 >= edges_.rows && t1 >= kMinBandRows;
+  topOnly_ = !bands_ && bottomStartRow >= bareBgr.rows && t1 >= kMinBandRows;
   if (bands_ || topOnly_)
     top_ = region(cv::Rect(0, 0, edges_.cols, t1));
   if (bands_)
