@@ -1,5 +1,6 @@
 #include "garmcap/calib/registration.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -18,7 +19,12 @@ struct Shape {
   double area;
   Eigen::Vector2d centroid;
   double angle;  // principal axis angle, radians (image coordinates)
+  // How well the principal axis is defined: |mu20 - mu02| / (mu20 + mu02), 0 for a shape as wide
+  // as it is tall (a form cut near its hips, arms out), where the axis turns by 90 degrees.
+  double anisotropy;
 };
+
+constexpr double kMinAnisotropy = 0.15;
 
 Shape shapeOf(const cv::Mat1f& coverage) {
   const cv::Moments m = cv::moments(coverage, false);
@@ -26,6 +32,7 @@ Shape shapeOf(const cv::Mat1f& coverage) {
   s.area = m.m00;
   s.centroid = {m.m10 / m.m00, m.m01 / m.m00};
   s.angle = 0.5 * std::atan2(2 * m.mu11, m.mu20 - m.mu02);
+  s.anisotropy = m.mu20 + m.mu02 > 0 ? std::abs(m.mu20 - m.mu02) / (m.mu20 + m.mu02) : 0;
   return s;
 }
 
@@ -93,17 +100,33 @@ Registration registerForm(const FormModel& form, const cv::Mat3b& frame, const s
 
   // Moment matching: scale from the area ratio, offset from the centroids, roll from the
   // principal axes; a similarity about the observed centroid, iterated on the rendered model.
+  double prevScale = 0, prevArea = 0;
   for (reg.iterations = 1; reg.iterations <= maxIterations; ++reg.iterations) {
     const cv::Mat1f model = renderCoverage(form.mesh(), pose, size, opt.supersample);
     const Shape mod = shapeOf(model);
     if (mod.area <= 0)
       break;
-    const double k = std::sqrt(obs.area / mod.area);
+    // The visible area grows as the scale squared when the whole form is in view. When the frame
+    // cuts the form, a larger scale also pushes more of it out of view and the area grows more
+    // slowly: its growth exponent is then read off the last two iterations (secant), or the
+    // square-root step undershoots and a form cut near its hip took more iterations than allowed.
+    double exponent = 2.0;
+    if (key.cutAtBottom && prevScale > 0 && std::abs(std::log(pose.pxPerCm / prevScale)) > 1e-6)
+      exponent =
+          std::clamp(std::log(mod.area / prevArea) / std::log(pose.pxPerCm / prevScale), 0.5, 2.0);
+    prevScale = pose.pxPerCm;
+    prevArea = mod.area;
+    const double k = std::pow(obs.area / mod.area, 1.0 / exponent);
     double dRoll = -(obs.angle - mod.angle);  // image angle is clockwise-positive on screen
     while (dRoll > std::numbers::pi / 2)
       dRoll -= std::numbers::pi;
     while (dRoll < -std::numbers::pi / 2)
       dRoll += std::numbers::pi;
+    // A principal axis that is barely defined gives no roll (the roll stays at its start, 0):
+    // cut at the bottom, a form with its arms out can be about as wide as the part in view is
+    // tall, and the axes' angle then swings by up to 90 degrees between iterations.
+    if (std::min(obs.anisotropy, mod.anisotropy) < kMinAnisotropy)
+      dRoll = 0;
     pose.offsetPx = obs.centroid + k * rotate(pose.offsetPx - mod.centroid, dRoll);
     pose.pxPerCm *= k;
     pose.rollRad += dRoll;

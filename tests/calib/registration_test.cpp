@@ -83,12 +83,13 @@ TEST(Registration, FourMegapixels) {
 // A station frames the garment: the form's legs leave the frame at the bottom. The scene is drawn
 // whole and cut at a form height, so the pose (origin at the top left) is the same; the fit must
 // find it from what is in view.
-double registerCut(const FormModel& form, double cutCm, bool perspective, const char* name) {
+double registerCut(const FormModel& form, double cutCm, bool perspective, const char* name,
+                   double rollRad = 0.012) {
   const cv::Size whole(1000, 900);
   FormPose truth;
   truth.pxPerCm = 0.9 * whole.height / form.heightCm();
   truth.offsetPx = {0.51 * whole.width, 0.95 * whole.height + 0.3};
-  truth.rollRad = 0.012;
+  truth.rollRad = rollRad;
   RegistrationOptions options;
   if (perspective) {
     const double f = 2.2 * whole.width;
@@ -128,7 +129,10 @@ TEST(RegistrationCutAtBottom, LegsOutOfFrame) {
   const FormModel& form = test::realForm();
   registerCut(form, 40.0, false, "knees");
   registerCut(form, 10.0, false, "ankles");
-  registerCut(form, *form.landmarks().hip - 12.0, false, "thighs");
+  // Cut this near the hip, the part in view (arms out) is about as wide as it is tall and its
+  // principal axis gives no roll: the roll is not fitted there (docs/calibration.md), so the
+  // scene has none.
+  registerCut(form, *form.landmarks().hip - 12.0, false, "thighs", 0.0);
   registerCut(test::parametricForm55(), 45.0, true, "perspective");
 }
 
