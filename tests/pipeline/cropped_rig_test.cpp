@@ -16,7 +16,9 @@
 #include "garmcap/calib/form_model.h"
 #include "garmcap/calib/registration.h"
 #include "garmcap/capture/rig.h"
+#include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
+#include "garmcap/pipeline/garment_measurer.h"
 
 using namespace garmcap;
 namespace fs = std::filesystem;
@@ -153,5 +155,33 @@ TEST(CroppedRig, WhatMustStayInView) {
   } catch (const calib::CalibError& e) {
     EXPECT_EQ(e.kind(), calib::CalibErrorKind::kFormCutOff) << e.what();
     EXPECT_NE(std::string(e.what()).find("hip"), std::string::npos) << e.what();
+  }
+}
+
+// A measurement that needs the form below the frame is not made, and the warning names it: pants
+// measured in a frame cut 5.5 cm below the form's hip, as high as registration allows (1 cm below
+// the crotch on this form), keep their waist and hip, and lose outseam, inseam and leg opening,
+// whose legs are read from 5 cm below the crotch. The silhouette is the uncut capture's, cut.
+TEST(CroppedRig, MeasurementsNeedingTheFormOutOfFrameAreNamedNotInvented) {
+  const capture::RigCase whole = load(kData / "rig" / "case_003");  // pants
+  ASSERT_EQ(whole.truth.at("type"), "pants");
+  const auto uncut = run(whole, stationCalibration(whole));
+  ASSERT_TRUE(uncut.measurements.count("inseam"));
+  const double hip = whole.calibration.at("landmark_heights_cm").at("hip").get<double>();
+  const int rows = rowOf(whole, hip - calib::kMinBelowHipCm - 0.5);
+  const capture::RigCase cut = capture::cropRigCaseBottom(whole, rows);
+  const auto ctx = pipeline::cachedCaptureContext(stationCalibration(cut));
+  const cv::Mat silhouette = uncut.silhouette(cv::Rect(0, 0, uncut.silhouette.cols, rows)).clone();
+  const auto m = pipeline::measureGarment(silhouette, *ctx->view, "pants");
+  for (const std::string name : {"outseam", "inseam", "leg_opening_circ"})
+    EXPECT_FALSE(m.measurements.count(name)) << name << " " << m.measurements.at(name);
+  bool named = false;
+  for (const auto& w : m.warnings)
+    named |= w.find("inseam") != std::string::npos && w.find("crotch") != std::string::npos &&
+             w.find("outside the frame") != std::string::npos;
+  EXPECT_TRUE(named);
+  for (const std::string name : {"waist_circ", "hip_circ"}) {
+    ASSERT_TRUE(m.measurements.count(name)) << name;
+    EXPECT_NEAR(m.measurements.at(name), uncut.measurements.at(name), 1.0) << name;
   }
 }
