@@ -213,14 +213,18 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
   }
   const int l = stats.at<int>(best, cv::CC_STAT_LEFT), t = stats.at<int>(best, cv::CC_STAT_TOP);
   const int w = stats.at<int>(best, cv::CC_STAT_WIDTH), h = stats.at<int>(best, cv::CC_STAT_HEIGHT);
-  if (l == 0 || t == 0 || l + w == frame.cols || t + h == frame.rows) {
+  r.cutAtBottom = t + h == frame.rows;
+  if (l == 0 || t == 0 || l + w == frame.cols || (r.cutAtBottom && !opt.allowCutAtBottom)) {
     std::ostringstream msg;
     msg << what << ": the form is cut off by the frame edge (its silhouette touches the "
         << (t == 0                ? "top"
-            : t + h == frame.rows ? "bottom"
             : l == 0              ? "left"
-                                  : "right")
-        << " edge); move the camera back or zoom out so the whole form is in view";
+            : l + w == frame.cols ? "right"
+                                  : "bottom")
+        << " edge); move the camera back or zoom out so that "
+        << (opt.allowCutAtBottom ? "the form's head, arms and hips are in view (its legs may "
+                                   "leave the frame at the bottom)"
+                                 : "the whole form is in view");
     throw CalibError(CalibErrorKind::kFormCutOff, msg.str());
   }
 

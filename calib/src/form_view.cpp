@@ -93,9 +93,13 @@ FormView::FormView(const FormModel& form, const FormPose& pose, cv::Size size)
   coverage_ = calib::renderCoverage(form.mesh(), pose, size, 4);
   const Eigen::Vector2d lo = calib::projectPoint(pose, {form.axisXCm(), form.minYCm(), 0});
   const Eigen::Vector2d hi = calib::projectPoint(pose, {form.axisXCm(), form.maxYCm(), 0});
-  if (lo.y() >= size.height || hi.y() < 0) {
+  // The legs, feet or stand may leave the frame at the bottom (a station frames the garment);
+  // the head and everything down to the hip must be in it.
+  const double hipRow = calib::projectPoint(pose, {form.axisXCm(), hip_, 0}).y();
+  if (hi.y() < 0 || lo.y() < 0 || hipRow >= size.height) {
     throw std::invalid_argument("the form does not fit in the " + std::to_string(size.width) + "x" +
-                                std::to_string(size.height) + " image with this pose");
+                                std::to_string(size.height) +
+                                " image with this pose (its head and hips must be in view)");
   }
   axisXPx_ = calib::projectPoint(pose, {form.axisXCm(), hip_, form.axisZCm()}).x();
   rasteriseNormals();

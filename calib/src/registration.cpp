@@ -1,5 +1,6 @@
 #include "garmcap/calib/registration.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -18,7 +19,12 @@ struct Shape {
   double area;
   Eigen::Vector2d centroid;
   double angle;  // principal axis angle, radians (image coordinates)
+  // How well the principal axis is defined: |mu20 - mu02| / (mu20 + mu02), 0 for a shape as wide
+  // as it is tall (a form cut near its hips, arms out), where the axis turns by 90 degrees.
+  double anisotropy;
 };
+
+constexpr double kMinAnisotropy = 0.15;
 
 Shape shapeOf(const cv::Mat1f& coverage) {
   const cv::Moments m = cv::moments(coverage, false);
@@ -26,6 +32,7 @@ Shape shapeOf(const cv::Mat1f& coverage) {
   s.area = m.m00;
   s.centroid = {m.m10 / m.m00, m.m01 / m.m00};
   s.angle = 0.5 * std::atan2(2 * m.mu11, m.mu20 - m.mu02);
+  s.anisotropy = m.mu20 + m.mu02 > 0 ? std::abs(m.mu20 - m.mu02) / (m.mu20 + m.mu02) : 0;
   return s;
 }
 
@@ -39,6 +46,21 @@ Eigen::Vector2d rotate(const Eigen::Vector2d& d, double roll) {
   // Same convention as projection.cpp: counter-clockwise on screen (image y down).
   const double c = std::cos(roll), s = std::sin(roll);
   return {c * d.x() + s * d.y(), -s * d.x() + c * d.y()};
+}
+
+// The form height on its axis (plane z = 0) seen at image row `row`: the projection is monotone
+// in height along the axis for the small rolls a station has, so bisection finds it.
+double heightAtRow(const FormModel& form, const FormPose& pose, double row) {
+  double lo = form.minYCm() - form.heightCm(), hi = form.maxYCm() + form.heightCm();
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    // Image rows grow downward: a point below the row is lower on the form.
+    if (projectPoint(pose, {form.axisXCm(), mid, 0}).y() > row)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return 0.5 * (lo + hi);
 }
 
 }  // namespace
@@ -57,29 +79,54 @@ Registration registerForm(const FormModel& form, const cv::Mat3b& frame, const s
   if (opt.intrinsics && opt.distanceCm)
     pose.perspective = *opt.intrinsics;
   const cv::Rect box = cv::boundingRect(key.mask);
+  // A form cut off at the bottom starts from the same guess (too small a scale); the model is
+  // rendered into the frame and clipped at its bottom edge like the form, so the moments'
+  // fixed point is still the pose that reproduces the visible part. It converges more slowly.
   pose.pxPerCm = box.height / form.heightCm();
+  const int maxIterations = key.cutAtBottom ? 4 * opt.maxIterations : opt.maxIterations;
   if (pose.perspective) {
     // Distance sets the scale in perspective; start from the given distance only when it agrees
     // roughly with the observed height, else from the height.
     const double fromDistance = pose.perspective->fx / *opt.distanceCm;
-    if (std::abs(fromDistance / pose.pxPerCm - 1) < 0.3)
+    if (std::abs(fromDistance / pose.pxPerCm - 1) < 0.3 ||
+        (key.cutAtBottom && fromDistance > pose.pxPerCm && fromDistance < 4 * pose.pxPerCm))
       pose.pxPerCm = fromDistance;
   }
-  pose.offsetPx = {box.x + box.width / 2.0, box.y + box.height + form.minYCm() * pose.pxPerCm};
+  // The start's vertical place: the feet on the silhouette's lowest row, or, when the frame
+  // cuts the form, the head on its top row.
+  pose.offsetPx = {box.x + box.width / 2.0,
+                   key.cutAtBottom ? box.y + form.maxYCm() * pose.pxPerCm
+                                   : box.y + box.height + form.minYCm() * pose.pxPerCm};
 
   // Moment matching: scale from the area ratio, offset from the centroids, roll from the
   // principal axes; a similarity about the observed centroid, iterated on the rendered model.
-  for (reg.iterations = 1; reg.iterations <= opt.maxIterations; ++reg.iterations) {
+  double prevScale = 0, prevArea = 0;
+  for (reg.iterations = 1; reg.iterations <= maxIterations; ++reg.iterations) {
     const cv::Mat1f model = renderCoverage(form.mesh(), pose, size, opt.supersample);
     const Shape mod = shapeOf(model);
     if (mod.area <= 0)
       break;
-    const double k = std::sqrt(obs.area / mod.area);
+    // The visible area grows as the scale squared when the whole form is in view. When the frame
+    // cuts the form, a larger scale also pushes more of it out of view and the area grows more
+    // slowly: its growth exponent is then read off the last two iterations (secant), or the
+    // square-root step undershoots and a form cut near its hip took more iterations than allowed.
+    double exponent = 2.0;
+    if (key.cutAtBottom && prevScale > 0 && std::abs(std::log(pose.pxPerCm / prevScale)) > 1e-6)
+      exponent =
+          std::clamp(std::log(mod.area / prevArea) / std::log(pose.pxPerCm / prevScale), 0.5, 2.0);
+    prevScale = pose.pxPerCm;
+    prevArea = mod.area;
+    const double k = std::pow(obs.area / mod.area, 1.0 / exponent);
     double dRoll = -(obs.angle - mod.angle);  // image angle is clockwise-positive on screen
     while (dRoll > std::numbers::pi / 2)
       dRoll -= std::numbers::pi;
     while (dRoll < -std::numbers::pi / 2)
       dRoll += std::numbers::pi;
+    // A principal axis that is barely defined gives no roll (the roll stays at its start, 0):
+    // cut at the bottom, a form with its arms out can be about as wide as the part in view is
+    // tall, and the axes' angle then swings by up to 90 degrees between iterations.
+    if (std::min(obs.anisotropy, mod.anisotropy) < kMinAnisotropy)
+      dRoll = 0;
     pose.offsetPx = obs.centroid + k * rotate(pose.offsetPx - mod.centroid, dRoll);
     pose.pxPerCm *= k;
     pose.rollRad += dRoll;
@@ -87,15 +134,42 @@ Registration registerForm(const FormModel& form, const cv::Mat3b& frame, const s
     if (std::abs(k - 1) < 2e-5 && shift < 0.01 && std::abs(dRoll) < 1e-5)
       break;
   }
-  reg.iterations = std::min(reg.iterations, opt.maxIterations);
+  reg.iterations = std::min(reg.iterations, maxIterations);
   reg.modelMask = renderSilhouette(form.mesh(), pose, size);
   reg.observedMask = key.mask;
   reg.iou = iouOf(reg.modelMask, reg.observedMask);
+  if (key.cutAtBottom) {
+    reg.frameBottomCm = heightAtRow(form, pose, size.height);
+    const auto& lm = form.landmarks();
+    const std::optional<double> needed = lm.hip ? lm.hip : lm.waist;
+    const char* neededName = lm.hip ? "hip" : "waist";
+    if (!needed || *reg.frameBottomCm > *needed - kMinBelowHipCm) {
+      std::ostringstream msg;
+      msg.precision(1);
+      msg << std::fixed << what << ": the form is cut off by the frame's bottom edge at "
+          << *reg.frameBottomCm << " cm on the form";
+      if (needed)
+        msg << ", less than " << kMinBelowHipCm << " cm below its " << neededName << " (" << *needed
+            << " cm)";
+      msg << "; registration needs the form from its head to below its hips in view: move the "
+             "camera back, lower it or zoom out";
+      throw CalibError(CalibErrorKind::kFormCutOff, msg.str());
+    }
+  }
   if (reg.iou < opt.minIou) {
     std::ostringstream msg;
     msg << what << ": the form model does not match the silhouette in the frame (IoU " << reg.iou
         << " < " << opt.minIou << "): is it the right form, bare, and facing the "
         << "camera?";
+    if (key.cutAtBottom) {
+      // Too little of the form in view fits many poses badly: the fit then drifts, and the
+      // frame's edge is the likelier cause than the form.
+      msg << " The form also runs out of the frame at the bottom: registration needs it from "
+             "its head to at least "
+          << kMinBelowHipCm << " cm below its hip in view; move the camera back, lower it or "
+          << "zoom out";
+      throw CalibError(CalibErrorKind::kFormCutOff, msg.str());
+    }
     throw CalibError(CalibErrorKind::kFitFailed, msg.str());
   }
   reg.landmarks = landmarkPoints(form, pose);
@@ -144,6 +218,7 @@ Calibration makeCalibration(const FormModel& form, const Registration& reg,
   c.iou = reg.iou;
   c.landmarks = reg.landmarks;
   c.landmarkHeightsCm = form.landmarks().toMap();
+  c.frameBottomCm = reg.frameBottomCm;
   return c;
 }
 
@@ -180,6 +255,7 @@ std::string calibrationToJson(const Calibration& c) {
   j["landmark_heights_cm"] = json::object();
   for (const auto& [name, h] : c.landmarkHeightsCm)
     j["landmark_heights_cm"][name] = r4(h);
+  j["frame_bottom_cm"] = c.frameBottomCm ? json(r4(*c.frameBottomCm)) : json(nullptr);
   return j.dump(2) + "\n";
 }
 
@@ -194,8 +270,8 @@ Calibration readCalibration(const std::filesystem::path& path) {
 Calibration calibrationFromJson(const nlohmann::json& j, const std::string& what) {
   using drafts::ParseError;
   static const std::set<std::string> kKnown = {
-      "version", "units", "form", "empty_frame",  "image_size",
-      "camera",  "pose",  "fit",  "landmarks_px", "landmark_heights_cm"};
+      "version", "units", "form",         "empty_frame",         "image_size",     "camera",
+      "pose",    "fit",   "landmarks_px", "landmark_heights_cm", "frame_bottom_cm"};
   if (!j.is_object())
     throw ParseError(what + ": calibration must be a JSON object");
   for (const auto& [k, v] : j.items()) {
@@ -259,6 +335,12 @@ Calibration calibrationFromJson(const nlohmann::json& j, const std::string& what
     if (!h.is_number())
       throw ParseError(what + ": landmark_heights_cm." + name + " must be a number");
     c.landmarkHeightsCm[name] = h.get<double>();
+  }
+  // Optional (calibrations before it had none): null or absent when the whole form is in view.
+  if (const auto it = j.find("frame_bottom_cm"); it != j.end() && !it->is_null()) {
+    if (!it->is_number())
+      throw ParseError(what + ": field 'frame_bottom_cm' must be a number or null");
+    c.frameBottomCm = it->get<double>();
   }
   return c;
 }

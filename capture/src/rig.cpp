@@ -268,4 +268,32 @@ RigCase loadRigCase(const std::filesystem::path& caseDir) {
   return c;
 }
 
+RigCase cropRigCaseBottom(const RigCase& rigCase, int keepRows) {
+  if (keepRows < 1 || keepRows > rigCase.empty.rows)
+    throw RigError(rigCase.dir.string() + ": cannot keep " + std::to_string(keepRows) +
+                   " rows of a frame " + std::to_string(rigCase.empty.rows) + " rows high");
+  RigCase out = rigCase;
+  const cv::Rect keep(0, 0, rigCase.empty.cols, keepRows);
+  out.empty = rigCase.empty(keep).clone();
+  out.dressed = rigCase.dressed(keep).clone();
+  const nlohmann::json size = {rigCase.empty.cols, keepRows};
+  if (out.calibration.is_object()) {
+    out.calibration["image_size"] = size;
+    if (!out.calibration.contains("camera") || out.calibration["camera"].is_null()) {
+      if (std::filesystem::is_regular_file(rigCase.dir / "camera.json")) {
+        try {
+          out.calibration["camera"] = readJsonFile(rigCase.dir / "camera.json");
+        } catch (const ParseError& e) {
+          throw RigError(e.what());
+        } catch (const FileError& e) {
+          throw RigError(e.what());
+        }
+      }
+    }
+    if (out.calibration.contains("camera") && out.calibration["camera"].is_object())
+      out.calibration["camera"]["image_size"] = size;
+  }
+  return out;
+}
+
 }  // namespace garmcap::capture

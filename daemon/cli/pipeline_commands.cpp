@@ -269,6 +269,75 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
   return failures == 0 ? 0 : 1;
 }
 
+// The frame row where a case's form is `heightCm` high on its axis, from the case's own
+// calibration (for a simulated rig the scene's pose). Only chooses where to cut: it is the raw
+// frame's row up to the lens distortion, which moves it by a few px at the frame's edge.
+int rowOfFormHeight(const capture::RigCase& c, double heightCm) {
+  const calib::Calibration cal = calib::calibrationFromJson(c.calibration, c.id + " calibration");
+  return static_cast<int>(std::floor(calib::projectPoint(cal.pose, {0, heightCm, 0}).y()));
+}
+
+// `garmcap rig crop`: the rig as a station framing the garment sees it, the form cut at
+// `atCm` on the form (legs, feet, stand below the frame). Only cases whose garment ends at
+// least `marginCm` above the cut are kept (truth's garment_heights_cm.hem); frames are written
+// as PNG so the cut adds no second JPEG compression.
+void rigCrop(const fs::path& rigDir, const fs::path& outDir, double atCm, double marginCm) {
+  const capture::Rig rig = capture::readRig(rigDir);
+  json index = rig.index;
+  index["cases"] = json::array();
+  index["image_format"] = "png";
+  index.erase("jpeg_quality");
+  index.erase("height");
+  char what[96];
+  std::snprintf(what, sizeof what, ", its frames cut at %.1f cm on the form (garmcap rig crop)",
+                atCm);
+  index["generator"] = index.value("generator", std::string("?")) + what;
+  if (index.contains("form") && index["form"].is_string() &&
+      fs::path(index["form"].get<std::string>()).is_relative())
+    index["form"] =
+        fs::absolute(rigDir / index["form"].get<std::string>()).lexically_normal().string();
+  int kept = 0;
+  for (std::size_t i = 0; i < rig.cases.size(); ++i) {
+    const auto& info = rig.cases[i];
+    const capture::RigCase c = capture::loadRigCase(info.dir);
+    const json heights = c.truth.value("garment_heights_cm", json::object());
+    if (!heights.contains("hem") || !heights["hem"].is_number())
+      throw std::runtime_error(info.dir.string() + "/truth.json: no garment_heights_cm.hem");
+    const double hem = heights["hem"].get<double>();
+    if (hem < atCm + marginCm) {
+      std::printf("%s: skipped (hem at %.1f cm, below %.1f + %.1f cm)\n", c.id.c_str(), hem, atCm,
+                  marginCm);
+      continue;
+    }
+    const int row = rowOfFormHeight(c, atCm);
+    if (row >= c.empty.rows) {
+      std::printf("%s: skipped (%.1f cm is below the frame)\n", c.id.c_str(), atCm);
+      continue;
+    }
+    capture::RigCase cut = capture::cropRigCaseBottom(c, row);
+    // loadRigCase resolved the form against the case folder; the new case lives elsewhere.
+    if (cut.calibration.contains("form") && cut.calibration["form"].is_string())
+      cut.calibration["form"] =
+          fs::absolute(cut.calibration["form"].get<std::string>()).lexically_normal().string();
+    const fs::path dir = outDir / info.dir.filename();
+    fs::create_directories(dir);
+    const capture::RigImageOptions png{capture::RigImageFormat::kPng};
+    capture::writeRigFrame(dir, "empty", cut.empty, png);
+    capture::writeRigFrame(dir, "dressed", cut.dressed, png);
+    drafts::writeJsonFile(dir / "truth.json", cut.truth);
+    drafts::writeJsonFile(dir / "calibration.json", cut.calibration);
+    if (fs::exists(c.dir / "camera.json"))
+      drafts::writeJsonFile(dir / "camera.json", cut.calibration["camera"]);
+    json entry = rig.index["cases"][i];
+    entry["dir"] = info.dir.filename().string();
+    index["cases"].push_back(entry);
+    ++kept;
+    std::printf("%s: %d of %d rows kept (hem at %.1f cm)\n", c.id.c_str(), row, c.empty.rows, hem);
+  }
+  drafts::writeJsonFile(outDir / "rig.json", index);
+  std::printf("%s: %d of %zu cases, rig.json written\n", outDir.c_str(), kept, rig.cases.size());
+}
+
 }  // namespace
 
 void addPipelineCommands(CLI::App& app) {
@@ -294,6 +363,18 @@ void addPipelineCommands(CLI::App& app) {
     rig = app.add_subcommand("rig", "Rigs of replayed images: make (simulator), eval (pipeline)");
     rig->require_subcommand(1);
   }
+  auto* crop = rig->add_subcommand(
+      "crop", "Cut a rig's frames at a height on the form, as a station framing the garment");
+  static fs::path cropIn, cropOut;
+  static double cropAtCm = 40, cropMarginCm = 5;
+  crop->add_option("rig", cropIn, "rig folder (with rig.json)")->required();
+  crop->add_option("--out", cropOut, "rig folder to write")->required();
+  crop->add_option("--at-cm", cropAtCm,
+                   "form height (cm, on its axis) at the new frame's bottom edge (default 40)");
+  crop->add_option("--margin-cm", cropMarginCm,
+                   "keep only cases whose hem is this far above the cut (default 5)");
+  crop->callback([] { rigCrop(cropIn, cropOut, cropAtCm, cropMarginCm); });
+
   auto* eval = rig->add_subcommand(
       "eval", "Run the pipeline on every case of a rig and score it against truth.json");
   static fs::path rigDir, evalOut;

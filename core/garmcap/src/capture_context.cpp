@@ -211,9 +211,29 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
         std::max(1, static_cast<int>(std::lround(ctx->calibration.imageSize.height * f))));
     refView = &smallView.emplace(*ctx->form, small, smallSize);
   }
+  // A frame that cuts the form's legs (frame_bottom_cm) would cut the references' legs too: the
+  // pants' hem and the long skirts have no form to be laid on there, and those references were
+  // lost. They are laid on the frame extended down to the floor and cut back to the frame's rows
+  // (a reference that leaves the frame is cut like a garment that did would be, and no garment
+  // that does is measured).
+  const int refRows = refView->size().height;
+  std::optional<FormView> tallView;
+  if (ctx->calibration.frameBottomCm) {
+    const calib::FormPose& p = refView->pose();
+    const double floorRow =
+        calib::projectPoint(p, {ctx->form->axisXCm(), ctx->form->minYCm(), 0}).y();
+    const int rows = static_cast<int>(std::ceil(floorRow + 0.05 * refRows));
+    if (rows > refRows)
+      refView = &tallView.emplace(*ctx->form, p, cv::Size(refView->size().width, rows));
+  }
   std::vector<ReferenceSilhouette> refs =
       renderReferenceSilhouettes(*refView, ctx->body, &ctx->notes);
   ctx->sleevelessReachCm = sleevelessReachCm(refs, *refView);
+  if (tallView) {
+    for (auto& r : refs)
+      r.mask = r.mask(cv::Rect(0, 0, r.mask.cols, refRows)).clone();
+    std::erase_if(refs, [](const ReferenceSilhouette& r) { return cv::countNonZero(r.mask) == 0; });
+  }
   ctx->classifier = std::make_shared<const GarmentClassifier>(std::move(refs));
   return ctx;
 }

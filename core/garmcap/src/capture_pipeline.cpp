@@ -540,7 +540,10 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
   // geometry, and the form's and the garment's outlines are where the projection puts them.
   const cv::Mat dressedBgr = ctx->undistorter ? ctx->undistorter->apply(dressedRaw) : dressedRaw;
   cv::Mat dressed = toWork(dressedBgr);
-  const int bottomBandStartRow = static_cast<int>(dressed.rows * 0.85);
+  // When the frame cuts the form's legs the bottom rows may hold a skirt's hem or a dress: no
+  // band there, and the motion is read as a shift only.
+  const int bottomBandStartRow =
+      cal.frameBottomCm ? dressed.rows : static_cast<int>(dressed.rows * 0.85);
   const std::shared_ptr<const BareFrame> bare =
       prepareBareFrame(emptyBgr, cal.camera ? &*cal.camera : nullptr, ctx->undistorter.get(), ws,
                        centreW, cal.pose.rollRad, topBandEndRow, bottomBandStartRow);
@@ -819,11 +822,27 @@ CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedRaw,
 
   // 4. A garment must be worn by the form: mostly over it and clear of the frame's edges.
   {
-    const cv::Rect inner(2, 2, garmentW.cols - 4, garmentW.rows - 4);
-    cv::Mat border = garmentW.clone();
-    border(inner).setTo(0);
-    if (cv::countNonZero(border) > 0)
-      throw CaptureError(Reason::kOffForm, "the garment is cut off by the frame edge");
+    // The frame may cut the form's legs or stand, never the garment: a hem out of view leaves a
+    // length that cannot be measured (and a circumference at a hem that is not there).
+    const int m = 2;
+    const auto touches = [&](cv::Rect strip) { return cv::countNonZero(garmentW(strip)) > 0; };
+    const int w = garmentW.cols, h = garmentW.rows;
+    if (touches({0, h - m, w, m}))
+      throw CaptureError(
+          Reason::kOffForm,
+          "the garment leaves the frame at its bottom edge" +
+              (cal.frameBottomCm ? " (at " + fmt1(*cal.frameBottomCm) + " cm on the form)"
+                                 : std::string()) +
+              ": its hem is out of view, so its length and hem cannot be measured; move the "
+              "camera back or lower it so the whole garment is in view");
+    for (const auto& [name, strip] : {std::pair<const char*, cv::Rect>{"top", {0, 0, w, m}},
+                                      {"left", {0, 0, m, h}},
+                                      {"right", {w - m, 0, m, h}}})
+      if (touches(strip))
+        throw CaptureError(Reason::kOffForm, std::string("the garment is cut off by the frame's ") +
+                                                 name +
+                                                 " edge; move the camera back so the "
+                                                 "whole garment is in view");
     const double onForm = cv::countNonZero(garmentW & formMask) /
                           std::max(1.0, static_cast<double>(cv::countNonZero(garmentW)));
     if (onForm < 0.25)

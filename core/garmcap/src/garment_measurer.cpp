@@ -99,6 +99,23 @@ struct Context {
   GarmentMeasurement& out;
 };
 
+// Whether the form at `heightCm` is inside the frame; when the frame cuts the form above it (a
+// station framing the garment, the legs below the frame), a warning names the measurement and
+// the landmark it needs, and the measurement is not made: it is never guessed from what is not
+// seen.
+bool formInFrame(Context& c, double heightCm, const std::string& measurement,
+                 const std::string& landmark) {
+  const double row = c.view.rowOfHeight(heightCm);
+  if (row >= 0 && row < c.mask.rows)
+    return true;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f", heightCm);
+  c.out.warnings.push_back(
+      measurement + ": the form's " + landmark + " (" + buf + " cm) is outside the frame (" +
+      (row < 0 ? "above its top" : "below its bottom") + " edge); not measured");
+  return false;
+}
+
 // Reference section for a height: the torso there, or the hip section below the hip.
 std::optional<RowSection> referenceAt(const FormView& view, double heightCm) {
   return view.torsoAtHeight(std::max(heightCm, view.hipCm()));
@@ -563,17 +580,22 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       out.measurements[n] = *v;
   };
 
-  if (wants("bust_circ"))
+  if (wants("bust_circ") && formInFrame(c, view.bustCm(), "bust_circ", "bust"))
     put("bust_circ", circumferenceAt(c, view.bustCm(), "bust_circ"));
-  if (wants("waist_circ"))
+  if (wants("waist_circ") && formInFrame(c, view.waistCm(), "waist_circ", "waist"))
     put("waist_circ", circumferenceAt(c, view.waistCm(), "waist_circ"));
-  if (wants("hip_circ"))
+  if (wants("hip_circ") && formInFrame(c, view.hipCm(), "hip_circ", "hip"))
     put("hip_circ", circumferenceAt(c, view.hipCm(), "hip_circ"));
 
   // Top edge and hem at the centre front (the body axis column).
   const int axisCol = static_cast<int>(std::lround(view.axisXPx()));
   const int waistRow = static_cast<int>(std::lround(view.rowOfHeight(view.waistCm())));
   if (type == "pants") {
+    // The legs are read from 5 cm below the form's crotch (legAtRow below).
+    if (view.crotchCm() &&
+        !formInFrame(c, *view.crotchCm() - 5.0, "outseam, inseam, leg_opening_circ",
+                     "crotch (and the legs 5 cm below it)"))
+      return out;
     const int hipRow = static_cast<int>(std::lround(view.rowOfHeight(view.hipCm())));
     // Crotch: going down the axis from the hip, the first row where the legs part.
     std::optional<int> crotchRow;

@@ -16,6 +16,10 @@ struct KeyOptions {
   double borderFraction = 0.02;          // width of the border ring sampled for the screen colour
   double minForegroundFraction = 0.002;  // less than this of the frame: "no form in frame"
   int edgeBandPx = 2;                    // soft alpha only within this distance of the binary edge
+  // Stations frame the garment, not the whole form: the form's legs, feet or stand may run out
+  // of the frame at the bottom. When false, a foreground touching the bottom edge is refused as
+  // one touching the top or the sides always is.
+  bool allowCutAtBottom = true;
 };
 
 struct KeyResult {
@@ -31,11 +35,14 @@ struct KeyResult {
   // spill has tinted green.
   cv::Mat1f formLuminance;
   cv::Rect formLuminanceRoi;
+  // The foreground runs out of the frame at its bottom edge (legs, feet or a stand below it).
+  bool cutAtBottom = false;
 };
 
 /// Keys `frameBgr` (8-bit BGR). Throws CalibError kNotGreenScreen when the border is not a
 /// saturated green, kNoFormInFrame when the foreground is smaller than minForegroundFraction, and
-/// kFormCutOff when the foreground touches the frame edge. `what` names the frame in messages.
+/// kFormCutOff when the foreground touches the top or a side of the frame (or the bottom, unless
+/// options.allowCutAtBottom). `what` names the frame in messages.
 KeyResult keyGreenScreen(const cv::Mat3b& frameBgr, const std::string& what,
                          const KeyOptions& options = {});
 

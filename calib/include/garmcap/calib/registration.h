@@ -18,6 +18,9 @@
 
 namespace garmcap::calib {
 
+/// How far below the hip the frame must reach when the form leaves it at the bottom.
+inline constexpr double kMinBelowHipCm = 5.0;
+
 struct RegistrationOptions {
   /// Camera intrinsics: when set with `distanceCm`, the model is fitted in full perspective
   /// (the distance is only the starting value; scale, i.e. distance, is fitted).
@@ -36,14 +39,21 @@ struct Registration {
   cv::Size imageSize;
   cv::Vec3b screenBgr;
   std::vector<std::pair<std::string, Eigen::Vector2d>> landmarks;  // MSLPs, image pixels
-  cv::Mat1b observedMask;                                          // for overlays
+  // When the form runs out of the frame at the bottom (legs, feet, stand): the form height (cm)
+  // on its axis at the frame's bottom edge. Nothing of the form below it is seen.
+  std::optional<double> frameBottomCm;
+  cv::Mat1b observedMask;  // for overlays
   cv::Mat1b modelMask;
 };
 
 /// Keys `emptyFrameBgr` (already undistorted when a camera model is used) and fits the form's
 /// silhouette to it by moment matching: area gives the scale, the centroid the offset and the
 /// principal axis the roll, iterated on the rendered model. Throws CalibError (see chroma_key.h
-/// and kFitFailed).
+/// and kFitFailed). A form whose lower part leaves the frame at the bottom is fitted on what is
+/// in view (the model is rendered into the same frame, so it is clipped at the same edge); it is
+/// refused with kFormCutOff when the frame's bottom edge lies above the form's hip (its waist on
+/// a form without hips) plus kMinBelowHipCm: the visible part must hold the shoulders, bust,
+/// waist and hip widths that fix the scale.
 Registration registerForm(const FormModel& form, const cv::Mat3b& emptyFrameBgr,
                           const std::string& what, const RegistrationOptions& options = {});
 
@@ -61,6 +71,7 @@ struct Calibration {
   double iou = 0;
   std::vector<std::pair<std::string, Eigen::Vector2d>> landmarks;
   std::map<std::string, double> landmarkHeightsCm;
+  std::optional<double> frameBottomCm;  // see Registration; JSON "frame_bottom_cm", else null
 };
 Calibration makeCalibration(const FormModel& form, const Registration& reg,
                             const std::filesystem::path& formSidecar,

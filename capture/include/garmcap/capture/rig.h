@@ -107,6 +107,15 @@ struct RigCase {
 /// "<dressed>: 960x1280 differs from <empty>: 1000x1280".
 RigCase loadRigCase(const std::filesystem::path& caseDir);
 
+/// The case as a camera framing it higher would see it: both frames keep their top `keepRows`
+/// rows (the form's legs, feet or stand below them leave the frame). Rows are cut at the bottom
+/// only, so the image origin and with it the camera's principal point stay where they are; the
+/// frame size in the calibration ("image_size", and "camera"."image_size") and in the case's
+/// camera.json, which the result carries as calibration "camera" when the calibration has none,
+/// become the new size. The truth is the uncut case's: the garment's measurements do not depend
+/// on the framing. Throws RigError when keepRows is not in 1..rows.
+RigCase cropRigCaseBottom(const RigCase& rigCase, int keepRows);
+
 /// Decodes one frame file (8-bit BGR). Its content must match its extension: a .png must start
 /// with the PNG signature; a .jpg/.jpeg must start with FF D8 and end with FF D9 (zero padding
 /// after it allowed, as UVC cameras pad): libjpeg decodes a truncated JPEG into a partly grey

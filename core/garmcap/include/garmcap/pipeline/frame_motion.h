@@ -28,7 +28,10 @@ struct FrameMotion {
 /// above `topEndRow`) and a bottom band (rows from `bottomStartRow`), where no garment reaches
 /// (the head, the feet); rows in the bare frame's pixels. With bands under 32 edge rows, or a
 /// roll read above 0.01 rad (a misreading: the caller's shift check refuses a camera that really
-/// moved), the roll is 0 and the shift the whole frame's.
+/// moved), the roll is 0 and the shift the whole frame's. With no bottom band at all
+/// (`bottomStartRow` at or below the frame's last row: the frame cuts the form's legs, and its
+/// bottom rows may hold a skirt) the shift is the top band's alone, when it is 32 edge rows or
+/// more: the whole frame's reading is pulled by the garment, which then fills much of it.
 class MotionReference {
  public:
   MotionReference(const cv::Mat& bareBgr, int topEndRow, int bottomStartRow);
@@ -48,6 +51,7 @@ class MotionReference {
   cv::Mat edges_;
   Region whole_, top_, bottom_;
   bool bands_ = false;
+  bool topOnly_ = false;  // no bottom band: the shift from the top band
 
   Region region(const cv::Rect& rect) const;
   cv::Point2d shiftOf(const Region& r, const cv::Mat& dressedEdges) const;
