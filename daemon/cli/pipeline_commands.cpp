@@ -405,15 +405,13 @@ void addPipelineCommands(CLI::App& app) {
       const auto c = capture::loadRigCase(rig.cases.front().dir);
       const auto ctx = pipeline::buildCaptureContext(c.calibration);
       fs::create_directories(refsOut);
-      const auto refs = pipeline::renderReferenceSilhouettes(*ctx->view, ctx->body, nullptr);
+      const auto refs = pipeline::renderReferenceSilhouettes(*ctx->view, ctx->body);
       for (std::size_t i = 0; i < refs.size(); ++i) {
         std::string name = std::to_string(i) + "_" + refs[i].type;
         for (const auto& [k, v] : refs[i].attributes)
           name += "_" + v;
         writeImage(refsOut / (name + ".png"), refs[i].mask);
       }
-      for (const auto& n : ctx->notes)
-        std::cerr << n << "\n";
     }
     const CaseSplit split = splitName == "even"  ? CaseSplit::kEven
                             : splitName == "odd" ? CaseSplit::kOdd

@@ -15,7 +15,9 @@
 #include <vector>
 
 #include "garmcap/capture/rig.h"
+#include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
+#include "garmcap/pipeline/garment_classifier.h"
 
 using namespace garmcap;
 namespace fs = std::filesystem;
@@ -152,5 +154,21 @@ TEST(PhysicalRig, AccuracyOnClothDrapedByAnIndependentSolver) {
     ASSERT_NE(bound, kBounds.end()) << k << ": no bound for this measurement";
     EXPECT_LE(s.sum / s.n, bound->second.first) << k << " mean";
     EXPECT_LE(s.max, bound->second.second) << k << " max";
+  }
+}
+
+// Every reference garment of the classifier is drawn on the form as each case registers it: a
+// reference that could not be drawn used to be dropped silently (the long tops reached below the
+// crotch on every form; on cases 12-17 the long-sleeved ones were longer than the arm as seen), so
+// a type or cut could vanish from the classifier. It is an error now; here the count is held.
+TEST(PhysicalRig, EveryClassifierReferenceIsDrawnOnTheRegisteredForm) {
+  const auto rig = capture::readRig(kRig);
+  // 3 lengths x (3 tops, 6 dresses, 2 skirts, 1 pants): the form has arms and legs.
+  constexpr std::size_t kReferences = 36;
+  for (std::size_t i : {0u, 6u, 12u, 13u, 17u, 23u}) {
+    ASSERT_LT(i, rig.cases.size());
+    const auto c = capture::loadRigCase(rig.cases[i].dir);
+    const auto ctx = pipeline::buildCaptureContext(c.calibration);
+    EXPECT_EQ(ctx->classifier->size(), kReferences) << c.id;
   }
 }

@@ -87,7 +87,10 @@ calib::GarmentSpec referenceGarment(const Variant& v, const drafts::Measurements
   }
   if (v.type == "top") {
     const double below = designDefault(recipe, "blouse_length") * v.lengthFactor;
-    const double hem = std::clamp(view.waistCm() - below, view.hipCm() - 12, view.waistCm() - 4);
+    // A top ends above the crotch (below it, it is a dress): on a form whose crotch is within
+    // 12 cm of the hip the long reference tops were refused for that.
+    const double lowest = std::max(view.hipCm() - 12, view.crotchCm().value_or(-1e9) + 3);
+    const double hem = std::clamp(view.waistCm() - below, lowest, view.waistCm() - 4);
     m["garment_length"] = view.neckSideCm() - hem;
     m["hem_circ"] =
         std::max(body.get("hip_circ") + designDefault(recipe, "ease_hip"), formCirc(hem) + 4);
@@ -95,10 +98,16 @@ calib::GarmentSpec referenceGarment(const Variant& v, const drafts::Measurements
   if (v.attributes.count("sleeve")) {
     const std::string& sl = v.attributes.at("sleeve");
     const double arm = body.get("arm_shoulder_tip_to_wrist");
-    m["sleeve_length"] =
+    double sleeve =
         sl == "none"
             ? 0.0
             : (sl == "short" ? 0.3 * arm : std::min(1.0, 0.9 + 0.1 * v.lengthFactor) * arm);
+    // No longer than the form's arm as this view sees it (to 10 cm past the wrist, the garment
+    // model's bound): the body chart's arm can be longer than the scanned form's.
+    for (int side = 0; side < 2 && sleeve > 0; ++side)
+      if (const auto& a = view.arm(side))
+        sleeve = std::min(sleeve, a->tWristPx / view.pose().pxPerCm + 10.0 - 0.5);
+    m["sleeve_length"] = sleeve;
   }
   if (v.type == "pants") {
     const double crotch = view.crotchCm().value_or(view.hipCm() - 10) - 2;
@@ -149,8 +158,7 @@ drafts::Measurements bodyForForm(const calib::FormModel& form) {
 }
 
 std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view,
-                                                            const drafts::Measurements& body,
-                                                            std::vector<std::string>* notes) {
+                                                            const drafts::Measurements& body) {
   std::vector<ReferenceSilhouette> refs;
   for (const auto& v : variants()) {
     if (v.type == "pants" && !view.crotchCm())
@@ -165,8 +173,14 @@ std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view
       cv::Mat mask = layer.coverage > 0.5f;
       refs.push_back({v.type, v.attributes, mask});
     } catch (const std::exception& e) {
-      if (notes)
-        notes->push_back("reference " + v.type + " not rendered: " + e.what());
+      // A reference that cannot be drawn would silently take its type or cut out of the
+      // classifier (three long tops did, on every bundled form): the calibration is refused.
+      std::string what = v.type;
+      for (const auto& [k, a] : v.attributes)
+        what += " " + k + "=" + a;
+      throw std::runtime_error("the classifier's reference " + what + " (length x" +
+                               std::to_string(v.lengthFactor).substr(0, 3) +
+                               ") cannot be drawn on this form: " + e.what());
     }
   }
   return refs;
@@ -226,8 +240,7 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
     if (rows > refRows)
       refView = &tallView.emplace(*ctx->form, p, cv::Size(refView->size().width, rows));
   }
-  std::vector<ReferenceSilhouette> refs =
-      renderReferenceSilhouettes(*refView, ctx->body, &ctx->notes);
+  std::vector<ReferenceSilhouette> refs = renderReferenceSilhouettes(*refView, ctx->body);
   ctx->sleevelessReachCm = sleevelessReachCm(refs, *refView);
   if (tallView) {
     for (auto& r : refs)

@@ -32,7 +32,6 @@ struct CaptureContext {
   // How far a sleeveless reference top covers the arm from the shoulder tip, in cm (0 on most
   // forms; several cm on a form with broad shoulder caps): a shorter "sleeve" is the bodice.
   double sleevelessReachCm = 0;
-  std::vector<std::string> notes;  // what was assumed while building (for result.json)
 };
 
 /// Builds the context from calibration JSON (docs/formats.md). Throws drafts::ParseError for a
@@ -44,10 +43,10 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
 std::shared_ptr<const CaptureContext> cachedCaptureContext(const nlohmann::json& calibration);
 
 /// Reference silhouettes of every type and attribute combination, drafted for `body` by the
-/// project's recipes and laid on the form by the garment model of the scene simulator.
+/// project's recipes and laid on the form by the garment model of the scene simulator. Throws
+/// std::runtime_error naming the reference when one cannot be drawn on this form.
 std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view,
-                                                            const drafts::Measurements& body,
-                                                            std::vector<std::string>* notes);
+                                                            const drafts::Measurements& body);
 
 /// The form's own measurements completed, for names the form does not give, from the size of the
 /// korean_women chart whose bust is nearest (drafts need neck-to-waist, arm lengths, ...).
