@@ -54,15 +54,9 @@ double percentile(std::vector<double> v, double p) {
 
 // Frames of /stream.mjpg read until `stop`, counted by their part headers.
 int watchPreview(int port, const std::atomic<bool>& stop) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<std::uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    close(fd);
+  const int fd = connectTo(port);
+  if (fd < 0)
     return -1;
-  }
   const std::string req = "GET /stream.mjpg HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
   send(fd, req.data(), req.size(), MSG_NOSIGNAL);
   timeval tv{0, 200000};

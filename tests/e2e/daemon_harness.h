@@ -3,10 +3,13 @@
 // port with --simulated, a blocking HTTP client, and the replay rigs it captures from. Shared by
 // the e2e test sources (tests/e2e/*_test.cpp); every wait is bounded. Also read-only looks into
 // the daemon's data folder (catalog, image store).
+#include <arpa/inet.h>
 #include <fcntl.h>
+#include <netinet/in.h>
 #include <signal.h>
 #include <sqlite3.h>
 #include <sys/prctl.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -54,6 +57,30 @@ struct Reply {
 
 /// A request with the given header fields as they are (Host included), for the attacks a
 /// browser or a hostile client makes. A HEAD's answer is read without a body.
+/// A raw TCP connection to the daemon's loopback port (-1 on failure); `from`: the client's own
+/// address (any of 127.0.0.0/8 is this machine's loopback), so that one test can be many clients.
+inline int connectTo(int port, const char* from = nullptr) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  if (from) {
+    sockaddr_in src{};
+    src.sin_family = AF_INET;
+    inet_pton(AF_INET, from, &src.sin_addr);
+    if (bind(fd, reinterpret_cast<sockaddr*>(&src), sizeof src) != 0) {
+      close(fd);
+      return -1;
+    }
+  }
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    close(fd);
+    return -1;
+  }
+  return fd;
+}
+
 /// The client address this thread's requests come from ("": the default, 127.0.0.1). Any of
 /// 127.0.0.0/8 reaches the loopback port, so one test can be many clients (tablets) at once.
 inline thread_local std::string clientAddress;

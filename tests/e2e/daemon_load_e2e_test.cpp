@@ -13,30 +13,6 @@
 namespace garmcap::e2e {
 namespace {
 
-// `from`: the client's own address (any of 127.0.0.0/8 is this machine's loopback), so that one
-// test can be several clients.
-int connectTo(int port, const char* from = nullptr) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  if (from) {
-    sockaddr_in src{};
-    src.sin_family = AF_INET;
-    inet_pton(AF_INET, from, &src.sin_addr);
-    if (bind(fd, reinterpret_cast<sockaddr*>(&src), sizeof src) != 0) {
-      close(fd);
-      return -1;
-    }
-  }
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<std::uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    close(fd);
-    return -1;
-  }
-  return fd;
-}
-
 bool sendAll(int fd, const std::string& s) {
   return send(fd, s.data(), s.size(), MSG_NOSIGNAL | MSG_DONTWAIT) ==
          static_cast<ssize_t>(s.size());

@@ -11,6 +11,18 @@
 
 namespace {
 
+// What a shell command prints, then "exit <status>".
+std::string commandOutput(const std::string& cmd) {
+  std::string out;
+  if (FILE* p = popen(cmd.c_str(), "r")) {
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p))
+      out += buf;
+    out += "exit " + std::to_string(pclose(p));
+  }
+  return out;
+}
+
 using namespace garmcap::e2e;
 
 TEST(TapeE2E, ThreeTapedGarmentsCorrectTheNextCapture) {
@@ -120,17 +132,9 @@ TEST(TapeE2E, ThreeTapedGarmentsCorrectTheNextCapture) {
 
   // The command line takes the same body (here the measurements alone, with --item) and lists.
   const auto run = [&](const std::string& args, const std::string& input) {
-    const std::string cmd = "echo '" + input +
-                            "' | GARMCAPD_URL=http://127.0.0.1:" + std::to_string(d.port()) + " " +
-                            GARMCAP_BIN_DIR + "/garmcapctl tape " + args + " 2>&1";
-    std::string out;
-    if (FILE* p = popen(cmd.c_str(), "r")) {
-      char buf[512];
-      while (std::fgets(buf, sizeof buf, p))
-        out += buf;
-      out += "exit " + std::to_string(pclose(p));
-    }
-    return out;
+    return commandOutput("echo '" + input +
+                         "' | GARMCAPD_URL=http://127.0.0.1:" + std::to_string(d.port()) + " " +
+                         GARMCAP_BIN_DIR + "/garmcapctl tape " + args + " 2>&1");
   };
   const double waist = item["measurements"]["waist_circ"];
   const std::string posted =
@@ -146,16 +150,8 @@ TEST(TapeE2E, ThreeTapedGarmentsCorrectTheNextCapture) {
 
   // garmcap tape on the stopped station's catalog: the same checks and table.
   const auto offline = [&](const std::string& args, const std::string& input) {
-    const std::string cmd = "echo '" + input + "' | " + GARMCAP_BIN_DIR + "/garmcap tape --data " +
-                            dir.path().string() + " " + args + " 2>&1";
-    std::string out;
-    if (FILE* p = popen(cmd.c_str(), "r")) {
-      char buf[512];
-      while (std::fgets(buf, sizeof buf, p))
-        out += buf;
-      out += "exit " + std::to_string(pclose(p));
-    }
-    return out;
+    return commandOutput("echo '" + input + "' | " + GARMCAP_BIN_DIR + "/garmcap tape --data " +
+                         dir.path().string() + " " + args + " 2>&1");
   };
   const std::string table = offline("--list", "");
   EXPECT_NE(table.find("offset"), std::string::npos) << table;
