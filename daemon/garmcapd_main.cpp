@@ -145,6 +145,7 @@ int main(int argc, char** argv) {
     station->start();
     if (!config.hubUrl.empty()) {
       pusher = std::make_unique<daemon::HubPusher>(*station, config);
+      station->setHubStatus([p = pusher.get()] { return p->status(); });
       pusher->start();
     }
     daemon::addApiRoutes(router, *station);
