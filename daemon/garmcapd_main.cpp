@@ -246,7 +246,9 @@ int main(int argc, char** argv) {
       spdlog::error("garmcapd: an event handler failed (non-standard exception), serving on");
     }
   }
-  pusher.reset();  // before the station: it reaches the catalog through it
+  if (pusher)
+    station->setHubStatus({});  // the status must not reach a pusher that is gone
+  pusher.reset();               // before the station: it reaches the catalog through it
   server.reset();
   station.reset();
   spdlog::info("garmcapd: stopped");
