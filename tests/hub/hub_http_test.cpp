@@ -208,6 +208,24 @@ TEST_F(HubHttpTest, AStationTokenReadsOnlyItsOwnStationAndTheAdminTokenReadsAll)
   EXPECT_EQ(titles("shop2-secret").count("Edited for shop2"), 1u);
 }
 
+TEST_F(HubHttpTest, SessionSaysATokenIsRequiredAndWhoTheCallerIs) {
+  const auto none = call(http::verb::get, "/api/session", "");
+  ASSERT_EQ(none.status, 200) << none.body;
+  EXPECT_EQ(none.json()["token_required"], true);
+  EXPECT_EQ(none.json()["authenticated"], false);
+  EXPECT_EQ(call(http::verb::get, "/api/session", "wrong").json()["authenticated"], false);
+  const auto shop = call(http::verb::get, "/api/session", "shop1-secret").json();
+  EXPECT_EQ(shop["authenticated"], true);
+  EXPECT_EQ(shop["role"], "station");
+  EXPECT_EQ(shop["station"], "shop1");
+  const auto admin = call(http::verb::get, "/api/session", "admin-secret").json();
+  EXPECT_EQ(admin["role"], "admin");
+  EXPECT_EQ(admin["station"], nullptr);
+  // No log-in at the hub: no cookie is handed out for a token.
+  const auto post = call(http::verb::post, "/api/session", "", R"({"token": "admin-secret"})");
+  EXPECT_EQ(post.status, 405);
+}
+
 TEST_F(HubHttpTest, ListsValidateTheirQueryAndTheGuardApplies) {
   EXPECT_EQ(call(http::verb::get, "/api/items", "").status, 401);
   EXPECT_EQ(call(http::verb::get, "/api/items", "wrong").status, 401);

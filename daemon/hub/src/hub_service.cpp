@@ -157,6 +157,21 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
         reply(jsonResponse(http::status::ok, {{"ok", true}, {"schema", store.schemaVersion()}}));
       });
 
+  // What the hub requires, in the fields of the station's /api/session: a bearer token on every
+  // request (a station's or the admin's). The hub has no log-in: no cookie, POST is not a route.
+  router.add(http::verb::get, "/api/session",
+             [who](const Request& req, const RouteMatch&, Reply reply) {
+               const Caller c = who(req);
+               nlohmann::json body{{"authenticated", c.any()},
+                                   {"token_required", true},
+                                   {"login", false},
+                                   {"role", c.admin     ? nlohmann::json("admin")
+                                            : c.station ? nlohmann::json("station")
+                                                        : nlohmann::json(nullptr)}};
+               body["station"] = c.station ? nlohmann::json(*c.station) : nlohmann::json(nullptr);
+               reply(jsonResponse(http::status::ok, body));
+             });
+
   router.add(http::verb::post, "/api/hub/push",
              [&store, who](const Request& req, const RouteMatch&, Reply reply) {
                const Caller c = who(req);
