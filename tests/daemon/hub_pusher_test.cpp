@@ -99,6 +99,7 @@ class ScriptedHub {
  public:
   std::map<std::int64_t, int> refuse;
   std::atomic<int> tokenStatus{0};
+  std::atomic<int> blobPuts{0};  // every PUT is answered 413
 
   ScriptedHub() {
     config_.listenAddress = "127.0.0.1";
@@ -116,6 +117,15 @@ class ScriptedHub {
                                            "field 'title' is not valid"));
                   accepted_.push_back(id);
                   reply(jsonResponse(http::status::ok, {{"ok", true}}));
+                });
+    router_.add(http::verb::head, "/api/hub/blobs/{sha}",
+                [](const Request&, const RouteMatch&, Reply reply) {
+                  reply(jsonError(http::status::not_found, "no such blob"));
+                });
+    router_.add(http::verb::put, "/api/hub/blobs/{sha}",
+                [this](const Request&, const RouteMatch&, Reply reply) {
+                  ++blobPuts;
+                  reply(jsonError(http::status::payload_too_large, "the body is too large"));
                 });
     router_.add(http::verb::get, "/api/hub/changes",
                 [this](const Request&, const RouteMatch&, Reply reply) {
@@ -223,6 +233,32 @@ TEST(HubPusher, RefusalsThatRetriesCannotChangeAreParkedAndTheQueueGoesOn) {
       << refused[1].reason;
   EXPECT_EQ(pusher.counters().refused.load(), 2);
   EXPECT_TRUE(pusher.tokenRefused().empty());
+}
+
+TEST(HubPusher, ABlobTheHubRefusesForGoodParksItsItem) {
+  test::TempDir dir;
+  CatalogOnlyStation station(dir.path());
+  const std::string bytes(4096, '\x42');
+  const std::string sha = station.store().put(bytes);
+  NewItem withImage = plainItem("A");
+  withImage.images = {{"dressed", sha, "image/png", static_cast<std::int64_t>(bytes.size())}};
+  const auto a = station.read<std::int64_t>([&](Catalog& c) { return c.addItem(withImage); });
+  const auto b = station.read<std::int64_t>([](Catalog& c) { return c.addItem(plainItem("B")); });
+  ScriptedHub hub;
+  HubPusher pusher(station, pusherConfig(hub));
+  pusher.start();
+  ASSERT_TRUE(waitFor([&] { return hub.accepted().size() == 1; }, std::chrono::seconds(5)));
+  pusher.stop();
+  EXPECT_EQ(hub.accepted(), std::vector<std::int64_t>{b});
+  EXPECT_EQ(hub.attempts(a), 0);  // the item's push never went without its image
+  EXPECT_EQ(hub.blobPuts.load(), 1);
+  const auto refused =
+      station.read<std::vector<RefusedOutboxEntry>>([](Catalog& c) { return c.refusedOutbox(); });
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_EQ(refused[0].row.itemId, a);
+  EXPECT_EQ(refused[0].httpStatus, 413);
+  EXPECT_NE(refused[0].reason.find("PUT /api/hub/blobs/" + sha), std::string::npos)
+      << refused[0].reason;
 }
 
 TEST(HubPusher, AWrongTokenParksNothingAndIsReported) {
