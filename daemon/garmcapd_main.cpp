@@ -145,6 +145,7 @@ int main(int argc, char** argv) {
     station->start();
     if (!config.hubUrl.empty()) {
       pusher = std::make_unique<daemon::HubPusher>(*station, config);
+      station->setHubStatus([p = pusher.get()] { return p->status(); });
       pusher->start();
     }
     daemon::addApiRoutes(router, *station);
@@ -245,7 +246,9 @@ int main(int argc, char** argv) {
       spdlog::error("garmcapd: an event handler failed (non-standard exception), serving on");
     }
   }
-  pusher.reset();  // before the station: it reaches the catalog through it
+  if (pusher)
+    station->setHubStatus({});  // the status must not reach a pusher that is gone
+  pusher.reset();               // before the station: it reaches the catalog through it
   server.reset();
   station.reset();
   spdlog::info("garmcapd: stopped");

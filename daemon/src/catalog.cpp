@@ -139,6 +139,20 @@ CREATE TABLE tape_measurements(
 CREATE INDEX tape_measurements_type ON tape_measurements(type, name);
 )sql";
 
+// Version 5: outbox rows the hub refused for good (a 4xx that a retry cannot change, issue 20),
+// parked here with the hub's answer so that the rows behind them are sent and staff can see why.
+// A row moves from outbox to here in one transaction; nothing here is retried by itself.
+constexpr const char* kMigrateV4ToV5 = R"sql(
+CREATE TABLE outbox_refused(
+  seq INTEGER PRIMARY KEY,
+  kind TEXT NOT NULL,
+  item_id INTEGER NOT NULL,
+  created_at TEXT NOT NULL,
+  http_status INTEGER NOT NULL,
+  reason TEXT NOT NULL,
+  refused_at TEXT NOT NULL);
+)sql";
+
 const char* text(sqlite3_stmt* s, int col) {
   const unsigned char* t = sqlite3_column_text(s, col);
   return t ? reinterpret_cast<const char*>(t) : "";
@@ -176,6 +190,9 @@ std::string catalogSchemaSql(int version) {
     return std::string(kSchemaV1) + kMigrateV1ToV2 + kMigrateV2ToV3;
   if (version == 4)
     return std::string(kSchemaV1) + kMigrateV1ToV2 + kMigrateV2ToV3 + kMigrateV3ToV4;
+  if (version == 5)
+    return std::string(kSchemaV1) + kMigrateV1ToV2 + kMigrateV2ToV3 + kMigrateV3ToV4 +
+           kMigrateV4ToV5;
   throw CatalogError("no catalog schema version " + std::to_string(version));
 }
 
@@ -387,7 +404,7 @@ void Catalog::migrate() {
                        std::to_string(version));
   // Ordered migrations, each in its own transaction together with its user_version.
   static const std::vector<const char*> kMigrations = {kMigrateV1ToV2, kMigrateV2ToV3,
-                                                       kMigrateV3ToV4};
+                                                       kMigrateV3ToV4, kMigrateV4ToV5};
   while (version < kCatalogSchemaVersion) {
     spdlog::info("catalog: migrating {} from schema {} to {}", file_.string(), version,
                  version + 1);
@@ -1082,6 +1099,47 @@ bool Catalog::removeOutbox(std::int64_t seq) {
 
 std::int64_t Catalog::outboxSize() {
   Statement s(*this, "SELECT count(*) FROM outbox");
+  return s.step() ? sqlite3_column_int64(s.get(), 0) : 0;
+}
+
+bool Catalog::refuseOutbox(std::int64_t seq, int httpStatus, const std::string& reason) {
+  Transaction t(db_);
+  Statement(*this,
+            "INSERT OR REPLACE INTO outbox_refused(seq, kind, item_id, created_at, http_status, "
+            "reason, refused_at) SELECT seq, kind, item_id, created_at, ?, ?, ? FROM outbox "
+            "WHERE seq = ?")
+      .bind(1, static_cast<std::int64_t>(httpStatus))
+      .bind(2, reason)
+      .bind(3, isoUtc(std::chrono::system_clock::now()))
+      .bind(4, seq)
+      .run();
+  if (sqlite3_changes(db_) == 0)
+    return false;
+  Statement(*this, "DELETE FROM outbox WHERE seq = ?").bind(1, seq).run();
+  t.commit();
+  return true;
+}
+
+std::vector<RefusedOutboxEntry> Catalog::refusedOutbox(int limit) {
+  Statement s(*this,
+              "SELECT seq, kind, item_id, created_at, http_status, reason, refused_at FROM "
+              "outbox_refused ORDER BY seq DESC LIMIT ?");
+  s.bind(1, std::clamp(limit, 1, 10000));
+  std::vector<RefusedOutboxEntry> out;
+  while (s.step()) {
+    RefusedOutboxEntry e;
+    e.row = {sqlite3_column_int64(s.get(), 0), text(s.get(), 1), sqlite3_column_int64(s.get(), 2),
+             text(s.get(), 3)};
+    e.httpStatus = sqlite3_column_int(s.get(), 4);
+    e.reason = text(s.get(), 5);
+    e.refusedAt = text(s.get(), 6);
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+std::int64_t Catalog::refusedOutboxSize() {
+  Statement s(*this, "SELECT count(*) FROM outbox_refused");
   return s.step() ? sqlite3_column_int64(s.get(), 0) : 0;
 }
 

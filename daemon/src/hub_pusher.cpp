@@ -29,6 +29,13 @@ class HubUnreachable : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The hub refused this station's token (401/403): nothing is parked, the pusher waits at its
+// longest backoff and reports it until the token is right.
+class HubTokenRefused : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct HubReply {
   int status = 0;
   std::string body;
@@ -74,6 +81,33 @@ HubReply call(const HubAddress& hub, const std::string& token, http::verb verb,
 
 bool ok(const HubReply& r) {
   return r.status >= 200 && r.status < 300;
+}
+
+// The hub's answer, shortened for the log, the status and the refused row.
+std::string describe(const std::string& what, const HubReply& r) {
+  return what + ": " + std::to_string(r.status) + " " + r.body.substr(0, 200);
+}
+
+}  // namespace
+
+bool hubRefusesForGood(int status) {
+  return status == 400 || status == 404 || status == 409 || status == 413 || status == 422;
+}
+
+bool hubRefusesToken(int status) {
+  return status == 401 || status == 403;
+}
+
+namespace {
+
+// For a failed reply: the refusal to park the row with, or an exception (a wrong token; or
+// something a retry may change: 5xx, 408, 429, anything else).
+std::pair<int, std::string> checkRefusal(const std::string& what, const HubReply& reply) {
+  if (hubRefusesToken(reply.status))
+    throw HubTokenRefused(describe(what, reply));
+  if (!hubRefusesForGood(reply.status))
+    throw HubUnreachable(describe(what, reply));
+  return {reply.status, describe(what, reply)};
 }
 
 }  // namespace
@@ -154,9 +188,24 @@ void HubPusher::run() {
     bool busy = false;
     try {
       busy = pass();
+      {
+        std::lock_guard lock(statusMutex_);
+        tokenRefused_.clear();
+      }
       if (failures > 0)
         spdlog::info("hub: reachable again after {} failure(s)", failures);
       failures = 0;
+    } catch (const HubTokenRefused& e) {
+      if (stopping_)
+        break;
+      if (tokenRefused().empty())
+        spdlog::error("hub: {} (is [hub] token this station's token at the hub?)", e.what());
+      {
+        std::lock_guard lock(statusMutex_);
+        tokenRefused_ = e.what();
+      }
+      ++counters_.failures;
+      failures = 1000;  // the longest backoff: a wrong token does not fix itself quickly
     } catch (const std::exception& e) {
       if (stopping_)
         break;
@@ -174,6 +223,31 @@ void HubPusher::run() {
   }
 }
 
+void HubPusher::park(const OutboxEntry& row, const std::pair<int, std::string>& refusal) {
+  spdlog::error("hub: outbox row {} (item {}) refused for good, parked: {}", row.seq, row.itemId,
+                refusal.second);
+  onCatalog<bool>(station_, stopping_, [seq = row.seq, refusal](Catalog& c) {
+    return c.refuseOutbox(seq, refusal.first, refusal.second);
+  });
+  ++counters_.refused;
+}
+
+std::string HubPusher::tokenRefused() const {
+  std::lock_guard lock(statusMutex_);
+  return tokenRefused_;
+}
+
+nlohmann::json HubPusher::status() const {
+  const std::string token = tokenRefused();
+  return {{"url", "http://" + hub_.host + ":" + std::to_string(hub_.port)},
+          {"pushed", counters_.pushed.load()},
+          {"blobs_sent", counters_.blobsSent.load()},
+          {"changes_applied", counters_.changesApplied.load()},
+          {"failures", counters_.failures.load()},
+          {"refused_this_run", counters_.refused.load()},
+          {"token_refused", token.empty() ? nlohmann::json(nullptr) : nlohmann::json(token)}};
+}
+
 bool HubPusher::pass() {
   const auto rows = onCatalog<std::vector<OutboxEntry>>(
       station_, stopping_, [](Catalog& c) { return c.outbox(kBatch); });
@@ -182,6 +256,8 @@ bool HubPusher::pass() {
       return false;
     const auto item = onCatalog<std::optional<Item>>(
         station_, stopping_, [id = row.itemId](Catalog& c) { return c.item(id, true); });
+    // Set when the hub refused this row for good: it is parked, and the next row goes.
+    std::optional<std::pair<int, std::string>> refusal;
     if (item) {
       nlohmann::json doc = item->toJson();
       nlohmann::json images = nlohmann::json::object();
@@ -200,23 +276,32 @@ bool HubPusher::pass() {
           }
           const auto put = call(hub_, token_, http::verb::put, target, std::move(*bytes),
                                 "application/octet-stream");
-          if (!ok(put))
-            throw HubUnreachable("PUT " + target + ": " + std::to_string(put.status) + " " +
-                                 put.body.substr(0, 200));
+          if (!ok(put)) {
+            refusal = checkRefusal("PUT " + target, put);
+            break;
+          }
           ++counters_.blobsSent;
         } else if (!ok(head)) {
+          if (hubRefusesToken(head.status))
+            throw HubTokenRefused(describe("HEAD " + target, head));
           throw HubUnreachable("HEAD " + target + ": " + std::to_string(head.status));
         }
         images[im.kind] = {{"sha256", im.sha256}, {"media_type", im.mediaType}};
+      }
+      if (refusal) {
+        park(row, *refusal);
+        continue;
       }
       doc["images"] = images;
       const nlohmann::json body{
           {"local_id", item->id}, {"item", doc}, {"deleted", item->deletedAt.has_value()}};
       const auto res =
           call(hub_, token_, http::verb::post, "/api/hub/push", body.dump(), "application/json");
-      if (!ok(res))
-        throw HubUnreachable("push of item " + std::to_string(item->id) + ": " +
-                             std::to_string(res.status) + " " + res.body.substr(0, 200));
+      if (!ok(res)) {
+        refusal = checkRefusal("push of item " + std::to_string(item->id), res);
+        park(row, *refusal);
+        continue;
+      }
       ++counters_.pushed;
     }
     onCatalog<bool>(station_, stopping_,
@@ -227,6 +312,8 @@ bool HubPusher::pass() {
   const auto cursor = onCatalog<std::string>(
       station_, stopping_, [](Catalog& c) { return c.hubState("changes_cursor").value_or("0"); });
   const auto res = call(hub_, token_, http::verb::get, "/api/hub/changes?since=" + cursor);
+  if (hubRefusesToken(res.status))
+    throw HubTokenRefused(describe("changes", res));
   if (!ok(res))
     throw HubUnreachable("changes: " + std::to_string(res.status) + " " + res.body.substr(0, 200));
   const auto j = nlohmann::json::parse(res.body, nullptr, false);

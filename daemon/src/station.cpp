@@ -944,6 +944,24 @@ nlohmann::json Station::jobJson(const Job& job) const {
   return j;
 }
 
+// The outbox and the rows the hub refused for good (docs/hub.md), so that staff see them; on the
+// strand, which owns the catalog.
+nlohmann::json Station::hubStatusJson() {
+  nlohmann::json h = hubStatus_ ? hubStatus_() : nlohmann::json::object();
+  h["outbox"] = catalog_->outboxSize();
+  h["refused_count"] = catalog_->refusedOutboxSize();
+  nlohmann::json refused = nlohmann::json::array();
+  for (const auto& r : catalog_->refusedOutbox(20))
+    refused.push_back({{"seq", r.row.seq},
+                       {"kind", r.row.kind},
+                       {"item_id", r.row.itemId},
+                       {"http_status", r.httpStatus},
+                       {"reason", r.reason},
+                       {"refused_at", r.refusedAt}});
+  h["refused"] = std::move(refused);
+  return h;
+}
+
 nlohmann::json Station::statusJson() {
   nlohmann::json s{{"state", toString(state_)},       {"calibrated", calibrated_},
                    {"read_only", !readOnly_.empty()}, {"queue", queue_.size()},
@@ -974,6 +992,8 @@ nlohmann::json Station::statusJson() {
                  {"reloads", reloads_}};
   s["preview_clients"] = previewSinks_.size();
   s["event_clients"] = eventSinks_.size();
+  if (!config_.hubUrl.empty())
+    s["hub"] = hubStatusJson();
   return s;
 }
 

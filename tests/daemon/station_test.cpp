@@ -145,6 +145,42 @@ TEST(Station, FailuresAreJobErrorsAndTheStationRecovers) {
   EXPECT_EQ(rig.json(rig.call(http::verb::get, "/api/status"))["state"], "ready");
 }
 
+TEST(Station, StatusShowsTheHubsOutboxAndTheRowsItRefusedForGood) {
+  Rig rig;
+  EXPECT_FALSE(rig.json(rig.call(http::verb::get, "/api/status")).contains("hub"));
+  rig.stop();
+  rig.config.hubUrl = "http://127.0.0.1:9";
+  rig.config.hubToken = "t";
+  rig.start();
+  rig.station->setHubStatus([] { return nlohmann::json{{"token_refused", "push: 401 no"}}; });
+  bool done = false;
+  rig.station->withCatalog(
+      [&](Catalog& c) {
+        NewItem a;
+        a.sku = "A";
+        a.type = "skirt";
+        NewItem b = a;
+        b.sku = "B";
+        c.addItem(a);
+        c.addItem(b);
+        const auto rows = c.outbox(10);
+        ASSERT_EQ(rows.size(), 2u);
+        ASSERT_TRUE(c.refuseOutbox(rows[0].seq, 422, "push of item 1: 422 bad title"));
+        EXPECT_FALSE(c.refuseOutbox(rows[0].seq, 422, "again"));  // gone from the outbox
+        done = true;
+      },
+      [](Response) {});
+  ASSERT_TRUE(rig.runUntil([&] { return done; }));
+  const auto hub = rig.json(rig.call(http::verb::get, "/api/status"))["hub"];
+  EXPECT_EQ(hub["outbox"], 1) << hub.dump();
+  EXPECT_EQ(hub["refused_count"], 1);
+  ASSERT_EQ(hub["refused"].size(), 1u);
+  EXPECT_EQ(hub["refused"][0]["http_status"], 422);
+  EXPECT_EQ(hub["refused"][0]["item_id"], 1);
+  EXPECT_EQ(hub["refused"][0]["reason"], "push of item 1: 422 bad title");
+  EXPECT_EQ(hub["token_refused"], "push: 401 no");
+}
+
 TEST(Station, QueueIsBounded) {
   Rig rig;
   rig.camera->delay = 100ms;

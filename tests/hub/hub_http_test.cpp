@@ -2,6 +2,8 @@
 // what, the blob hash check, the push and patch answers, and the station's request guard.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "../e2e/daemon_harness.h"
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/hub/hub_service.h"
@@ -145,6 +147,83 @@ TEST_F(HubHttpTest, PushPatchAndChangesFollowTheOwnershipRule) {
       call(http::verb::get, "/api/hub/changes?since=" + changes["next"].dump(), "shop1-secret");
   EXPECT_EQ(after.json()["changes"], Json::array());
   EXPECT_EQ(call(http::verb::get, "/api/hub/changes?since=0", "admin-secret").status, 401);
+}
+
+TEST_F(HubHttpTest, AStationTokenReadsOnlyItsOwnStationAndTheAdminTokenReadsAll) {
+  const auto a = call(http::verb::post, "/api/hub/push", "shop1-secret", pushBody(51, ""));
+  ASSERT_EQ(a.status, 200) << a.body;
+  const std::string bytes = "frame-of-shop2-item-52";
+  const std::string sha = daemon::sha256Hex(bytes);
+  ASSERT_EQ(call(http::verb::put, "/api/hub/blobs/" + sha, "shop2-secret", bytes,
+                 "application/octet-stream")
+                .status,
+            201);
+  const auto b = call(http::verb::post, "/api/hub/push", "shop2-secret", pushBody(52, sha));
+  ASSERT_EQ(b.status, 200) << b.body;
+  const std::string itemA = "/api/items/" + a.json()["id"].dump();
+  const std::string itemB = "/api/items/" + b.json()["id"].dump();
+
+  // One item: another station's is absent; the own one and the admin's reads are there.
+  EXPECT_EQ(call(http::verb::get, itemB, "shop1-secret").status, 404);
+  EXPECT_EQ(call(http::verb::get, itemA, "shop2-secret").status, 404);
+  EXPECT_EQ(call(http::verb::get, itemA, "shop1-secret").status, 200);
+  EXPECT_EQ(call(http::verb::get, itemB, "shop2-secret").status, 200);
+  EXPECT_EQ(call(http::verb::get, itemB, "admin-secret").status, 200);
+
+  // Lists: a station token gets its own station's items, and 403 for another's filter.
+  EXPECT_EQ(call(http::verb::get, "/api/items?station=shop2", "shop1-secret").status, 403);
+  auto stationsIn = [](const Json& page) {
+    std::set<std::string> out;
+    for (const auto& it : page["items"])
+      out.insert(it["station"].get<std::string>());
+    return out;
+  };
+  EXPECT_EQ(stationsIn(call(http::verb::get, "/api/items?limit=500", "shop1-secret").json()),
+            std::set<std::string>{"shop1"});
+  EXPECT_EQ(stationsIn(call(http::verb::get, "/api/items?station=shop1", "shop1-secret").json()),
+            std::set<std::string>{"shop1"});
+  EXPECT_EQ(stationsIn(call(http::verb::get, "/api/items?limit=500", "admin-secret").json()),
+            (std::set<std::string>{"shop1", "shop2"}));
+
+  // Blobs: only those of the station's own items (HEAD, the pusher's question, stays open).
+  const std::string blob = "/api/hub/blobs/" + sha;
+  EXPECT_EQ(call(http::verb::get, blob, "shop1-secret").status, 404);
+  EXPECT_EQ(call(http::verb::head, blob, "shop1-secret").status, 200);
+  EXPECT_EQ(call(http::verb::get, blob, "shop2-secret").body, bytes);
+  EXPECT_EQ(call(http::verb::get, blob, "admin-secret").body, bytes);
+
+  // Changes: the hub's edit of shop2's item goes to shop2 only.
+  ASSERT_EQ(call(http::verb::patch, itemB, "admin-secret",
+                 R"({"status": "approved", "title": "Edited for shop2"})")
+                .status,
+            200);
+  auto titles = [&](const std::string& token) {
+    const Json page = call(http::verb::get, "/api/hub/changes?since=0&limit=1000", token).json();
+    std::set<std::string> out;
+    for (const auto& ch : page["changes"])
+      out.insert(ch["title"].get<std::string>());
+    return out;
+  };
+  EXPECT_EQ(titles("shop1-secret").count("Edited for shop2"), 0u);
+  EXPECT_EQ(titles("shop2-secret").count("Edited for shop2"), 1u);
+}
+
+TEST_F(HubHttpTest, SessionSaysATokenIsRequiredAndWhoTheCallerIs) {
+  const auto none = call(http::verb::get, "/api/session", "");
+  ASSERT_EQ(none.status, 200) << none.body;
+  EXPECT_EQ(none.json()["token_required"], true);
+  EXPECT_EQ(none.json()["authenticated"], false);
+  EXPECT_EQ(call(http::verb::get, "/api/session", "wrong").json()["authenticated"], false);
+  const auto shop = call(http::verb::get, "/api/session", "shop1-secret").json();
+  EXPECT_EQ(shop["authenticated"], true);
+  EXPECT_EQ(shop["role"], "station");
+  EXPECT_EQ(shop["station"], "shop1");
+  const auto admin = call(http::verb::get, "/api/session", "admin-secret").json();
+  EXPECT_EQ(admin["role"], "admin");
+  EXPECT_EQ(admin["station"], nullptr);
+  // No log-in at the hub: no cookie is handed out for a token.
+  const auto post = call(http::verb::post, "/api/session", "", R"({"token": "admin-secret"})");
+  EXPECT_EQ(post.status, 405);
 }
 
 TEST_F(HubHttpTest, ListsValidateTheirQueryAndTheGuardApplies) {

@@ -157,6 +157,21 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
         reply(jsonResponse(http::status::ok, {{"ok", true}, {"schema", store.schemaVersion()}}));
       });
 
+  // What the hub requires, in the fields of the station's /api/session: a bearer token on every
+  // request (a station's or the admin's). The hub has no log-in: no cookie, POST is not a route.
+  router.add(http::verb::get, "/api/session",
+             [who](const Request& req, const RouteMatch&, Reply reply) {
+               const Caller c = who(req);
+               nlohmann::json body{{"authenticated", c.any()},
+                                   {"token_required", true},
+                                   {"login", false},
+                                   {"role", c.admin     ? nlohmann::json("admin")
+                                            : c.station ? nlohmann::json("station")
+                                                        : nlohmann::json(nullptr)}};
+               body["station"] = c.station ? nlohmann::json(*c.station) : nlohmann::json(nullptr);
+               reply(jsonResponse(http::status::ok, body));
+             });
+
   router.add(http::verb::post, "/api/hub/push",
              [&store, who](const Request& req, const RouteMatch&, Reply reply) {
                const Caller c = who(req);
@@ -185,8 +200,13 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
              });
   router.add(http::verb::get, "/api/hub/blobs/{sha}",
              [&store, who](const Request& req, const RouteMatch& m, Reply reply) {
-               if (!who(req).any())
+               const Caller c = who(req);
+               if (!c.any())
                  return reply(unauthorized("a station or admin token is required"));
+               // A station reads only the blobs of its own items (HEAD stays open to every
+               // token: the pusher asks before it sends, and learns only about a hash it has).
+               if (!c.admin && !store.blobOfStation(shaParam(m), *c.station))
+                 return reply(jsonError(http::status::not_found, "no such blob"));
                auto bytes = store.blob(shaParam(m));
                if (!bytes)
                  return reply(jsonError(http::status::not_found, "no such blob"));
@@ -228,13 +248,22 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
 
   router.add(http::verb::get, "/api/items",
              [&store, who](const Request& req, const RouteMatch& m, Reply reply) {
-               if (!who(req).any())
+               const Caller c = who(req);
+               if (!c.any())
                  return reply(unauthorized("a station or admin token is required"));
                HubQuery q;
                if (auto s = m.queryValue("station")) {
                  if (!s->empty() && !validStationId(*s))
                    throw BadRequest("station must be 1..64 of [A-Za-z0-9_-]");
                  q.station = *s;
+               }
+               // A station token lists its own station's items only; the admin token all.
+               if (!c.admin) {
+                 if (!q.station.empty() && q.station != *c.station)
+                   return reply(jsonError(http::status::forbidden,
+                                          "a station token lists only its own station's items; "
+                                          "the admin token lists every station's"));
+                 q.station = *c.station;
                }
                if (auto s = m.queryValue("q"))
                  q.search = s->substr(0, 200);
@@ -251,11 +280,13 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
 
   router.add(http::verb::get, "/api/items/{id}",
              [&store, who](const Request& req, const RouteMatch& m, Reply reply) {
-               if (!who(req).any())
+               const Caller c = who(req);
+               if (!c.any())
                  return reply(unauthorized("a station or admin token is required"));
                const auto id = m.id("id");
                auto it = store.item(id);
-               if (!it)
+               // Another station's item is answered as absent, so its ids tell nothing.
+               if (!it || (!c.admin && it->station != *c.station))
                  return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
                reply(jsonResponse(http::status::ok, it->toJson()));
              });

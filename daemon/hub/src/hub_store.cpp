@@ -370,6 +370,17 @@ std::optional<std::string> HubStore::blob(const std::string& sha256) {
   });
 }
 
+bool HubStore::blobOfStation(const std::string& sha256, const std::string& station) {
+  return withConnection([&](pqxx::connection& c) {
+    pqxx::work w(c);
+    return !w.exec_params(
+                 "SELECT 1 FROM item_images ii JOIN items i ON i.id = ii.item_id WHERE "
+                 "ii.sha256 = $1 AND i.station_id = $2 LIMIT 1",
+                 sha256, station)
+                .empty();
+  });
+}
+
 PushOutcome HubStore::push(const std::string& station, const PushedItem& in) {
   if (in.localId <= 0)
     throw HubStoreError("local_id must be a positive integer");

@@ -29,7 +29,7 @@ class CatalogError : public std::runtime_error {
 };
 
 inline constexpr std::int32_t kCatalogApplicationId = 0x47434150;  // "GCAP"
-inline constexpr int kCatalogSchemaVersion = 4;
+inline constexpr int kCatalogSchemaVersion = 5;
 
 /// Review status of an item: a capture with low confidence or warnings starts as kNeedsReview and
 /// cannot be exported until a person approves it.
@@ -116,6 +116,14 @@ struct OutboxEntry {
   std::string kind;  // kOutboxUpsert | kOutboxDelete
   std::int64_t itemId = 0;
   std::string createdAt;
+};
+
+/// An outbox row the hub refused for good (docs/hub.md): parked with the hub's answer.
+struct RefusedOutboxEntry {
+  OutboxEntry row;
+  int httpStatus = 0;
+  std::string reason;  // the hub's answer, shortened
+  std::string refusedAt;
 };
 
 /// One taped measurement of an item (issue 15 part 7): what staff measured with a tape and what
@@ -255,6 +263,11 @@ class Catalog {
   std::vector<OutboxEntry> outbox(int limit = 100);  // oldest first
   bool removeOutbox(std::int64_t seq);
   std::int64_t outboxSize();
+  /// Moves row `seq` from the outbox to the refused rows with the hub's status and reason, in
+  /// one transaction; false if there is no such row.
+  bool refuseOutbox(std::int64_t seq, int httpStatus, const std::string& reason);
+  std::vector<RefusedOutboxEntry> refusedOutbox(int limit = 20);  // newest first
+  std::int64_t refusedOutboxSize();
   /// The pusher's state (e.g. "changes_cursor"); nullopt when never set.
   std::optional<std::string> hubState(const std::string& key);
   void setHubState(const std::string& key, const std::string& value);

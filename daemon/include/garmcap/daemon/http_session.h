@@ -297,7 +297,9 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
     const std::string_view t(target.data(), target.size());
     const std::string_view path = t.substr(0, t.find('?'));
     const bool keepAlive = req.keep_alive();
-    if (path == "/api/session")
+    // The station's log-in, unless the router has a /api/session of its own (the hub's, whose
+    // callers are station and admin tokens, not this log-in).
+    if (path == "/api/session" && !shared_->router.find(req.method(), t).pathMatched)
       return send(login(req), keepAlive);
     if (needsToken(path) && !authorized(req, shared_->config.token, &shared_->logins)) {
       Response res = jsonError(http::status::unauthorized, "missing or wrong bearer token");

@@ -103,6 +103,8 @@ class Station : public RouteContext {
   void reload(const Config& config);
 
   /// Lets reload() rebuild the processor with new pipeline options (garmcapd sets it).
+  /// With [hub] url: what the pusher reports (thread-safe), shown in /api/status under "hub".
+  void setHubStatus(std::function<nlohmann::json()> f) { hubStatus_ = std::move(f); }
   void setProcessorFactory(std::function<std::unique_ptr<CaptureProcessor>(const Config&)> f) {
     processorFactory_ = std::move(f);
   }
@@ -179,6 +181,7 @@ class Station : public RouteContext {
   void broadcast(const std::string& event, const nlohmann::json& data);
   nlohmann::json jobJson(const Job& job) const;
   nlohmann::json statusJson();
+  nlohmann::json hubStatusJson();
   void openCamera();
   // While the camera is away: open it again after 0.5, 1, 2, 4, then every 5 s, and go back to
   // ready by itself when it answers (the UI follows the state events).
@@ -211,6 +214,7 @@ class Station : public RouteContext {
   std::unique_ptr<capture::Gpio> gpio_;
   std::unique_ptr<CaptureProcessor> processor_;
   std::function<std::unique_ptr<CaptureProcessor>(const Config&)> processorFactory_;
+  std::function<nlohmann::json()> hubStatus_;
   std::optional<Config> pendingProcessor_;  // a reload's pipeline options, applied when idle
   int reloads_ = 0;
   std::unique_ptr<Catalog> catalog_;

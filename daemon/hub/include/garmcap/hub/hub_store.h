@@ -121,6 +121,8 @@ class HubStore {
   /// Stores bytes under their sha256 (the caller checked it). Idempotent.
   void putBlob(const std::string& sha256, const std::string& bytes);
   std::optional<std::string> blob(const std::string& sha256);
+  /// True when an item of `station` shows this blob (what a station token may download).
+  bool blobOfStation(const std::string& sha256, const std::string& station);
 
   /// Idempotent upsert by (station, local id). Throws HubStoreError naming a missing blob or a
   /// bad field.
