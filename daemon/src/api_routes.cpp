@@ -212,6 +212,16 @@ std::string sizeGuideCsv(const nlohmann::json& guide) {
   return dsw::sizeGuideCsv(dsw::sizeGuideFromJson(guide.dump(), "stored size guide"));
 }
 
+namespace {
+// The item page shows the pieces to cut: cut line (solid) and sew line (dashed). The draft's
+// own contours would lie on every sew line as a solid black line and hide its dashes.
+drafts::SvgOptions itemSvgOptions() {
+  drafts::SvgOptions o;
+  o.drawDraft = false;
+  return o;
+}
+}  // namespace
+
 void addApiRoutes(Router& router, Station& station) {
   using V = http::verb;
   Station* st = &station;
@@ -448,7 +458,7 @@ void addApiRoutes(Router& router, Station& station) {
                       const auto pattern = drafts::patternFromJsonValue(
                           json, "item " + std::to_string(id) + " pattern " + size);
                       reply(textResponse(http::status::ok, "image/svg+xml",
-                                         drafts::patternToSvg(pattern, drafts::SvgOptions{})));
+                                         drafts::patternToSvg(pattern, itemSvgOptions())));
                     } catch (const std::exception& e) {
                       reply(jsonError(http::status::internal_server_error, e.what()));
                     }

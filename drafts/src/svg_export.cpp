@@ -107,7 +107,9 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
     body += k + " " + num(v).substr(0, num(v).size() - 2) + "  ";
   s << "<g font-family=\"sans-serif\" fill=\"black\">\n"
     << "<text x=\"" << num(x0 + 1) << "\" y=\"" << num(y0 + 1.6) << "\" font-size=\"1.2\">"
-    << xmlEscape(pattern.type) << " — draft (grey: construction, black: contour), panels (blue)"
+    << xmlEscape(pattern.type)
+    << (options.drawDraft ? " — draft (grey: construction, black: contour), panels (blue)"
+                          : " — pieces (cut line solid, sew line dashed)")
     << "</text>\n"
     << "<text x=\"" << num(x0 + 1) << "\" y=\"" << num(y0 + 3.0) << "\" font-size=\"0.7\">"
     << xmlEscape(body) << "</text>\n</g>\n";
