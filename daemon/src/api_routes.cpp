@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "garmcap/daemon/capture_processor.h"
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/daemon/export_shop.h"
@@ -183,6 +184,8 @@ std::string patternSizeParam(const RouteMatch& m) {
 }
 
 Response noPatternForSize(const Item& item, const std::string& size) {
+  if (item.sizes.empty())
+    return noDraftedPattern(item, size);
   std::string have;
   for (const auto& s : item.sizes)
     have += (have.empty() ? "" : ", ") + s;
@@ -191,24 +194,33 @@ Response noPatternForSize(const Item& item, const std::string& size) {
                        (have.empty() ? " (it has no pattern at all)" : " (sizes: " + have + ")"));
 }
 
-bool patternIsEmpty(const nlohmann::json& pattern) {
-  const auto panels = pattern.find("panels");
-  return !pattern.is_object() || panels == pattern.end() || !panels->is_array() || panels->empty();
-}
-
 Response noDraftedPattern(const Item& item, const std::string& size) {
-  std::string why;
-  for (const auto& w : item.warnings)
-    why += (why.empty() ? "" : "; ") + w;
+  std::string why, all;
+  for (const auto& w : item.warnings) {
+    all += (all.empty() ? "" : "; ") + w;
+    if (w.rfind(kNoPatternWarning, 0) == 0)
+      why += (why.empty() ? "" : "; ") + w.substr(std::string_view(kNoPatternWarning).size());
+  }
+  if (why.empty())
+    why = all.empty() ? "no reason recorded" : all;
   return jsonError(http::status::unprocessable_entity,
-                   "item " + std::to_string(item.id) + " has no pattern for size '" + size +
-                       "': its garment could not be drafted" +
-                       (why.empty() ? std::string() : " (" + why + ")"));
+                   std::string(kNoPatternWarning) + why + " (item " + std::to_string(item.id) +
+                       ", size '" + size + "': its garment could not be drafted)");
 }
 
 std::string sizeGuideCsv(const nlohmann::json& guide) {
   return dsw::sizeGuideCsv(dsw::sizeGuideFromJson(guide.dump(), "stored size guide"));
 }
+
+namespace {
+// The item page shows the pieces to cut: cut line (solid) and sew line (dashed). The draft's
+// own contours would lie on every sew line as a solid black line and hide its dashes.
+drafts::SvgOptions itemSvgOptions() {
+  drafts::SvgOptions o;
+  o.drawDraft = false;
+  return o;
+}
+}  // namespace
 
 void addApiRoutes(Router& router, Station& station) {
   using V = http::verb;
@@ -446,7 +458,7 @@ void addApiRoutes(Router& router, Station& station) {
                       const auto pattern = drafts::patternFromJsonValue(
                           json, "item " + std::to_string(id) + " pattern " + size);
                       reply(textResponse(http::status::ok, "image/svg+xml",
-                                         drafts::patternToSvg(pattern, drafts::SvgOptions{})));
+                                         drafts::patternToSvg(pattern, itemSvgOptions())));
                     } catch (const std::exception& e) {
                       reply(jsonError(http::status::internal_server_error, e.what()));
                     }

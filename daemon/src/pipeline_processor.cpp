@@ -100,7 +100,7 @@ class PipelineProcessor : public CaptureProcessor {
     // The CLI's result.json (CaptureResult::toJson), so both tell the same story in one shape;
     // the colours are added by nameColours below.
     out.result = r.toJson();
-    out.patterns["base"] = drafts::patternToJsonValue(r.pattern);
+    storeBasePattern(out, drafts::patternToJsonValue(r.pattern));
     auto addImage = [&](const char* kind, const cv::Mat& m) {
       if (!m.empty())
         out.images[kind] = m;
@@ -306,6 +306,23 @@ std::string decodeHangTagSku(const cv::Mat& bgr) {
     return "";
   }
 #endif
+}
+
+bool patternIsEmpty(const nlohmann::json& pattern) {
+  const auto panels = pattern.find("panels");
+  return !pattern.is_object() || panels == pattern.end() || !panels->is_array() || panels->empty();
+}
+
+void storeBasePattern(ProcessedCapture& out, const nlohmann::json& pattern) {
+  if (!patternIsEmpty(pattern)) {
+    out.patterns["base"] = pattern;
+    return;
+  }
+  out.patterns.erase("base");
+  const bool said = std::any_of(out.warnings.begin(), out.warnings.end(),
+                                [](const auto& w) { return w.rfind(kNoPatternWarning, 0) == 0; });
+  if (!said)
+    out.warnings.push_back(std::string(kNoPatternWarning) + "the draft has no pieces");
 }
 
 std::string expandNamingTemplate(const std::string& pattern,

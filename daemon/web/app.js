@@ -509,7 +509,9 @@ function showPattern() {
   const base = '/api/items/' + it.id;
   const q = '?size=' + encodeURIComponent(size);
   if (!it.sizes || !it.sizes.length) {
-    $('#panels').replaceChildren(el('span', { class: 'muted', text: 'No pattern for this item' }));
+    // A failed draft stores no pattern; the item's warning says why ("no pattern: <reason>").
+    const why = (it.warnings || []).find((w) => w.startsWith('no pattern: '));
+    $('#panels').replaceChildren(el('span', { class: 'muted', text: why ? 'No pattern for this item: ' + why.slice(12) : 'No pattern for this item' }));
     $('#pattern-links').replaceChildren();
     return;
   }

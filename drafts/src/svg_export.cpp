@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "export_util.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/geometry.h"
+#include "garmcap/drafts/seam_allowance.h"
 #include "garmcap/drafts/svg.h"
 #include "garmcap/drafts/xml_escape.h"
 
@@ -47,6 +49,22 @@ struct Box {
   bool empty() const { return x0 > x1; }
 };
 
+// The cut line of each panel (seam allowance included, the same offset the DXF-AAMA layer 1
+// holds), or nothing for a panel whose cut line cannot be built: that panel is drawn with its
+// sew line only and the reason is written beside it, rather than failing the whole drawing.
+struct CutLine {
+  std::optional<Polyline> line;
+  std::string why;
+};
+
+CutLine cutLineOf(const Panel& panel, const Pattern& pattern) {
+  try {
+    return {cutOutline(panel, pattern), {}};
+  } catch (const SeamAllowanceError& e) {
+    return {std::nullopt, e.what()};
+  }
+}
+
 }  // namespace
 
 std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
@@ -55,8 +73,15 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
     for (const auto& l : pattern.lines)
       box.add(l.points);
   }
-  for (const auto& p : pattern.panels)
+  std::vector<CutLine> cuts;
+  for (const auto& p : pattern.panels) {
     box.add(p.outline);
+    if (options.drawPanels) {
+      cuts.push_back(cutLineOf(p, pattern));
+      if (cuts.back().line)
+        box.add(*cuts.back().line);
+    }
+  }
   if (box.empty()) {
     box.add(Point2(0, 0));
     box.add(Point2(10, 10));
@@ -82,19 +107,29 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
     body += k + " " + num(v).substr(0, num(v).size() - 2) + "  ";
   s << "<g font-family=\"sans-serif\" fill=\"black\">\n"
     << "<text x=\"" << num(x0 + 1) << "\" y=\"" << num(y0 + 1.6) << "\" font-size=\"1.2\">"
-    << xmlEscape(pattern.type) << " — draft (grey: construction, black: contour), panels (blue)"
+    << xmlEscape(pattern.type)
+    << (options.drawDraft ? " — draft (grey: construction, black: contour), panels (blue)"
+                          : " — pieces (cut line solid, sew line dashed)")
     << "</text>\n"
     << "<text x=\"" << num(x0 + 1) << "\" y=\"" << num(y0 + 3.0) << "\" font-size=\"0.7\">"
     << xmlEscape(body) << "</text>\n</g>\n";
 
   if (options.drawPanels) {
     s << "<g id=\"panels\">\n";
-    for (const auto& p : pattern.panels) {
+    for (std::size_t i = 0; i < pattern.panels.size(); ++i) {
+      const Panel& p = pattern.panels[i];
       s << "<g id=\"panel-" << xmlEscape(p.name) << "\">\n";
-      s << "<polygon points=\"" << pointsAttr(p.outline)
-        << "\" fill=\"#4a90d9\" fill-opacity=\"0.13\" stroke=\"#1f5fa8\" stroke-width=\"0.05\"/>\n";
+      // The cut line (solid) under the sew line (dashed): the fabric is cut on the first and
+      // sewn on the second, as DXF-AAMA layers 1 and 14.
+      if (cuts[i].line)
+        s << "<polygon class=\"cut-line\" points=\"" << pointsAttr(*cuts[i].line)
+          << "\" fill=\"#4a90d9\" fill-opacity=\"0.06\" stroke=\"#111\" stroke-width=\"0.06\"/>\n";
+      s << "<polygon class=\"sew-line\" points=\"" << pointsAttr(p.outline)
+        << "\" fill=\"#4a90d9\" fill-opacity=\"0.13\" stroke=\"#1f5fa8\" stroke-width=\"0.05\" "
+           "stroke-dasharray=\"0.4 0.25\"/>\n";
       for (const auto& d : p.darts) {
-        s << "<polyline points=\"" << pointsAttr(Polyline{d.leg1, d.apex, d.leg2})
+        // The sewn legs (dartPath): a dart that bends along the outline is drawn as it is sewn.
+        s << "<polyline class=\"dart\" points=\"" << pointsAttr(dartPath(p, d))
           << "\" fill=\"none\" stroke=\"#1f5fa8\" stroke-width=\"0.04\" stroke-dasharray=\"0.3 "
              "0.2\"/>\n";
         s << "<line x1=\"" << num((d.leg1.x() + d.leg2.x()) / 2) << "\" y1=\""
@@ -133,6 +168,11 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
         << "\" font-family=\"sans-serif\" font-size=\"0.7\" text-anchor=\"middle\" "
            "fill=\"#1f5fa8\">"
         << xmlEscape(cut) << "</text>\n";
+      if (!cuts[i].line)
+        s << "<text x=\"" << num(c.x()) << "\" y=\"" << num(c.y() + 1.8)
+          << "\" font-family=\"sans-serif\" font-size=\"0.6\" text-anchor=\"middle\" "
+             "fill=\"#c0392b\">"
+          << xmlEscape("no cut line: " + cuts[i].why) << "</text>\n";
       s << "</g>\n";
     }
     s << "</g>\n";
@@ -170,6 +210,20 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
   }
   s << "</g><text x=\"" << num(box.x0 + 10.5) << "\" y=\"" << num(by)
     << "\" font-family=\"sans-serif\" font-size=\"0.7\">10 cm</text>\n";
+  if (options.drawPanels && !pattern.panels.empty()) {
+    // Legend: which line is cut and which is sewn, and the allowance between them.
+    const double lx = box.x0 + 14;
+    s << "<g id=\"legend\" font-family=\"sans-serif\" font-size=\"0.7\">"
+      << "<line x1=\"" << num(lx) << "\" y1=\"" << num(by - 0.25) << "\" x2=\"" << num(lx + 2)
+      << "\" y2=\"" << num(by - 0.25) << "\" stroke=\"#111\" stroke-width=\"0.06\"/>"
+      << "<text x=\"" << num(lx + 2.4) << "\" y=\"" << num(by) << "\">"
+      << xmlEscape("cut line (" + detail::allowanceNote(pattern.panels.front()) + ")")
+      << "</text><line x1=\"" << num(lx) << "\" y1=\"" << num(by + 0.95) << "\" x2=\""
+      << num(lx + 2) << "\" y2=\"" << num(by + 0.95)
+      << "\" stroke=\"#1f5fa8\" stroke-width=\"0.05\" stroke-dasharray=\"0.4 0.25\"/>"
+      << "<text x=\"" << num(lx + 2.4) << "\" y=\"" << num(by + 1.2)
+      << "\">sew line (net outline)</text></g>\n";
+  }
   s << "</svg>\n";
   return s.str();
 }

@@ -82,10 +82,15 @@ class FakeProcessor : public CaptureProcessor {
     r.type = "skirt";
     r.confidence = confidence;
     r.measurementsCm = {{"waist_circ", 60.0 + dressed.at<cv::Vec3b>(0, 0)[0]}};
-    if (undraftable) {
-      // The pipeline keeps the measurements and an empty pattern when the draft fails.
-      r.patterns["base"] = {{"type", "dress"}, {"panels", nlohmann::json::array()}};
+    if (undraftable || legacyEmptyPattern) {
+      // The draft failed: the pipeline keeps the measurements and says why. Catalogs written
+      // before storeBasePattern kept an empty pattern row too.
       r.warnings.push_back("no pattern: sleeve shorter than its cap");
+      const nlohmann::json empty = {{"type", "dress"}, {"panels", nlohmann::json::array()}};
+      if (legacyEmptyPattern)
+        r.patterns["base"] = empty;
+      else
+        storeBasePattern(r, empty);
     } else {
       r.patterns["base"] = {{"type", "skirt"},
                             {"panels", nlohmann::json::array({{{"name", "skirt_front"}}})}};
@@ -97,6 +102,8 @@ class FakeProcessor : public CaptureProcessor {
   }
   std::atomic<bool> fail{false};
   std::atomic<bool> undraftable{false};  // measured, but no pattern could be drafted
+  std::atomic<bool> legacyEmptyPattern{
+      false};  // ... and an empty pattern row stored (old catalogs)
   double confidence = 0.95;
 };
 

@@ -70,27 +70,62 @@ TEST(Station, CalibrateThenCaptureFilesAnItem) {
   EXPECT_EQ(list["total"], 1);
 }
 
+TEST(StoreBasePattern, AFailedDraftStoresNoPatternAndSaysWhy) {
+  ProcessedCapture out;
+  out.warnings = {"no pattern: sleeve shorter than its cap"};
+  storeBasePattern(out, {{"type", "dress"}, {"panels", nlohmann::json::array()}});
+  EXPECT_TRUE(out.patterns.empty());
+  EXPECT_EQ(out.warnings.size(), 1u) << "the pipeline's own reason is kept, not repeated";
+  // No reason given by the pipeline: the warning still says there is no pattern.
+  ProcessedCapture silent;
+  storeBasePattern(silent, {{"type", "dress"}});
+  EXPECT_TRUE(silent.patterns.empty());
+  ASSERT_EQ(silent.warnings.size(), 1u);
+  EXPECT_EQ(silent.warnings[0].rfind("no pattern: ", 0), 0u) << silent.warnings[0];
+  // A drafted pattern is stored as it is.
+  ProcessedCapture drafted;
+  const nlohmann::json p = {{"type", "skirt"}, {"panels", {{{"name", "skirt_front"}}}}};
+  storeBasePattern(drafted, p);
+  ASSERT_EQ(drafted.patterns.count("base"), 1u);
+  EXPECT_EQ(drafted.patterns["base"], p);
+  EXPECT_TRUE(drafted.warnings.empty());
+}
+
 TEST(Station, AnItemWithoutADraftedPatternAnswers422NotAnEmptyPattern) {
-  Rig rig;
-  // The pattern file routes too (route modules: export_routes.cpp).
-  for (const auto& [name, module] : routeModules())
-    module(rig.router, *rig.station);
-  rig.processor->undraftable = true;
-  rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"]);
-  auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
-  ASSERT_EQ(job["state"], "done") << job.dump();
-  const std::string item = "/api/items/" + job["item_id"].dump();
-  for (const char* route : {"/pattern.json", "/pattern.svg", "/pattern.dxf", "/pattern.pdf",
-                            "/garmentcode.json", "/pattern.json?size=base"}) {
-    auto r = rig.call(http::verb::get, item + route);
-    EXPECT_EQ(r.result(), http::status::unprocessable_entity) << route << ": " << r.body();
-    const std::string error = rig.json(r).value("error", "");
-    EXPECT_NE(error.find("could not be drafted"), std::string::npos) << route << ": " << error;
-    EXPECT_NE(error.find("sleeve shorter than its cap"), std::string::npos) << route;
+  // Both a capture since storeBasePattern (no pattern row) and an old catalog's empty row.
+  for (const bool legacy : {false, true}) {
+    SCOPED_TRACE(legacy ? "empty pattern row (old catalog)" : "no pattern row");
+    Rig rig;
+    // The pattern file routes too (route modules: export_routes.cpp).
+    for (const auto& [name, module] : routeModules())
+      module(rig.router, *rig.station);
+    (legacy ? rig.processor->legacyEmptyPattern : rig.processor->undraftable) = true;
+    rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"]);
+    auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+    ASSERT_EQ(job["state"], "done") << job.dump();
+    const std::string item = "/api/items/" + job["item_id"].dump();
+    const auto stored = rig.json(rig.call(http::verb::get, item));
+    if (!legacy) {
+      EXPECT_TRUE(stored["sizes"].empty()) << "a failed draft stores no pattern: " << stored.dump();
+    }
+    EXPECT_NE(stored["warnings"].dump().find("no pattern: sleeve shorter than its cap"),
+              std::string::npos)
+        << stored.dump();
+    for (const char* route : {"/pattern.json", "/pattern.svg", "/pattern.dxf", "/pattern.pdf",
+                              "/garmentcode.json", "/pattern.json?size=base"}) {
+      auto r = rig.call(http::verb::get, item + route);
+      EXPECT_EQ(r.result(), http::status::unprocessable_entity) << route << ": " << r.body();
+      const std::string error = rig.json(r).value("error", "");
+      EXPECT_EQ(error.rfind("no pattern: sleeve shorter than its cap", 0), 0u)
+          << route << ": " << error;
+      EXPECT_NE(error.find("could not be drafted"), std::string::npos) << route << ": " << error;
+    }
+    // A size the item does not have stays a 404 when the item has patterns; here it has none
+    // (or only the empty base), so the answer says why instead.
+    auto xl = rig.call(http::verb::get, item + "/pattern.json?size=XL");
+    EXPECT_EQ(xl.result(), legacy ? http::status::not_found : http::status::unprocessable_entity)
+        << xl.body();
   }
-  // A size the item does not have stays a 404.
-  EXPECT_EQ(rig.call(http::verb::get, item + "/pattern.json?size=XL").result(),
-            http::status::not_found);
 }
 
 TEST(Station, LowConfidenceWaitsForReview) {

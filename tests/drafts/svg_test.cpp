@@ -22,8 +22,12 @@ TEST(Svg, TrueScaleWidthHeightInCmMatchTheViewBox) {
           R"re(width="([0-9.]+)cm" height="([0-9.]+)cm" viewBox="([-0-9.]+) ([-0-9.]+) ([0-9.]+) ([0-9.]+)")re")));
   EXPECT_DOUBLE_EQ(std::stod(m[1]), std::stod(m[5]));  // 1 user unit = 1 cm
   EXPECT_DOUBLE_EQ(std::stod(m[2]), std::stod(m[6]));
-  // The drawing is as wide as the skirt (hip + ease)/2 plus margins.
-  EXPECT_NEAR(std::stod(m[5]), (90.0 + 4) / 2 + 2 * 3.0, 0.5);
+  // The drawing is as wide as the skirt's cut line: (hip + ease)/2, the 1 cm side-seam allowance
+  // (none on the centre fold), plus margins.
+  EXPECT_NEAR(std::stod(m[5]), (90.0 + 4) / 2 + 1.0 + 2 * 3.0, 0.5);
+  EXPECT_NE(svg.find("class=\"cut-line\""), std::string::npos);
+  EXPECT_NE(svg.find("class=\"sew-line\""), std::string::npos);
+  EXPECT_NE(svg.find("id=\"legend\""), std::string::npos);
   EXPECT_NE(svg.find("id=\"draft-construction\""), std::string::npos);
   EXPECT_NE(svg.find("id=\"draft-contours\""), std::string::npos);
   EXPECT_NE(svg.find("id=\"panel-skirt_front\""), std::string::npos);

@@ -191,6 +191,10 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
     EXPECT_EQ(svg.contentType, "image/svg+xml");
     EXPECT_NE(svg.body.find("<svg"), std::string::npos);
     EXPECT_NE(svg.body.find("cm\""), std::string::npos) << "SVG 1:1 carries physical units";
+    // The pieces to cut: a cut line per piece, no draft contour hiding the dashed sew line.
+    EXPECT_NE(svg.body.find("class=\"cut-line\""), std::string::npos);
+    EXPECT_NE(svg.body.find("class=\"sew-line\""), std::string::npos);
+    EXPECT_EQ(svg.body.find("id=\"draft-contours\""), std::string::npos);
     const auto dxf = d.get(at + "/pattern.dxf" + q);
     ASSERT_EQ(dxf.status, 200) << dxf.body;
     EXPECT_EQ(dxf.contentType, "application/dxf");

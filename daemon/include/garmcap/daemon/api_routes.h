@@ -26,12 +26,10 @@ std::string patternSizeParam(const RouteMatch& m);
 /// a client sees at once what it may ask for.
 Response noPatternForSize(const Item& item, const std::string& size);
 
-/// Whether a stored pattern JSON holds no piece: the capture measured the garment but could not
-/// draft it (e.g. a sleeve shorter than its cap); the item keeps the empty pattern.
-bool patternIsEmpty(const nlohmann::json& pattern);
-
-/// 422 for a size whose stored pattern has no piece, with the item's warnings (which say why
-/// the draft failed), so that a client never gets an empty pattern with 200.
+/// 422 for an item whose garment could not be drafted: it has no pattern at all (captures since
+/// storeBasePattern) or a stored pattern without pieces (catalogs written before), so that a
+/// client never gets an empty pattern with 200. The error is "no pattern: <reason>", the reason
+/// taken from the item's "no pattern: ..." warnings (all its warnings if none says it).
 Response noDraftedPattern(const Item& item, const std::string& size);
 
 }  // namespace garmcap::daemon

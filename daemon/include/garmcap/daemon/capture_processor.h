@@ -50,6 +50,17 @@ class CaptureProcessor {
       const ProgressFn& progress, std::shared_ptr<const pipeline::CorrectionTable> corrections) = 0;
 };
 
+/// How a capture's warnings start when it has no pattern (the draft failed): the rest is why.
+inline constexpr const char* kNoPatternWarning = "no pattern: ";
+
+/// Whether a pattern JSON holds no piece (no "panels", or an empty array).
+bool patternIsEmpty(const nlohmann::json& pattern);
+
+/// Stores `pattern` (pattern JSON, pattern_io.h) as the capture's "base" pattern, unless it has
+/// no panel: a failed draft stores no pattern at all, so that no route ever serves an empty one.
+/// The capture's warnings then say why ("no pattern: <reason>"); one is added if none does.
+void storeBasePattern(ProcessedCapture& out, const nlohmann::json& pattern);
+
 /// The production processor on calib/, core/garmcap and core/dsw.
 std::unique_ptr<CaptureProcessor> makePipelineProcessor(const Config& config);
 

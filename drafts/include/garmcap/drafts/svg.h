@@ -1,8 +1,9 @@
 #pragma once
 // SVG export of a pattern at true scale: width/height are given in cm and the viewBox is in cm,
 // so printing at 100 % gives real size. Draft construction lines are grey, draft contours black,
-// panels are drawn distinctly on top (light fill, blue outline, dashed seam-allowance line) with
-// their name, cut count, grainline (arrowed), notches and darts. A 10 cm scale bar is included.
+// panels are drawn distinctly on top (light fill; the cut line with seam allowance solid black,
+// the sew line dashed blue, a legend naming both) with their name, cut count, grainline
+// (arrowed), notches and darts. A 10 cm scale bar is included.
 
 #include <filesystem>
 #include <string>
