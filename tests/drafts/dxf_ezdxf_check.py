@@ -22,38 +22,9 @@ from pathlib import Path
 
 import ezdxf
 
+from outline_geometry import inside, path_dist, ring_dist, seg_dist
+
 TOL_MM = 0.05
-
-
-def seg_dist(p, a, b):
-    ax, ay = a
-    bx, by = b
-    dx, dy = bx - ax, by - ay
-    l2 = dx * dx + dy * dy
-    t = 0.0 if l2 == 0 else max(0.0, min(1.0, ((p[0] - ax) * dx + (p[1] - ay) * dy) / l2))
-    return math.hypot(ax + t * dx - p[0], ay + t * dy - p[1])
-
-
-def ring_dist(p, ring):
-    return min(seg_dist(p, ring[i], ring[(i + 1) % len(ring)]) for i in range(len(ring)))
-
-
-def path_dist(p, pts):
-    return min(seg_dist(p, pts[i], pts[i + 1]) for i in range(len(pts) - 1))
-
-
-def inside(p, ring):
-    """Even-odd point in polygon."""
-    x, y = p
-    c = False
-    j = len(ring) - 1
-    for i in range(len(ring)):
-        xi, yi = ring[i]
-        xj, yj = ring[j]
-        if (yi > y) != (yj > y) and x < xi + (y - yi) * (xj - xi) / (yj - yi):
-            c = not c
-        j = i
-    return c
 
 
 def closed_polylines(block, layer):
