@@ -166,8 +166,9 @@ async function main() {
   if (st.read_only !== true) throw new Error('expected a read-only start on the full disk: ' + JSON.stringify(st));
   const items = await (await fetch(base + '/api/items', { headers: { Authorization: 'Bearer ' + TOKEN } })).json();
   const id = (items.items || items)[0].id;
-  await page.goto(base + '/#/capture');
-  await page.reload();  // a new daemon: log in again
+  // A new daemon: the page logs in again. Not waiting for "load": the live preview's MJPEG never
+  // finishes loading, so that event may never come.
+  await page.reload({ waitUntil: 'domcontentloaded' });
   await waitFor(async () => /Read-only/.test(await page.textContent('#banner-title') || ''), 30000,
     'the read-only banner');
   const detail = await page.textContent('#banner-detail');
@@ -175,7 +176,7 @@ async function main() {
   for (const b of ['#btn-capture', '#btn-empty'])
     if (!(await page.isDisabled(b))) throw new Error(b + ' should be off on a read-only station');
   step('full disk: the UI says "Read-only: the disk is full." and both capture buttons are off');
-  await page.goto(base + '/#/item/' + id);
+  await page.goto(base + '/#/item/' + id, { waitUntil: 'domcontentloaded' });
   await waitFor(async () => page.evaluate(() => {
     const img = document.querySelector('#photos img');
     return img && img.complete && img.naturalWidth > 0;
