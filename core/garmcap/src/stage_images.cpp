@@ -1,0 +1,81 @@
+#include "stage_images.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "garmcap/pipeline/product_images.h"
+#include "garmcap/pipeline/texture.h"
+
+namespace garmcap::pipeline {
+namespace {
+
+// Shops zoom product photos of 2048 px and more: from a frame that large, the photos reach it
+// (scaled up by 1.5x at most when the garment spans less of the frame).
+constexpr int kShopZoomPx = 2048;
+
+void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeasurement& m,
+                 const calib::Calibration& cal) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(garmentMask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  const int thick = std::max(1, overlay.cols / 600);
+  cv::drawContours(overlay, contours, -1, cv::Scalar(0, 255, 255), thick);
+  for (const auto& [name, p] : cal.landmarks)
+    cv::circle(overlay, cv::Point2d(p.x(), p.y()), 2 * thick, cv::Scalar(255, 128, 0), cv::FILLED);
+  for (const auto& lm : m.landmarks) {
+    cv::circle(overlay, lm.px, 3 * thick, cv::Scalar(0, 0, 255), cv::FILLED);
+    cv::putText(overlay, lm.name, lm.px + cv::Point2d(4 * thick, 0), cv::FONT_HERSHEY_SIMPLEX,
+                0.35 * thick, cv::Scalar(0, 0, 255), thick);
+  }
+}
+
+}  // namespace
+
+void makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput& in,
+                       const CaptureOptions& options, StageTimer& timer, CaptureResult& result) {
+  const cv::Mat& dressedFull = in.dressedFull;
+  const cv::Mat& garment = in.garment;
+  const double s = ctx.calibration.pose.pxPerCm;
+  result.silhouette = garment;
+  result.overlay = dressedFull.clone();
+  drawOverlay(result.overlay, garment, in.measurement, ctx.calibration);
+  if (options.makeProductImages || options.makeTexture) {
+    const int margin = static_cast<int>(std::ceil(2.0 * s));
+    cv::Rect box = cv::boundingRect(garment);
+    box =
+        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
+        cv::Rect(0, 0, garment.cols, garment.rows);
+    const cv::Mat3b crop = dressedFull(box);
+    const cv::Mat1b maskCrop = garment(box);
+    if (options.makeProductImages) {
+      const ProductImages p =
+          productPhotos(crop, maskCrop, in.bare.uprightFull(box), in.screenBgr,
+                        {.maxSidePx = options.productSizePx,
+                         .minSidePx = std::max(dressedFull.cols, dressedFull.rows) >= kShopZoomPx
+                                          ? std::min(kShopZoomPx, options.productSizePx)
+                                          : 0,
+                         .marginFraction = 0.06,
+                         .pxPerCm = s});
+      result.cutout = p.cutout;
+      result.cutoutRect = p.cutoutRect + box.tl();
+      result.product = p.square;
+      result.productPortrait = p.portrait;
+    }
+    timer.done("images");
+    if (options.makeTexture) {
+      cv::Mat3b despilled = crop.clone();
+      cv::Mat1b spill;
+      cv::dilate(maskCrop, spill, cv::Mat(), cv::Point(-1, -1), 2);
+      calib::despill(despilled, spill);
+      const TextureResult t = extractTexture(despilled, maskCrop);
+      result.texture = t.tile;
+      result.attributes["fabric"] = toString(t.kind);
+      timer.done("texture");
+    }
+  } else {
+    timer.done("images");
+  }
+}
+
+}  // namespace garmcap::pipeline

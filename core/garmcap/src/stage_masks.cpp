@@ -1,0 +1,340 @@
+#include "stage_masks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "frame_ops.h"
+#include "garmcap/pipeline/capture_pipeline.h"
+
+namespace garmcap::pipeline {
+namespace {
+
+// Dressed foreground this far from the exposed form is garment without asking GrabCut.
+constexpr double kSettledCm = 2.0;
+// Exposed form whose difference is below this fraction of the noise thresholds is sure form from
+// this far from any garment evidence (a garment the colour of the form reads near the threshold,
+// and keeps the wider margin above for GrabCut to find it).
+constexpr double kClearlyExposed = 0.5;
+constexpr double kClearlySettledCm = 0.5;
+// The colour-difference noise floor is read on the form from this far above its side neck up.
+constexpr double kNoiseAboveNeckCm = 4.0;
+constexpr double kAveragedDifferenceCm = 0.5;
+
+// The garment's shadow on the form (shadowOnForm): at least this much darker in Lab lightness
+// (0-255), with a chroma change of at most this fraction of the darkening plus a constant.
+constexpr float kShadowMinDarkening = 8.0f;
+constexpr float kShadowChromaPerLightness = 0.2f;
+constexpr float kShadowChroma = 4.0f;
+constexpr double kShadowBlurCm = 0.2;
+// A shadow band is at least this wide (thinner is a garment's stripe or print, shaded).
+constexpr double kShadowMinWidthCm = 0.8;
+// More of the changed form than this looking like shadow is a dark neutral garment.
+constexpr double kShadowMaxShareOfChange = 0.4;
+
+// The Lab difference of the two frames averaged over about sigmaPx before taking its size
+// (a,b magnitude plus half of L, as the fine difference): sensor noise averages out, while a
+// garment the colour of the form keeps its small, steady offset and its folds. Each channel is
+// clipped at `clip` first, so that a strong garment edge spreads only a thin halo. Only pixels of
+// `over` (the form) are averaged: the garment's shadow changes the screen beside the form, and
+// that change must not reach the form's own edge pixels.
+cv::Mat1f averagedDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& over,
+                             double sigmaPx, float clip) {
+  // One pass for the weighted, clipped signed difference (at 2 MP the chain of whole-image
+  // operations cost ~100 ms more).
+  cv::Mat3f weighted(labE.size());
+  cv::Mat1f weight(labE.size());
+  cv::parallel_for_(cv::Range(0, labE.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const cv::Vec3b* e = labE.ptr<cv::Vec3b>(y);
+      const cv::Vec3b* d = labD.ptr<cv::Vec3b>(y);
+      const uchar* o = over.ptr(y);
+      cv::Vec3f* wd = weighted.ptr<cv::Vec3f>(y);
+      float* w = weight.ptr<float>(y);
+      for (int x = 0; x < labE.cols; ++x) {
+        w[x] = static_cast<float>(o[x]) * (1.0f / 255.0f);
+        for (int k = 0; k < 3; ++k)
+          wd[x][k] = std::clamp(static_cast<float>(d[x][k]) - e[x][k], -clip, clip) * w[x];
+      }
+    }
+  });
+  cv::Mat small, smallW;
+  cv::resize(weighted, small, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  cv::resize(weight, smallW, small.size(), 0, 0, cv::INTER_AREA);
+  const double sigma = std::max(1.0, sigmaPx / 2);
+  cv::GaussianBlur(small, small, cv::Size(), sigma);
+  cv::GaussianBlur(smallW, smallW, cv::Size(), sigma);
+  smallW = cv::max(smallW, 1e-3f);
+  cv::Mat ch[3];
+  cv::split(small, ch);
+  for (cv::Mat& c : ch)
+    cv::divide(c, smallW, c);
+  cv::Mat1f size;
+  cv::magnitude(ch[1], ch[2], size);
+  size += 0.5f * cv::abs(ch[0]);
+  cv::Mat1f out;
+  cv::resize(size, out, labE.size(), 0, 0, cv::INTER_LINEAR);
+  return out;
+}
+
+// Per-pixel size of the Lab difference (a,b magnitude plus half of L). On `tolerant` pixels (the
+// form's outline) it is the smallest over the bare frame's 3x3 neighbourhood: an edge that only
+// moved by a sub-pixel camera shake is unchanged, a garment over it is not.
+cv::Mat1f labDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& tolerant) {
+  auto size = [](const cv::Vec3b& e, const cv::Vec3b& d) {
+    const float l = std::abs(static_cast<float>(e[0]) - d[0]);
+    const float a = static_cast<float>(e[1]) - d[1], b = static_cast<float>(e[2]) - d[2];
+    return std::sqrt(a * a + b * b) + 0.5f * l;
+  };
+  cv::Mat1f out(labE.size());
+  cv::parallel_for_(cv::Range(0, labE.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const cv::Vec3b* e = labE.ptr<cv::Vec3b>(y);
+      const cv::Vec3b* d = labD.ptr<cv::Vec3b>(y);
+      const uchar* t = tolerant.ptr(y);
+      float* o = out.ptr<float>(y);
+      const bool inner = y > 0 && y + 1 < labE.rows;
+      for (int x = 0; x < labE.cols; ++x) {
+        o[x] = size(e[x], d[x]);
+        if (!t[x] || !inner || x == 0 || x + 1 == labE.cols)
+          continue;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            o[x] = std::min(o[x], size(labE.at<cv::Vec3b>(y + dy, x + dx), d[x]));
+      }
+    }
+  });
+  return out;
+}
+
+// Form pixels that look like the bare form in shadow: darker in the dressed frame, with little
+// change of chroma for the change of lightness. The garment throws its shadow on the form below
+// its hem (a band on the thighs under a top, on the shins under a skirt, in the gap between the
+// legs) and that band is no garment; a garment over the form changes its colour as well, unless
+// it is a dark neutral one, where GrabCut's colour models (not this test) decide. Both Lab
+// frames are averaged over about 0.2 cm first (sensor noise).
+cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form,
+                     double pxPerCm) {
+  const double sigma = std::max(0.8, kShadowBlurCm * pxPerCm);
+  cv::Mat e, d;
+  cv::GaussianBlur(labE, e, cv::Size(), sigma);
+  cv::GaussianBlur(labD, d, cv::Size(), sigma);
+  cv::Mat out(labE.size(), CV_8UC1, cv::Scalar(0));
+  cv::parallel_for_(cv::Range(0, labE.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const cv::Vec3b* pe = e.ptr<cv::Vec3b>(y);
+      const cv::Vec3b* pd = d.ptr<cv::Vec3b>(y);
+      const uchar* f = form.ptr(y);
+      uchar* o = out.ptr(y);
+      for (int x = 0; x < labE.cols; ++x) {
+        if (!f[x])
+          continue;
+        const float dl = static_cast<float>(pd[x][0]) - pe[x][0];
+        const float da = static_cast<float>(pd[x][1]) - pe[x][1];
+        const float db = static_cast<float>(pd[x][2]) - pe[x][2];
+        const float dab = std::sqrt(da * da + db * db);
+        o[x] = dl <= -kShadowMinDarkening && dab <= kShadowChromaPerLightness * -dl + kShadowChroma
+                   ? 255
+                   : 0;
+      }
+    }
+  });
+  return out;
+}
+
+}  // namespace
+
+GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& keyD,
+                          const FormView& view, const WorkGeometry& g,
+                          std::vector<std::string>& warnings) {
+  const double ws = g.scale, sw = g.pxPerCm;
+  GarmentMasks out;
+  cv::Mat labE, labD;
+  {
+    // Both frames despilled over the same pixels, or the despill itself reads as a difference
+    // where one key missed part of the form (a dark green garment can cut the arms off the dressed
+    // key's main piece).
+    cv::Mat1b both;
+    const int band = calib::KeyOptions{}.edgeBandPx;
+    cv::dilate(keyE.mask | keyD.mask, both,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * band + 1, 2 * band + 1)));
+    cv::Mat3b e = keyE.despilled.clone(), d = keyD.despilled.clone();
+    calib::despill(e, both);
+    calib::despill(d, both);
+    cv::cvtColor(e, labE, cv::COLOR_BGR2Lab);
+    cv::cvtColor(d, labD, cv::COLOR_BGR2Lab);
+  }
+  const cv::Mat formMask = keyE.mask;
+  const int edgeR = std::max(1, static_cast<int>(std::lround(0.25 * sw)));
+  cv::Mat formInside;
+  cv::erode(formMask, formInside,
+            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * edgeR + 1, 2 * edgeR + 1)));
+  cv::Mat formOutline;
+  cv::dilate(formMask, formOutline, cv::Mat(), cv::Point(-1, -1), 2);
+  formOutline &= ~formInside;
+  cv::Mat1f diff = labDifference(labE, labD, formOutline);
+  {
+    // Sensor noise differs between the two shots; average it away before thresholding, over the
+    // form only (the garment's shadow changes the screen beside it).
+    const int k = 2 * std::max(2, static_cast<int>(std::lround(0.3 * sw))) + 1;
+    cv::Mat1f w, dw;
+    formMask.convertTo(w, CV_32F, 1.0 / 255.0);
+    cv::GaussianBlur(diff.mul(w), dw, cv::Size(k, k), 0);
+    cv::GaussianBlur(w, w, cv::Size(k, k), 0);
+    diff = dw / cv::max(w, 1e-3f);
+  }
+  // The form cannot vanish: inside it the dressed frame shows the form or the garment, whatever
+  // the key says (a dark green garment keys as screen by its greenness). Its outline is left to
+  // the key: mixed edge pixels differ between the shots by any sub-pixel shift.
+  const cv::Mat fgD = keyD.mask | formInside;
+  // Where the form is still visible the difference is noise; where the garment covers it, it is
+  // the garment's contrast. The noise floor is read where no garment goes: the form above its
+  // neck (head or neck cap). A pixel is exposed when its difference is within that noise, so a
+  // garment the colour of the form still stands out by its folds and weave; Otsu's threshold
+  // over the form is only the fallback for a form with too little above its neck.
+  double tau = 10.0;
+  const int neckRow =
+      static_cast<int>(view.rowOfHeight(view.neckSideCm() + kNoiseAboveNeckCm) * ws);
+  auto aboveNeck = [&](const cv::Mat1f& values) {
+    std::vector<float> out;
+    for (int y = 0; y < std::min(neckRow, values.rows); ++y)
+      for (int x = 0; x < values.cols; x += 2)
+        if (formMask.at<uchar>(y, x) && fgD.at<uchar>(y, x))
+          out.push_back(values(y, x));
+    return out;
+  };
+  const std::vector<float> noise = aboveNeck(diff);
+  const bool noiseKnown = noise.size() > 2000;
+  if (noiseKnown) {
+    tau = std::clamp(noiseThreshold(noise, kNoiseSigmas), 2.0, 25.0);
+  } else {
+    cv::Mat d8;
+    diff.convertTo(d8, CV_8U, 4.0);
+    std::vector<uchar> values;
+    for (int y = 0; y < d8.rows; y += 2)
+      for (int x = 0; x < d8.cols; x += 2)
+        if (formMask.at<uchar>(y, x) && fgD.at<uchar>(y, x))
+          values.push_back(d8.at<uchar>(y, x));
+    if (values.size() > 100) {
+      cv::Mat v(values, false);
+      cv::Mat dummy;
+      tau = std::clamp(cv::threshold(v, dummy, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU) / 4.0,
+                       5.0, 25.0);
+    }
+  }
+  const int r = std::max(2, static_cast<int>(std::lround(0.4 * sw)));
+  const cv::Mat kernel =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  // The form's outline counts as form out to where either key may place it (the two keys' edges
+  // differ by a pixel with noise); there the difference is the shift-tolerant one.
+  const cv::Mat formOrOutline = formMask | formOutline;
+  cv::Mat exposed = (diff < static_cast<float>(tau)) & formOrOutline & fgD;
+  // Exposed well inside the noise (half the threshold, on both tests): the form for certain, up
+  // to the blur's reach from the garment.
+  cv::Mat clearlyExposed = (diff < static_cast<float>(kClearlyExposed * tau)) & exposed;
+  if (noiseKnown) {
+    // Of what looks exposed pixel by pixel, keep only what also matches over about a centimetre:
+    // a garment the colour of the form differs there.
+    const cv::Mat1f averaged = averagedDifference(
+        labE, labD, formInside, kAveragedDifferenceCm * sw, static_cast<float>(tau));
+    const double tauAveraged = std::max(0.3, noiseThreshold(aboveNeck(averaged), kNoiseSigmas));
+    exposed &= averaged < static_cast<float>(tauAveraged);
+    clearlyExposed &= averaged < static_cast<float>(kClearlyExposed * tauAveraged);
+  }
+  cv::morphologyEx(exposed, exposed, cv::MORPH_CLOSE, kernel);
+  exposed &= formOrOutline & fgD;
+  // The garment's shadow on the form is not sure garment: it is GrabCut's to decide (below). A
+  // shadow is a smooth band that fades into the exposed form beside the garment: what looks like
+  // shadow is opened (a stripe or print of the garment shaded darker than the form is thin) and
+  // kept only where it touches the exposed form. When most of what changed over the form still
+  // looks like shadow, the garment itself is dark and neutral, and the test is not used.
+  cv::Mat shadow = shadowOnForm(labE, labD, formInside, sw) & fgD & ~exposed;
+  {
+    const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
+    cv::morphologyEx(
+        shadow, shadow, cv::MORPH_OPEN,
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1)));
+    cv::Mat touching;
+    cv::dilate(exposed, touching, cv::Mat(), cv::Point(-1, -1), 2);
+    cv::Mat labels;
+    const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
+    std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      const uchar* t = touching.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        if (l[x] > 0 && t[x])
+          keep[static_cast<std::size_t>(l[x])] = 1;
+    }
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      uchar* m = shadow.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
+    }
+    const double changedOverForm = cv::countNonZero(formInside & fgD & ~exposed);
+    if (cv::countNonZero(shadow) > kShadowMaxShareOfChange * changedOverForm)
+      shadow.setTo(0);
+  }
+  cv::Mat base = fgD & ~exposed & ~shadow;
+  cv::morphologyEx(base, base, cv::MORPH_OPEN, kernel);
+  cv::Mat sure;
+  cv::erode(base, sure, kernel);
+  if (cv::countNonZero(sure) < 0.002 * static_cast<double>(formMask.total()) + 50 * ws * ws)
+    throw CaptureError(
+        CaptureError::Reason::kNoGarment,
+        "no garment found: the dressed frame shows the bare form (is the garment on the form?)");
+  // A garment close to the screen's colour: GrabCut decides over the changed screen too.
+  out.screenChange = screenColouredChange(keyE, keyD, formInside, formOutline, fgD, sw, warnings);
+  const ScreenChange screenChange =
+      out.screenChange
+          ? *out.screenChange
+          : ScreenChange{cv::Mat::zeros(fgD.size(), CV_8UC1), cv::Mat::zeros(fgD.size(), CV_8UC1)};
+  // GrabCut has a choice to make only near the exposed form: elsewhere the dressed foreground is
+  // garment up to the key's edge against the screen (placed again at full resolution below).
+  // Probable garment farther than kSettledCm from any exposed pixel is therefore sure, which
+  // leaves the band cut nothing to decide along the screen-facing outline.
+  // Likewise exposed form farther than kSettledCm from any garment evidence is sure form: a
+  // garment the colour of the form gives GrabCut's colour models nothing to tell them apart by,
+  // and it would otherwise flood the bare torso and arms from the garment.
+  cv::Mat settled, settledForm;
+  {
+    cv::Mat1f distToExposed, distToGarment;
+    cv::distanceTransform(~(exposed | shadow), distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
+    settled = (distToExposed > static_cast<float>(kSettledCm * sw)) & fgD;
+    cv::distanceTransform(~(fgD & ~exposed), distToGarment, cv::DIST_L2, cv::DIST_MASK_3);
+    settledForm =
+        ((distToGarment > static_cast<float>(kSettledCm * sw)) & exposed) |
+        ((distToGarment > static_cast<float>(kClearlySettledCm * sw)) & clearlyExposed & exposed);
+  }
+  cv::Mat& trimap = out.trimap;
+  trimap = cv::Mat(fgD.size(), CV_8UC1, cv::Scalar(cv::GC_BGD + 0));
+  trimap.setTo(cv::GC_PR_BGD + 0, screenChange.changed);
+  trimap.setTo(cv::GC_PR_FGD + 0, screenChange.recoloured);
+  trimap.setTo(cv::GC_PR_FGD + 0, fgD);
+  trimap.setTo(cv::GC_FGD + 0, settled);
+  trimap.setTo(cv::GC_PR_BGD + 0, exposed | shadow);
+  trimap.setTo(cv::GC_BGD + 0, settledForm);
+  trimap.setTo(cv::GC_FGD + 0, sure);
+  if (const char* dir = std::getenv("GARMCAP_DEBUG_DIR")) {
+    // Intermediate masks for diagnosing segmentation: trimap labels x 80, colour difference x 4,
+    // the exposed form and the two keys' masks.
+    cv::imwrite(std::string(dir) + "/trimap.png", trimap * 80);
+    cv::Mat d8;
+    diff.convertTo(d8, CV_8U, 4.0);
+    cv::imwrite(std::string(dir) + "/diff.png", d8);
+    cv::imwrite(std::string(dir) + "/exposed.png", exposed);
+    cv::imwrite(std::string(dir) + "/shadow.png", shadow);
+    cv::imwrite(std::string(dir) + "/key_bare.png", formMask);
+    cv::imwrite(std::string(dir) + "/key_dressed.png", keyD.mask);
+  }
+
+  out.form = formMask;
+  out.foreground = fgD;
+  out.exposed = exposed;
+  return out;
+}
+
+}  // namespace garmcap::pipeline

@@ -1,0 +1,49 @@
+#include "stage_measure.h"
+
+#include <algorithm>
+#include <string>
+
+namespace garmcap::pipeline {
+namespace {
+
+// A "sleeve" no longer than a sleeveless reference top reaches down this form's arm plus this is
+// the bodice's shoulder.
+constexpr double kSleevelessMarginCm = 0.75;
+
+}  // namespace
+
+GarmentMeasurement measureCapturedGarment(const CaptureContext& ctx, const cv::Mat& garment,
+                                          const CaptureOptions& options, CaptureResult& result) {
+  const GarmentMeasurement gm = measureGarment(garment, *ctx.view, result.type);
+  result.measurements = gm.measurements;
+  for (const auto& w : gm.warnings)
+    result.warnings.push_back(w);
+  if (gm.measurements.count("sleeve_length")) {
+    // Shorter than a sleeveless bodice reaches down the arm on this form (plus the reading's
+    // scatter) is no sleeve.
+    const double sl = gm.measurements.at("sleeve_length");
+    const bool sleeveless = sl < std::max(2.0, ctx.sleevelessReachCm + kSleevelessMarginCm);
+    result.attributes["sleeve"] = sleeveless ? "none" : (sl < 35.0 ? "short" : "long");
+    if (sleeveless)
+      result.measurements["sleeve_length"] = 0.0;
+  }
+  for (const auto& [name, value] : result.measurements)
+    if (const auto u = measurementUncertaintyCm(name))
+      result.uncertaintyCm[name] = *u;
+  if (options.corrections) {
+    nlohmann::json applied = {{"warnings", nlohmann::json::array()}};
+    applyCorrections(*options.corrections, result.type, result.measurements, applied);
+    if (applied.contains("corrections"))
+      result.corrections = applied["corrections"];
+    for (const auto& w : applied["warnings"])
+      result.warnings.push_back(w.get<std::string>());
+  }
+  if (gm.measurements.count("hem_circ") && gm.measurements.count("hip_circ") &&
+      result.attributes.count("skirt"))
+    result.attributes["skirt"] =
+        gm.measurements.at("hem_circ") > gm.measurements.at("hip_circ") + 12.0 ? "a_line"
+                                                                               : "h_line";
+  return gm;
+}
+
+}  // namespace garmcap::pipeline

@@ -1,0 +1,33 @@
+#pragma once
+// Times the capture's stages one after another and reports each as it ends (internal).
+
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "garmcap/pipeline/capture_pipeline.h"
+
+namespace garmcap::pipeline {
+
+class StageTimer {
+ public:
+  StageTimer(std::vector<StageTiming>& out, const std::function<void(const StageTiming&)>& onDone)
+      : out_(out), onDone_(onDone), start_(Clock::now()) {}
+  /// Ends `stage`: its time since the previous stage ended (or since construction).
+  void done(const std::string& stage) {
+    const auto now = Clock::now();
+    out_.push_back({stage, std::chrono::duration<double, std::milli>(now - start_).count()});
+    start_ = now;
+    if (onDone_)
+      onDone_(out_.back());
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::vector<StageTiming>& out_;
+  const std::function<void(const StageTiming&)>& onDone_;
+  Clock::time_point start_;
+};
+
+}  // namespace garmcap::pipeline
