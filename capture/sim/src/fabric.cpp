@@ -66,33 +66,6 @@ cv::Vec3f vec3(const nlohmann::json& j, const std::string& key, const std::strin
 
 }  // namespace
 
-std::string fabricKindName(FabricKind kind) {
-  switch (kind) {
-    case FabricKind::kSolid:
-      return "solid";
-    case FabricKind::kStripes:
-      return "stripes";
-    case FabricKind::kChecks:
-      return "checks";
-    case FabricKind::kPrint:
-      return "print";
-  }
-  return "solid";
-}
-
-FabricKind fabricKindFromName(const std::string& name) {
-  if (name == "solid")
-    return FabricKind::kSolid;
-  if (name == "stripes")
-    return FabricKind::kStripes;
-  if (name == "checks")
-    return FabricKind::kChecks;
-  if (name == "print")
-    return FabricKind::kPrint;
-  throw std::invalid_argument("unknown fabric kind '" + name +
-                              "' (expected solid, stripes, checks or print)");
-}
-
 nlohmann::json Fabric::toJson() const {
   return {{"kind", fabricKindName(kind)},
           {"base_bgr", {base[0], base[1], base[2]}},

@@ -70,7 +70,7 @@ void makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput& in,
       calib::despill(despilled, spill);
       const TextureResult t = extractTexture(despilled, maskCrop);
       result.texture = t.tile;
-      result.attributes["fabric"] = toString(t.kind);
+      result.attributes["fabric"] = drafts::fabricKindName(t.kind);
       timer.done("texture");
     }
   } else {

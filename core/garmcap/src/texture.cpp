@@ -113,18 +113,6 @@ cv::Rect interiorSquare(const cv::Mat& mask) {
 
 }  // namespace
 
-std::string toString(FabricKind kind) {
-  switch (kind) {
-    case FabricKind::kSolid:
-      return "solid";
-    case FabricKind::kStripes:
-      return "stripes";
-    case FabricKind::kChecks:
-      return "checks";
-  }
-  return "solid";
-}
-
 TracedLines traceHorizontalLines(const cv::Mat& grey, int stripWidthPx) {
   TracedLines out;
   const int strips = grey.cols / stripWidthPx;

@@ -9,13 +9,14 @@
 #include <random>
 #include <string>
 
+#include "garmcap/drafts/fabric_kind.h"
+
 namespace garmcap::sim {
 
-enum class FabricKind { kSolid, kStripes, kChecks, kPrint };
-
-std::string fabricKindName(FabricKind kind);
-/// Throws std::invalid_argument naming the value and the accepted names.
-FabricKind fabricKindFromName(const std::string& name);
+// The kinds and their names are the pipeline's vocabulary too (drafts/fabric_kind.h).
+using drafts::FabricKind;
+using drafts::fabricKindFromName;
+using drafts::fabricKindName;
 
 /// Colours are BGR in [0, 1] (linear-ish reflectance, before lighting).
 struct Fabric {

@@ -11,10 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "garmcap/drafts/fabric_kind.h"
+
 namespace garmcap::pipeline {
 
-enum class FabricKind { kSolid, kStripes, kChecks };
-std::string toString(FabricKind kind);
+// The kind of fabric, named as the simulator names it (drafts::fabricKindName). The texture is
+// read as solid, stripes or checks; a print is taken for solid (its swatch is its median colour).
+using drafts::FabricKind;
 
 struct TextureResult {
   FabricKind kind = FabricKind::kSolid;
