@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <string_view>
+#include <utility>
 
 #include "commands.h"
 #include "garmcap/calib/camera.h"
@@ -95,10 +96,18 @@ enum class CaseSplit { kAll, kEven, kOdd };
 // The calibration a station would have for a case: the form registered from the case's bare
 // frame the way `garmcap calibrate` does it, never the scene's pose. The case's calibration.json
 // gives what a station knows before registering: the form, the camera model (or the case's
-// camera.json) and, for a perspective fit, the camera's distance. Registrations are cached by
-// the bare frame's pixels, as the cases of one session share their bare frame.
-json stationCalibration(const capture::RigCase& c) {
-  static std::map<std::size_t, json> cache;
+// camera.json) and, for a perspective fit, the camera's distance. One evaluation keeps the
+// registrations it made by the bare frame's pixels, as the cases of one session share their bare
+// frame.
+class StationCalibrations {
+ public:
+  const json& of(const capture::RigCase& c);
+
+ private:
+  std::map<std::size_t, json> byBareFrame_;
+};
+
+const json& StationCalibrations::of(const capture::RigCase& c) {
   const json& given = c.calibration;
   if (!given.is_object() || !given.contains("form") || !given["form"].is_string())
     throw std::runtime_error("case has no calibration.json naming its form");
@@ -121,7 +130,7 @@ json stationCalibration(const capture::RigCase& c) {
   key ^= std::hash<std::string>{}(given["form"].get<std::string>() +
                                   (camera ? calib::cameraToJson(*camera) : "") +
                                   std::to_string(options.distanceCm.value_or(0)));
-  if (const auto it = cache.find(key); it != cache.end())
+  if (const auto it = byBareFrame_.find(key); it != byBareFrame_.end())
     return it->second;
   const fs::path formPath = calib::resolveFormSidecar(given["form"].get<std::string>());
   const auto form = calib::FormModel::load(formPath);
@@ -129,8 +138,31 @@ json stationCalibration(const capture::RigCase& c) {
       calib::registerForm(form, cv::Mat3b(empty), c.id + " bare-form frame", options);
   const calib::Calibration cal =
       calib::makeCalibration(form, reg, formPath, c.dir / "empty.jpg", camera);
-  return cache[key] = json::parse(calib::calibrationToJson(cal));
+  return byBareFrame_[key] = json::parse(calib::calibrationToJson(cal));
 }
+
+// The capture contexts of one evaluation, one per calibration (the cases of a session share
+// theirs), built with `sizeChart` as a station would build it at its calibration.
+class EvalContexts {
+ public:
+  explicit EvalContexts(std::string sizeChart) : sizeChart_(std::move(sizeChart)) {}
+  std::shared_ptr<const pipeline::CaptureContext> of(const json& calibration) {
+    auto& ctx = byCalibration_[calibration.dump()];
+    if (!ctx) {
+      try {
+        ctx = pipeline::buildCaptureContext(calibration, sizeChart_);
+      } catch (const std::exception& e) {
+        throw pipeline::CaptureError(pipeline::CaptureError::Reason::kBadInput,
+                                     std::string("calibration: ") + e.what());
+      }
+    }
+    return ctx;
+  }
+
+ private:
+  std::string sizeChart_;
+  std::map<std::string, std::shared_ptr<const pipeline::CaptureContext>> byCalibration_;
+};
 
 // How the station's registration differs from the case's own calibration.json (the scene's pose
 // for a simulated rig): scale in percent, offset in px.
@@ -156,8 +188,11 @@ void printTable(const std::map<std::string, ErrorStats>& errors) {
 }
 
 int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
-            double workMegapixels, bool useCaseCalibration, CaseSplit split) {
+            double workMegapixels, bool useCaseCalibration, CaseSplit split,
+            const std::string& sizeChart) {
   const capture::Rig rig = capture::readRig(rigDir);
+  StationCalibrations stationCalibrations;
+  EvalContexts contexts(sizeChart);
   std::map<std::string, ErrorStats> errors;
   int typeOk = 0, attrOk = 0, attrN = 0, failures = 0, n = 0, missing = 0;
   double totalMs = 0;
@@ -175,15 +210,18 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
     try {
       if (c.calibration.is_null())
         throw std::runtime_error("case has no calibration");
-      const json calibration = useCaseCalibration ? c.calibration : stationCalibration(c);
+      const json calibration = useCaseCalibration ? c.calibration : stationCalibrations.of(c);
       if (!useCaseCalibration)
         row["registration"] = registrationScore(calibration, c.calibration);
       pipeline::CaptureOptions opt;
       opt.makeTexture = !outDir.empty();
       opt.makeProductImages = !outDir.empty();
       opt.workMegapixels = workMegapixels;
+      // Timed with the preparation, as a station's first capture after its calibration.
       const auto t0 = std::chrono::steady_clock::now();
-      const auto r = pipeline::runCapture(c.empty, c.dressed, calibration, opt);
+      const auto ctx = contexts.of(calibration);
+      const pipeline::PreparedCapture prepared(ctx, c.empty, workMegapixels);
+      const auto r = pipeline::runCapture(prepared, c.dressed, opt);
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       totalMs += ms;
@@ -218,7 +256,6 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
         writeCaptureOutputs(outDir / c.id, r);
       if (compareMethods) {
         // Same silhouette, every classifier: which ranks types best, and at what cost.
-        const auto ctx = pipeline::cachedCaptureContext(calibration);
         for (auto m : {pipeline::MatchMethod::kIou, pipeline::MatchMethod::kChamfer,
                        pipeline::MatchMethod::kShapeContext}) {
           const auto m0 = std::chrono::steady_clock::now();
@@ -343,15 +380,21 @@ void rigCrop(const fs::path& rigDir, const fs::path& outDir, double atCm, double
 void addPipelineCommands(CLI::App& app) {
   auto* cap = app.add_subcommand("capture", "Run GarmCap on a bare-form and a dressed frame");
   static fs::path empty, dressed, calibration, out;
+  static std::string captureChart = pipeline::kDefaultSizeChart;
   cap->add_option("--empty", empty, "bare-form frame (PNG/JPEG)")->required();
   cap->add_option("--dressed", dressed, "dressed frame, same camera and size")->required();
   cap->add_option("--calibration", calibration, "calibration JSON (garmcap calibrate)")->required();
   cap->add_option("--out", out, "output folder")->required();
+  cap->add_option("--size-chart", captureChart,
+                  "size chart completing the form's body for drafting (default korean_women, as "
+                  "the daemon's [pipeline] size_chart)");
   cap->callback([] {
     const cv::Mat e = readImage(empty, "bare-form frame");
     const cv::Mat d = readImage(dressed, "dressed frame");
     const json cal = drafts::readJsonFile(calibration);
-    const auto r = pipeline::runCapture(e, d, cal);
+    pipeline::CaptureOptions options;
+    options.sizeChart = captureChart;
+    const auto r = pipeline::runCapture(e, d, cal, options);
     writeCaptureOutputs(out, r);
     std::cout << r.toJson().dump(2) << "\n";
   });
@@ -396,6 +439,9 @@ void addPipelineCommands(CLI::App& app) {
   eval->add_option("--cases", splitName,
                    "all, or only the even- or odd-numbered cases (tune on one, hold out the other)")
       ->check(CLI::IsMember({"all", "even", "odd"}));
+  static std::string evalChart = pipeline::kDefaultSizeChart;
+  eval->add_option("--size-chart", evalChart,
+                   "size chart completing the form's body for drafting (default korean_women)");
   static fs::path refsOut;
   eval->add_option("--dump-references", refsOut,
                    "write the type database's silhouettes of the first case here");
@@ -403,7 +449,7 @@ void addPipelineCommands(CLI::App& app) {
     if (!refsOut.empty()) {
       const auto rig = capture::readRig(rigDir);
       const auto c = capture::loadRigCase(rig.cases.front().dir);
-      const auto ctx = pipeline::buildCaptureContext(c.calibration);
+      const auto ctx = pipeline::buildCaptureContext(c.calibration, evalChart);
       fs::create_directories(refsOut);
       const auto refs = pipeline::renderReferenceSilhouettes(*ctx->view, ctx->body);
       for (std::size_t i = 0; i < refs.size(); ++i) {
@@ -416,7 +462,7 @@ void addPipelineCommands(CLI::App& app) {
     const CaseSplit split = splitName == "even"  ? CaseSplit::kEven
                             : splitName == "odd" ? CaseSplit::kOdd
                                                  : CaseSplit::kAll;
-    const int rc = rigEval(rigDir, evalOut, compare, workMp, caseCalibration, split);
+    const int rc = rigEval(rigDir, evalOut, compare, workMp, caseCalibration, split, evalChart);
     if (rc != 0)
       throw std::runtime_error("some rig cases failed (see their \"error\")");
   });

@@ -57,10 +57,15 @@ class PipelineProcessor : public CaptureProcessor {
     spdlog::info("calibration: IoU {:.3f} after {} iterations", reg.iou, reg.iterations);
     nlohmann::json calibration = nlohmann::json::parse(calib::calibrationToJson(c));
     // The per-calibration context (the form seen in this pose, the classifier's references:
-    // about 1 s) is built now, while staff dress the form, not on the first garment's capture.
-    // A calibration the pipeline cannot use fails here, with the reason, instead of every capture.
+    // about 1 s) and the bare frame ready for comparison are prepared now, while staff dress the
+    // form, not on the first garment's capture. A calibration the pipeline cannot use fails here,
+    // with the reason, instead of every capture.
     progress("preparing the pipeline", 0.95);
-    pipeline::cachedCaptureContext(calibration);
+    auto prepared = std::make_shared<const pipeline::PreparedCapture>(
+        pipeline::buildCaptureContext(calibration, sizeChart_), emptyBgr, options_.workMegapixels);
+    std::lock_guard lock(preparedMutex_);
+    prepared_ = std::move(prepared);
+    preparedFor_ = calibration;
     return calibration;
   }
 
@@ -81,7 +86,8 @@ class PipelineProcessor : public CaptureProcessor {
                kPipelineFrom + (kPipelineTo - kPipelineFrom) * doneShare);
     };
     const auto t0 = std::chrono::steady_clock::now();
-    pipeline::CaptureResult r = pipeline::runCapture(emptyBgr, dressedBgr, calibration, options);
+    pipeline::CaptureResult r =
+        pipeline::runCapture(*prepared(emptyBgr, calibration), dressedBgr, options);
     spdlog::info(
         "pipeline: runCapture took {} ms",
         std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
@@ -117,6 +123,27 @@ class PipelineProcessor : public CaptureProcessor {
   }
 
  private:
+  // The preparation made at calibration, or, for a calibration made before this process started
+  // (or replaced since), one made now and kept for the captures that follow. The station hands
+  // each calibration's own bare frame with it, so the calibration identifies the pair.
+  std::shared_ptr<const pipeline::PreparedCapture> prepared(const cv::Mat& emptyBgr,
+                                                            const nlohmann::json& calibration) {
+    std::lock_guard lock(preparedMutex_);
+    if (prepared_ && preparedFor_ == calibration)
+      return prepared_;
+    std::shared_ptr<const pipeline::CaptureContext> context;
+    try {
+      context = pipeline::buildCaptureContext(calibration, sizeChart_);
+    } catch (const std::exception& e) {
+      throw pipeline::CaptureError(pipeline::CaptureError::Reason::kBadInput,
+                                   std::string("calibration: ") + e.what());
+    }
+    prepared_ = std::make_shared<const pipeline::PreparedCapture>(std::move(context), emptyBgr,
+                                                                  options_.workMegapixels);
+    preparedFor_ = calibration;
+    return prepared_;
+  }
+
   const calib::FormModel& form() {
     std::lock_guard lock(formMutex_);
     if (!form_) {
@@ -218,6 +245,9 @@ class PipelineProcessor : public CaptureProcessor {
   std::string formPath_;
   std::mutex formMutex_;
   std::unique_ptr<calib::FormModel> form_;
+  std::mutex preparedMutex_;
+  std::shared_ptr<const pipeline::PreparedCapture> prepared_;
+  nlohmann::json preparedFor_;  // the calibration prepared_ was made for
 };
 
 }  // namespace

@@ -97,8 +97,9 @@ void checkCut(const fs::path& dir, double cutCm) {
   // on the frame extended to the floor and cut back (the pants' hem is at the ankle). (It can
   // have more: on case_016 the uncut view finds the arm 0.3 cm too short for five long-sleeved
   // references, the extended one does not.)
-  EXPECT_GE(pipeline::cachedCaptureContext(calCut)->classifier->size(),
-            pipeline::cachedCaptureContext(calWhole)->classifier->size());
+  EXPECT_GE(
+      pipeline::buildCaptureContext(calCut, pipeline::kDefaultSizeChart)->classifier->size(),
+      pipeline::buildCaptureContext(calWhole, pipeline::kDefaultSizeChart)->classifier->size());
 
   const auto a = run(whole, calWhole);
   const auto b = run(cut, calCut);
@@ -177,7 +178,8 @@ TEST(CroppedRig, MeasurementsNeedingTheFormOutOfFrameAreNamedNotInvented) {
   const double hip = whole.calibration.at("landmark_heights_cm").at("hip").get<double>();
   const int rows = rowOf(whole, hip - calib::kMinBelowHipCm - 0.5);
   const capture::RigCase cut = capture::cropRigCaseBottom(whole, rows);
-  const auto ctx = pipeline::cachedCaptureContext(stationCalibration(cut));
+  const auto ctx =
+      pipeline::buildCaptureContext(stationCalibration(cut), pipeline::kDefaultSizeChart);
   const cv::Mat silhouette = uncut.silhouette(cv::Rect(0, 0, uncut.silhouette.cols, rows)).clone();
   const auto m = pipeline::measureGarment(silhouette, *ctx->view, "pants");
   for (const std::string name : {"outseam", "inseam", "leg_opening_circ"})

@@ -168,7 +168,7 @@ TEST(PhysicalRig, EveryClassifierReferenceIsDrawnOnTheRegisteredForm) {
   for (std::size_t i : {0u, 6u, 12u, 13u, 17u, 23u}) {
     ASSERT_LT(i, rig.cases.size());
     const auto c = capture::loadRigCase(rig.cases[i].dir);
-    const auto ctx = pipeline::buildCaptureContext(c.calibration);
+    const auto ctx = pipeline::buildCaptureContext(c.calibration, pipeline::kDefaultSizeChart);
     EXPECT_EQ(ctx->classifier->size(), kReferences) << c.id;
   }
 }

@@ -54,7 +54,7 @@ TEST(PartedLegs, PantsPartSkirtsAndDressesDoNot) {
   for (unsigned seed = 1; seed <= 3; ++seed) {
     for (const std::string type : {"pants", "skirt", "dress"}) {
       const sim::SceneRenderer r = scene(type, seed, {480, 640});
-      const auto ctx = pipeline::cachedCaptureContext(r.calibration());
+      const auto ctx = pipeline::buildCaptureContext(r.calibration(), pipeline::kDefaultSizeChart);
       const cv::Mat mask = r.garmentCoverage() > 0.5f;
       const double cm = pipeline::partedLegsCm(mask, *ctx->view);
       if (type == "pants")
@@ -67,7 +67,7 @@ TEST(PartedLegs, PantsPartSkirtsAndDressesDoNot) {
 
 TEST(PartedLegs, RejectsAMaskOfTheWrongSize) {
   const sim::SceneRenderer r = scene("pants", 1, {480, 640});
-  const auto ctx = pipeline::cachedCaptureContext(r.calibration());
+  const auto ctx = pipeline::buildCaptureContext(r.calibration(), pipeline::kDefaultSizeChart);
   EXPECT_THROW(pipeline::partedLegsCm(cv::Mat::zeros(10, 10, CV_8UC1), *ctx->view),
                std::invalid_argument);
 }
@@ -202,7 +202,7 @@ TEST(Measure, NamesPerTypeAreTheRigsTruthNames) {
 
 TEST(Measure, ACircumferenceFarBelowTheFormsIsLeftOutNotInvented) {
   const sim::SceneRenderer r = scene("top", 2, {720, 960});
-  const auto ctx = pipeline::cachedCaptureContext(r.calibration());
+  const auto ctx = pipeline::buildCaptureContext(r.calibration(), pipeline::kDefaultSizeChart);
   const calib::FormView& view = *ctx->view;
   const cv::Mat full = r.garmentCoverage() > 0.5f;
   const auto intact = pipeline::measureGarment(full, view, "top");

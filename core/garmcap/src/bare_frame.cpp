@@ -38,6 +38,7 @@ BareFrame prepareBareFrame(const cv::Mat& emptyRaw, const CaptureContext& ctx,
     work = rotateAbout(work, g.centre, rollRad, cv::INTER_LINEAR);
   work = denoised(work);
   BareFrame bare;
+  bare.geometry = g;
   // Its own pixels, never the caller's frame: the prepared frame outlives the call.
   if (std::abs(rollRad) > 1e-6)
     bare.uprightFull = rotateAbout(emptyFull, g.centre / g.scale, rollRad, cv::INTER_LINEAR);

@@ -28,8 +28,10 @@ struct WorkGeometry {
 
 WorkGeometry workGeometry(const CaptureContext& ctx, double workMegapixels);
 
-/// The bare-form frame's de-rolled work frame's side of the motion estimate, and its key.
+/// The bare-form frame's de-rolled work frame's side of the motion estimate, and its key
+/// (PreparedCapture holds one).
 struct BareFrame {
+  WorkGeometry geometry;  // the work frame it was prepared on
   std::optional<MotionReference> motion;
   calib::KeyResult key;
   // The undistorted bare frame at full resolution, de-rolled as the dressed one is: the product

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -142,8 +141,7 @@ double sleevelessReachCm(const std::vector<ReferenceSilhouette>& refs, const For
 
 }  // namespace
 
-drafts::Measurements bodyForForm(const calib::FormModel& form) {
-  const auto& chart = drafts::sizeChart("korean_women");
+drafts::Measurements bodyForForm(const calib::FormModel& form, const drafts::SizeChart& chart) {
   const double bust = form.measurements().find("bust_circ").value_or(0);
   std::size_t best = 0;
   for (std::size_t i = 1; i < chart.bodies.size(); ++i)
@@ -186,8 +184,10 @@ std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view
   return refs;
 }
 
-std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& calibration) {
+std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& calibration,
+                                                          const std::string& sizeChart) {
   auto ctx = std::make_shared<CaptureContext>();
+  ctx->sizeChart = sizeChart;
   ctx->calibration = calib::calibrationFromJson(calibration, "calibration");
   if (const auto& camera = ctx->calibration.camera) {
     if (camera->imageSize != ctx->calibration.imageSize)
@@ -203,7 +203,7 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
   calib::FormPose upright = ctx->calibration.pose;
   upright.rollRad = 0;  // frames are de-rolled about the world origin's image position
   ctx->view = std::make_shared<const FormView>(*ctx->form, upright, ctx->calibration.imageSize);
-  ctx->body = bodyForForm(*ctx->form);
+  ctx->body = bodyForForm(*ctx->form, drafts::sizeChart(sizeChart));
   // The classifier compares silhouettes a few hundred rows high, so the references are drawn on
   // the form seen at about that size, not at the camera's: at 12 MP drawing every reference
   // garment at full size took most of a minute per calibration on 2 cores.
@@ -249,23 +249,6 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
   }
   ctx->classifier = std::make_shared<const GarmentClassifier>(std::move(refs));
   return ctx;
-}
-
-std::shared_ptr<const CaptureContext> cachedCaptureContext(const nlohmann::json& calibration) {
-  static std::mutex mutex;
-  static std::string key;
-  static std::shared_ptr<const CaptureContext> cached;
-  const std::string k = calibration.dump();
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (cached && key == k)
-      return cached;
-  }
-  auto built = buildCaptureContext(calibration);
-  std::lock_guard<std::mutex> lock(mutex);
-  key = k;
-  cached = built;
-  return cached;
 }
 
 }  // namespace garmcap::pipeline

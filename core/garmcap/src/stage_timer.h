@@ -12,8 +12,11 @@ namespace garmcap::pipeline {
 
 class StageTimer {
  public:
-  StageTimer(std::vector<StageTiming>& out, const std::function<void(const StageTiming&)>& onDone)
-      : out_(out), onDone_(onDone), start_(Clock::now()) {}
+  using Clock = std::chrono::steady_clock;
+  /// Times from `start` (the first stage began then).
+  StageTimer(std::vector<StageTiming>& out, const std::function<void(const StageTiming&)>& onDone,
+             Clock::time_point start = Clock::now())
+      : out_(out), onDone_(onDone), start_(start) {}
   /// Ends `stage`: its time since the previous stage ended (or since construction).
   void done(const std::string& stage) {
     const auto now = Clock::now();
@@ -24,7 +27,6 @@ class StageTimer {
   }
 
  private:
-  using Clock = std::chrono::steady_clock;
   std::vector<StageTiming>& out_;
   const std::function<void(const StageTiming&)>& onDone_;
   Clock::time_point start_;

@@ -14,6 +14,7 @@
 #include "garmcap/calib/form_model.h"
 #include "garmcap/calib/registration.h"
 #include "garmcap/drafts/measurements.h"
+#include "garmcap/drafts/size_charts.h"
 #include "garmcap/pipeline/garment_classifier.h"
 #include "garmcap/pipeline/garment_measurer.h"
 
@@ -29,18 +30,22 @@ struct CaptureContext {
   std::shared_ptr<const FormView> view;  // form seen with the calibrated pose, roll removed
   drafts::Measurements body;             // the form's measurements completed from a size chart
   std::shared_ptr<const GarmentClassifier> classifier;
+  // The size chart whose nearest size completes the form's body (bodyForForm).
+  std::string sizeChart;
   // How far a sleeveless reference top covers the arm from the shoulder tip, in cm (0 on most
   // forms; several cm on a form with broad shoulder caps): a shorter "sleeve" is the bodice.
   double sleevelessReachCm = 0;
 };
 
-/// Builds the context from calibration JSON (docs/formats.md). Throws drafts::ParseError for a
-/// malformed calibration, calib::CalibError for a missing or bad form.
-std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& calibration);
+/// The chart the station's configuration names when it names none ([pipeline] size_chart).
+inline constexpr const char* kDefaultSizeChart = "korean_women";
 
-/// As buildCaptureContext, but returns the context of the previous call when the calibration is
-/// the same (thread-safe): the daemon and benchmarks capture many garments per calibration.
-std::shared_ptr<const CaptureContext> cachedCaptureContext(const nlohmann::json& calibration);
+/// Builds the context from calibration JSON (docs/formats.md), the form's body completed from
+/// `sizeChart` (drafts::sizeCharts). It is built once per calibration and owned by whoever runs
+/// captures with it. Throws drafts::ParseError for a malformed calibration, calib::CalibError for
+/// a missing or bad form, std::invalid_argument for an unknown chart.
+std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& calibration,
+                                                          const std::string& sizeChart);
 
 /// Reference silhouettes of every type and attribute combination, drafted for `body` by the
 /// project's recipes and laid on the form by the garment model of the scene simulator. Throws
@@ -48,8 +53,8 @@ std::shared_ptr<const CaptureContext> cachedCaptureContext(const nlohmann::json&
 std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view,
                                                             const drafts::Measurements& body);
 
-/// The form's own measurements completed, for names the form does not give, from the size of the
-/// korean_women chart whose bust is nearest (drafts need neck-to-waist, arm lengths, ...).
-drafts::Measurements bodyForForm(const calib::FormModel& form);
+/// The form's own measurements completed, for names the form does not give, from the size of
+/// `chart` whose bust is nearest (drafts need neck-to-waist, arm lengths, ...).
+drafts::Measurements bodyForForm(const calib::FormModel& form, const drafts::SizeChart& chart);
 
 }  // namespace garmcap::pipeline

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "garmcap/drafts/pattern.h"
+#include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/measurement_correction.h"
 
 namespace garmcap::pipeline {
@@ -57,6 +58,9 @@ struct CaptureOptions {
   // they are measured, so the pattern, the size run and result.json all use the corrected values;
   // null: none. Shared, read-only: fitted once per capture by the caller.
   std::shared_ptr<const CorrectionTable> corrections;
+  // The size chart that completes the form's body for drafting, when runCapture builds the
+  // context itself (the one-off overload below); a PreparedCapture's context names its own.
+  std::string sizeChart = kDefaultSizeChart;
 };
 
 /// Makes the C allocator keep the freed memory of frame-sized buffers for the next one instead
@@ -91,8 +95,44 @@ struct CaptureResult {
   nlohmann::json toJson() const;  // result.json content (no images)
 };
 
-/// Runs the whole pipeline. `calibration` is the calibration JSON (docs/formats.md).
+struct BareFrame;  // the bare-form frame as segmentation compares with it (internal)
+
+/// What every capture after one bare-form capture shares: the calibration's context and the
+/// bare-form frame undistorted, scaled to the work frame, de-rolled, keyed and ready for the
+/// motion estimate (about 100 ms at 12 MP). Built once, when the bare form is captured, and owned
+/// by whoever runs the captures (the daemon's processor, the CLI's rig evaluation); read-only, so
+/// one may serve captures on several threads.
+class PreparedCapture {
+ public:
+  /// Throws CaptureError kBadInput when `emptyBgr` is not an 8-bit colour frame of the
+  /// calibration's size, kOffForm or kBadInput when it cannot be keyed.
+  PreparedCapture(std::shared_ptr<const CaptureContext> context, const cv::Mat& emptyBgr,
+                  double workMegapixels = CaptureOptions{}.workMegapixels);
+
+  const CaptureContext& context() const { return *context_; }
+  const std::shared_ptr<const CaptureContext>& sharedContext() const { return context_; }
+  const BareFrame& bare() const { return *bare_; }
+  /// The work frame's size the bare frame was prepared for (CaptureOptions::workMegapixels).
+  double workMegapixels() const { return workMegapixels_; }
+
+ private:
+  std::shared_ptr<const CaptureContext> context_;
+  std::shared_ptr<const BareFrame> bare_;
+  double workMegapixels_;
+};
+
+/// Runs the whole pipeline on the dressed frame `dressedBgr` against `prepared`.
+/// `options.workMegapixels` must be the one `prepared` was made for (else CaptureError
+/// kBadInput); `options.sizeChart` is not used (the context names its chart).
 /// Throws CaptureError with a reason; never invents a measurement.
+CaptureResult runCapture(const PreparedCapture& prepared, const cv::Mat& dressedBgr,
+                         const CaptureOptions& options = {});
+
+/// One capture on its own: builds the context for `calibration` (the calibration JSON,
+/// docs/formats.md; its body from `options.sizeChart`) and prepares `emptyBgr`, then runs as
+/// above; the preparation's time is the "context" stage. Callers capturing several garments
+/// build a PreparedCapture once instead. A calibration the pipeline cannot use is CaptureError
+/// kBadInput.
 CaptureResult runCapture(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
                          const nlohmann::json& calibration, const CaptureOptions& options = {});
 
