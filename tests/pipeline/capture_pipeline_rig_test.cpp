@@ -9,6 +9,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "garmcap/capture/rig.h"
+#include "garmcap/drafts/size_charts.h"
+#include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 
 using namespace garmcap;
@@ -137,4 +139,59 @@ TEST(CapturePipelineRig, MalformedCalibrationIsBadInput) {
   nlohmann::json cal = c.calibration;
   cal.erase("pose");
   EXPECT_EQ(reasonOf(c.empty, c.dressed, cal), pipeline::CaptureError::Reason::kBadInput);
+}
+
+// The prepared capture its caller owns gives what a capture on its own gives, as often as it is
+// used, and refuses a capture that asks for another work frame than it was prepared for.
+TEST(CapturePipelineRig, PreparedCaptureGivesTheOneOffResultEveryTime) {
+  if (!fs::exists(kRig / "rig.json"))
+    GTEST_SKIP() << "no rig at " << kRig;
+  const auto c = firstCase();
+  const auto oneOff = pipeline::runCapture(c.empty, c.dressed, c.calibration, fastOptions());
+  const pipeline::PreparedCapture prepared(
+      pipeline::buildCaptureContext(c.calibration, pipeline::kDefaultSizeChart), c.empty,
+      fastOptions().workMegapixels);
+  for (int i = 0; i < 2; ++i) {
+    const auto r = pipeline::runCapture(prepared, c.dressed, fastOptions());
+    EXPECT_EQ(r.type, oneOff.type);
+    EXPECT_EQ(r.measurements, oneOff.measurements);
+    EXPECT_EQ(r.warnings, oneOff.warnings);
+    EXPECT_EQ(cv::countNonZero(r.silhouette != oneOff.silhouette), 0);
+  }
+  pipeline::CaptureOptions other = fastOptions();
+  other.workMegapixels = 0.5;
+  try {
+    pipeline::runCapture(prepared, c.dressed, other);
+    ADD_FAILURE() << "expected a CaptureError";
+  } catch (const pipeline::CaptureError& e) {
+    EXPECT_EQ(e.reason(), pipeline::CaptureError::Reason::kBadInput);
+    EXPECT_NE(std::string(e.what()).find("prepared for a 2.0 MP work frame"), std::string::npos)
+        << e.what();
+  }
+}
+
+// The form's body is completed from the chart the context is built with: names the form does not
+// give come from one of that chart's sizes; an unknown chart is refused by name.
+TEST(CapturePipelineRig, ContextBodyComesFromTheNamedChart) {
+  if (!fs::exists(kRig / "rig.json"))
+    GTEST_SKIP() << "no rig at " << kRig;
+  const auto c = firstCase();
+  int fromChart = 0;
+  for (const char* name : {"korean_women", "italian_women"}) {
+    const auto ctx = pipeline::buildCaptureContext(c.calibration, name);
+    EXPECT_EQ(ctx->sizeChart, name);
+    const auto& chart = drafts::sizeChart(name);
+    for (const auto& [m, value] : ctx->body.values()) {
+      if (ctx->form->measurements().find(m))
+        continue;  // the form's own
+      const bool inChart =
+          std::any_of(chart.bodies.begin(), chart.bodies.end(),
+                      [&](const auto& b) { return b.find(m) && *b.find(m) == value; });
+      EXPECT_TRUE(inChart) << name << ": " << m << " = " << value;
+      ++fromChart;
+    }
+  }
+  EXPECT_GT(fromChart, 0);
+  EXPECT_THROW(pipeline::buildCaptureContext(c.calibration, "no_such_chart"),
+               std::invalid_argument);
 }
