@@ -353,6 +353,12 @@ FormModel::FormModel(TriMesh meshCm, FormSidecar sidecar)
   checkSidecar();
 }
 
+std::shared_ptr<const FormViewSections> FormModel::viewSections(
+    const std::function<std::shared_ptr<const FormViewSections>()>& make) const {
+  std::call_once(viewSections_->once, [&] { viewSections_->sections = make(); });
+  return viewSections_->sections;
+}
+
 FormModel FormModel::load(const std::filesystem::path& formArgument) {
   const auto sidecarPath = resolveFormSidecar(formArgument);
   FormSidecar sidecar = readFormSidecar(sidecarPath);

@@ -4,11 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <stdexcept>
-#include <tuple>
 
 #include "garmcap/calib/slicer.h"
 
@@ -181,34 +178,29 @@ void FormView::rasteriseNormals() {
   }
 }
 
-namespace {
-
 // World-space sections of one form, sampled along the height: the convex hulls (x, z) of the
 // torso and of each leg, with their perimeters. They do not depend on the pose, and slicing the
-// mesh a few hundred times costs far more than a render, so they are cached per form.
-struct WorldSample {
-  double h = 0;
-  std::vector<Eigen::Vector2d> torsoHull;  // empty when no torso section is used here
-  double torsoCirc = 0;
-  std::array<std::vector<Eigen::Vector2d>, 2> legHull;
-  std::array<double, 2> legCirc{0, 0};
+// mesh a few hundred times costs far more than a render, so the form keeps them
+// (FormModel::viewSections) for every view of it.
+struct FormViewSections {
+  struct Sample {
+    double h = 0;
+    std::vector<Eigen::Vector2d> torsoHull;  // empty when no torso section is used here
+    double torsoCirc = 0;
+    std::array<std::vector<Eigen::Vector2d>, 2> legHull;
+    std::array<double, 2> legCirc{0, 0};
+  };
+  std::vector<Sample> samples;
 };
 
-std::shared_ptr<const std::vector<WorldSample>> worldSamples(const FormModel& form, double armpit,
-                                                             std::optional<double> crotch) {
-  static std::mutex mutex;
-  static std::map<std::tuple<const void*, std::size_t, double, double>,
-                  std::shared_ptr<const std::vector<WorldSample>>>
-      cache;
-  const auto key = std::make_tuple(static_cast<const void*>(&form), form.mesh().faces.size(),
-                                   form.minYCm(), form.maxYCm());
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    const auto it = cache.find(key);
-    if (it != cache.end())
-      return it->second;
-  }
-  auto out = std::make_shared<std::vector<WorldSample>>();
+namespace {
+
+using WorldSample = FormViewSections::Sample;
+
+std::shared_ptr<const FormViewSections> worldSamples(const FormModel& form, double armpit,
+                                                     std::optional<double> crotch) {
+  auto sections = std::make_shared<FormViewSections>();
+  std::vector<WorldSample>* out = &sections->samples;
   const double axisX = form.axisXCm();
   for (double h = form.minYCm() + 0.5 * kSectionStepCm; h < form.maxYCm(); h += kSectionStepCm) {
     WorldSample w;
@@ -243,9 +235,7 @@ std::shared_ptr<const std::vector<WorldSample>> worldSamples(const FormModel& fo
     }
     out->push_back(std::move(w));
   }
-  std::lock_guard<std::mutex> lock(mutex);
-  cache[key] = out;
-  return out;
+  return sections;
 }
 
 std::optional<RowSection> projectHull(const FormPose& pose,
@@ -262,9 +252,9 @@ std::optional<RowSection> projectHull(const FormPose& pose,
 }  // namespace
 
 void FormView::buildRowTables() {
-  const auto samples = worldSamples(*form_, armpit_, crotch_);
+  const auto sections = form_->viewSections([&] { return worldSamples(*form_, armpit_, crotch_); });
   std::vector<std::optional<RowSection>> torso, leg0, leg1;
-  for (const auto& w : *samples) {
+  for (const auto& w : sections->samples) {
     sampleHeights_.push_back(w.h);
     sampleRows_.push_back(
         calib::projectPoint(pose_, {form_->axisXCm(), w.h, form_->axisZCm()}).y());

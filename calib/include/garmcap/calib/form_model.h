@@ -10,7 +10,10 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <functional>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,6 +69,8 @@ struct FormLandmarks {
   std::map<std::string, double> toMap() const;
 };
 
+struct FormViewSections;  // form_view.cpp: the world sections every FormView of a form samples
+
 /// A loaded dress form. Immutable after construction; safe to share between threads.
 class FormModel {
  public:
@@ -102,6 +107,12 @@ class FormModel {
   /// differences, mesh statistics.
   std::string reportJson() const;
 
+  /// The world sections FormView samples (pose-independent), made by the first view of this
+  /// form with `make` and kept with the form for every later one: slicing the mesh some 700
+  /// times costs far more than a render. Copies share them (the form is immutable). Thread-safe.
+  std::shared_ptr<const FormViewSections> viewSections(
+      const std::function<std::shared_ptr<const FormViewSections>()>& make) const;
+
  private:
   void findLandmarks();
   void deriveMeasurements();
@@ -113,6 +124,11 @@ class FormModel {
   FormLandmarks landmarks_;
   std::optional<double> bustPointHeight_;  // front-most point of the chest
   drafts::Measurements measurements_;
+  struct ViewSectionsSlot {
+    std::once_flag once;
+    std::shared_ptr<const FormViewSections> sections;
+  };
+  std::shared_ptr<ViewSectionsSlot> viewSections_ = std::make_shared<ViewSectionsSlot>();
 };
 
 /// Unit factor to centimetres for "mm", "cm", "m", "in"; throws std::invalid_argument.
