@@ -131,8 +131,9 @@ class PipelineProcessor : public CaptureProcessor {
     std::lock_guard lock(preparedMutex_);
     if (prepared_ && preparedFor_ == calibration)
       return prepared_;
-    spdlog::info("pipeline: preparing a calibration not prepared by this process (made before "
-                 "it started)");
+    spdlog::info(
+        "pipeline: preparing a calibration not prepared by this process (made before "
+        "it started)");
     std::shared_ptr<const pipeline::CaptureContext> context;
     try {
       context = pipeline::buildCaptureContext(calibration, sizeChart_);
