@@ -21,10 +21,10 @@ struct NestPlacement {
 using NestRing = std::vector<std::pair<double, double>>;
 
 /// Places every ring in the strip 0 <= y <= widthCm, x >= 0, turning a ring only by 0 or 180
-/// degrees, at least `gapCm` apart, packed toward x = 0 so that the strip's used length is short
-/// (libnest2d's no-fit-polygon placer, first-fit selection, largest first, scored by the pile's
-/// length). Throws std::runtime_error when a ring cannot be placed in one strip (wider than the
-/// strip in both turns).
+/// degrees, at least `gapCm` apart, packed toward x = 0: libnest2d's no-fit-polygon placer with
+/// first-fit selection packs the rings' convex hulls into a box of the strip's width whose
+/// length starts at the hulls' area over the width and grows by 4 % until all fit in one box.
+/// Throws std::runtime_error when a ring is wider than the strip (no turn allowed makes it fit).
 std::vector<NestPlacement> nestInStrip(const std::vector<NestRing>& rings, double widthCm,
                                        double gapCm);
 

@@ -12,7 +12,7 @@ For A4, US Letter and A0 and a few garment types (`garmcap draft --pattern-pdf -
   4 in (Letter) within 0.5 mm, and its size is printed;
 - two horizontally neighbouring tiles (labels from pdftotext) overlap by 1 cm within 0.5 mm:
   the same red match mark lies 1 cm less than the frame width further left on the right tile;
-- grain lines carry arrowheads and the seam allowance statement is printed.
+- the seam allowance statement is printed.
 Exits 1 on any failure.
 """
 import re
