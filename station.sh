@@ -23,6 +23,8 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git clang-format
   # drafts, core: geometry, JSON, CLI, logging
   libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
+  # drafts: markers nested by libnest2d (header-only; its clipper backend and NLopt optimizers)
+  libnest2d-dev libpolyclipping-dev libnlopt-cxx-dev
   # calib, core/garmcap: images
   libopencv-dev
   # capture: cameras and GPIO

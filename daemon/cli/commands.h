@@ -14,5 +14,6 @@ void addCalibCommands(CLI::App& app);     // calib_commands.cpp: form, calibrate
 void addCaptureCommands(CLI::App& app);   // capture_commands.cpp: render, rig make
 void addPipelineCommands(CLI::App& app);  // pipeline_commands.cpp: capture, rig eval
 void addTapeCommands(CLI::App& app);      // tape_commands.cpp: tape (the station's catalog)
+void addMarkerCommands(CLI::App& app);    // marker_commands.cpp: marker
 
 }  // namespace garmcap::cli

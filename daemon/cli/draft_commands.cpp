@@ -36,7 +36,8 @@ struct DraftOptions {
   std::string svg;
   bool pointNames = false;
   std::string dxf;         // DXF-AAMA pattern file (cut line with allowance, sew line)
-  std::string patternPdf;  // tiled A4 PDF
+  std::string patternPdf;  // tiled PDF on --paper
+  std::string paper = "a4";
   std::string patternSvg;  // pattern pieces at 1:1 with cut and sew lines
   std::string style = "DRAFT";
 };
@@ -118,7 +119,7 @@ void runDraft(const DraftOptions& o) {
   if (!o.dxf.empty())
     gd::writeFileAtomic(o.dxf, gd::patternDxf(pattern, text));
   if (!o.patternPdf.empty())
-    gd::writeFileAtomic(o.patternPdf, gd::patternPdfA4(pattern, text));
+    gd::writeFileAtomic(o.patternPdf, gd::patternPdf(pattern, text, gd::parsePaper(o.paper)));
   if (!o.patternSvg.empty())
     gd::writeFileAtomic(o.patternSvg, gd::patternSvg(pattern, text));
 }
@@ -143,7 +144,9 @@ void addDraftCommands(CLI::App& app) {
   draft->add_flag("--point-names", opts->pointNames, "Label the draft points in the SVG");
   draft->add_option("--dxf", opts->dxf,
                     "DXF-AAMA pattern file to write (layer 1 cut line, layer 14 sew line)");
-  draft->add_option("--pattern-pdf", opts->patternPdf, "Tiled A4 pattern PDF to write");
+  draft->add_option("--pattern-pdf", opts->patternPdf,
+                    "Tiled pattern PDF to write (1:1, 1 cm overlap, match marks)");
+  draft->add_option("--paper", opts->paper, "Paper of --pattern-pdf: a4 (default), letter, a0");
   draft->add_option("--pattern-svg", opts->patternSvg,
                     "Pattern pieces SVG to write (1:1 mm, cut and sew lines)");
   draft->add_option("--style", opts->style, "Style name printed on the pieces (default DRAFT)");

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "garmcap/drafts/export_dxf_aama.h"
+#include "garmcap/drafts/export_nested_grading.h"
 #include "garmcap/drafts/export_rul.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/measurements.h"
@@ -120,6 +121,10 @@ void runSizeRun(const GradeCliOptions& o) {
   const gd::GradedRun graded{source.type, run->sizes, chart.sizes[*nearest], run->patterns};
   gd::writeFileAtomic(dir / "graded.dxf", gd::gradedDxf(graded));
   gd::writeFileAtomic(dir / "graded.rul", gd::gradeRuleTable(graded));
+  // Every size superimposed per piece, the sample size marked (nested grading).
+  gd::writeFileAtomic(dir / "nested_grading.svg", gd::nestedGradingSvg(graded));
+  gd::writeFileAtomic(dir / "nested_grading.pdf", gd::nestedGradingPdf(graded));
+  gd::writeFileAtomic(dir / "nested_grading.dxf", gd::nestedGradingDxf(graded));
 }
 
 void addGradingOptions(CLI::App* cmd, GradeCliOptions& o) {
@@ -161,7 +166,8 @@ void addDswCommands(CLI::App& app) {
   CLI::App* sizerun = app.add_subcommand(
       "sizerun",
       "Grade a pattern to every size of a chart: panels per size, a size guide (JSON, CSV) and "
-      "the graded DXF-AAMA with its ASTM grade-rule table (graded.dxf, graded.rul)");
+      "the graded DXF-AAMA with its ASTM grade-rule table (graded.dxf, graded.rul), every size "
+      "nested per piece (nested_grading.svg/.pdf/.dxf)");
   addGradingOptions(sizerun, *so);
   sizerun->add_option("--chart", so->chart, "Size chart (e.g. korean_women)")->required();
   sizerun->add_option("--out", so->out, "Output folder")->required();

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   garmcap::cli::addCaptureCommands(app);
   garmcap::cli::addPipelineCommands(app);
   garmcap::cli::addTapeCommands(app);
+  garmcap::cli::addMarkerCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

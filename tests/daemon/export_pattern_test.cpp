@@ -228,12 +228,16 @@ TEST(PatternPdf, TiledA4AtTrueScale) {
   std::ifstream in(info);
   std::string all((std::istreambuf_iterator<char>(in)), {});
   EXPECT_NE(all.find("595.276 x 841.89 pts (A4)"), std::string::npos) << all;
-  const Layout lay = layoutPanels(withCutLines(pat), 2.0, 120.0);
-  const int cols = static_cast<int>(std::ceil(lay.widthCm / 19.0));
-  const int rows = static_cast<int>(std::ceil((lay.heightCm + 13.0) / 27.7));
+  // Tiles of 19 x 27.7 cm overlapping by 1 cm over rows up to 91 cm wide, the 14 cm test
+  // square block on top; tiles without ink are left out (tests/drafts/pdf_tiles_check.py
+  // checks that from the raster).
+  const Layout lay = layoutPanels(withCutLines(pat), 2.0, 19.0 + 4 * 18.0);
+  const int cols = static_cast<int>(std::ceil((lay.widthCm - 1.0) / 18.0));
+  const int rows = static_cast<int>(std::ceil((lay.heightCm + 14.0 - 1.0) / 26.7));
   const size_t pagesAt = all.find("Pages:");
   ASSERT_NE(pagesAt, std::string::npos);
-  EXPECT_EQ(std::stoi(all.substr(pagesAt + 6)), rows * cols) << all;
+  EXPECT_GE(std::stoi(all.substr(pagesAt + 6)), 1) << all;
+  EXPECT_LE(std::stoi(all.substr(pagesAt + 6)), rows * cols) << all;
   EXPECT_EQ(all.find("Syntax Error"), std::string::npos) << all;
   // Page 1 at 254 dpi: 100 px per cm. The test square's outer edges are 10 cm apart.
   ASSERT_EQ(std::system(("pdftoppm -gray -r 254 -f 1 -l 1 '" + (dir / "p.pdf").string() + "' '" +

@@ -1,0 +1,69 @@
+// Markers (marker.h): which pieces go on the fabric and how they are turned, checked against the
+// drafted panels' own cut lines; overlap, efficiency and the files are checked from the CLI's
+// output by nested_marker_check.py.
+#include "garmcap/drafts/marker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "garmcap/drafts/geometry_polygon.h"
+#include "garmcap/drafts/recipes.h"
+#include "garmcap/drafts/seam_allowance.h"
+#include "garmcap/drafts/size_charts.h"
+
+namespace garmcap::drafts {
+namespace {
+
+TEST(Marker, CutCountsFoldsAndMirrorsOfASkirt) {
+  const Pattern pat = draftGarment("skirt_a", sizeChart("korean_women").body("66"));
+  const Marker m = layMarker({{"66", pat}}, {150.0, 0.2});
+  size_t want = 0;
+  for (const auto& p : pat.panels)
+    want += static_cast<size_t>(std::max(1, p.cutCount));
+  ASSERT_EQ(m.pieces.size(), want);
+  double area = 0;
+  for (const auto& p : pat.panels) {
+    const double half = polygonArea(cutOutline(p, pat));
+    int copies = 0, mirrors = 0;
+    for (const auto& q : m.pieces) {
+      if (q.panel != p.name)
+        continue;
+      ++copies;
+      mirrors += q.mirrored ? 1 : 0;
+      EXPECT_EQ(q.unfolded, p.cutOnFold) << p.name;
+      // A fold piece opened out is twice the half's cut line; others are the cut line itself.
+      EXPECT_NEAR(polygonArea(q.cutLine), (p.cutOnFold ? 2 : 1) * half, 1e-6 * half) << p.name;
+      EXPECT_NEAR(q.areaCm2, polygonArea(q.cutLine), 1e-6 * half);
+      // Grain along the fabric's length: both ends at the same y.
+      EXPECT_NEAR(q.grainStart.y(), q.grainEnd.y(), 1e-6) << p.name;
+      for (const auto& v : q.cutLine) {
+        EXPECT_GE(v.y(), -1e-6);
+        EXPECT_LE(v.y(), 150.0 + 1e-6);
+        EXPECT_GE(v.x(), -1e-6);
+        EXPECT_LE(v.x(), m.lengthCm + 1e-6);
+      }
+    }
+    EXPECT_EQ(copies, std::max(1, p.cutCount)) << p.name;
+    EXPECT_EQ(mirrors, std::max(1, p.cutCount) / 2) << p.name;
+    area += copies * (p.cutOnFold ? 2 : 1) * half;
+  }
+  EXPECT_NEAR(m.pieceAreaCm2, area, 1e-6 * area);
+  EXPECT_NEAR(m.efficiency, area / (m.lengthCm * 150.0), 1e-9);
+  EXPECT_GT(m.efficiency, 0.5) << "a skirt nests better than one piece per row";
+  EXPECT_LE(m.efficiency, 1.0);
+}
+
+TEST(Marker, RefusesFabricNarrowerThanAPiece) {
+  const Pattern pat = draftGarment("skirt_a", sizeChart("korean_women").body("66"));
+  try {
+    layMarker({{"66", pat}}, {20.0, 0.2});
+    FAIL() << "a 20 cm fabric cannot hold a skirt panel";
+  } catch (const MarkerError& e) {
+    EXPECT_NE(std::string(e.what()).find("wider than the fabric"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(layMarker({}, {150.0, 0.2}), MarkerError);
+}
+
+}  // namespace
+}  // namespace garmcap::drafts
