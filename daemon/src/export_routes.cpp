@@ -90,18 +90,15 @@ std::string shortOption(const RouteMatch& m, const std::string& key, const std::
 // The shop's settings come from the config ([shop]); a query value overrides one for this
 // export. Without a configured or given URL the station's own address is used, which the
 // export refuses when it is a loopback one (unless [shop] allow_loopback).
-ShopOptions shopOptions(const Request& req, const RouteMatch& m, const ShopConfig& shop) {
+// The shop's addresses come from the [shop] settings (or the request's explicit options), never
+// from the request's Host header: the address a tablet reached the station by (127.0.0.1, a
+// 192.168.x LAN address) is not one a shop's importer can fetch images or link products from, and
+// an export built on it would publish dead links without a word. Left empty, the export refuses
+// with the option's name (export_shop.cpp's checkPublicUrl).
+ShopOptions shopOptions(const RouteMatch& m, const ShopConfig& shop) {
   ShopOptions o;
-  std::string host(req[http::field::host]);
-  bool hostOk =
-      !host.empty() && host.size() <= 255 &&
-      std::all_of(host.begin(), host.end(), [](unsigned char c) {
-        return std::isalnum(c) || c == '.' || c == ':' || c == '-' || c == '[' || c == ']';
-      });
-  const std::string self = hostOk ? "http://" + host : "http://127.0.0.1";
-  o.publicBaseUrl = urlOption(
-      m, "base_url", shop.publicBaseUrl.empty() ? self + "/api/export/files" : shop.publicBaseUrl);
-  o.storeUrl = urlOption(m, "store_url", shop.storeUrl.empty() ? self : shop.storeUrl);
+  o.publicBaseUrl = urlOption(m, "base_url", shop.publicBaseUrl);
+  o.storeUrl = urlOption(m, "store_url", shop.storeUrl);
   o.storePlatform = shortOption(m, "store_platform", shop.storePlatform, 16);
   o.brand = shortOption(m, "brand", shortOption(m, "vendor", shop.brand, 150), 150);
   o.currency = shortOption(m, "currency", shop.currency, 3);
@@ -283,8 +280,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
   auto shopRoute =
       [c](std::string name, std::string type,
           std::function<ShopFile(const std::vector<ExportItem>&, const ShopOptions&)> build) {
-        return [c, name, type, build](const Request& req, const RouteMatch& m, Reply reply) {
-          const ShopOptions o = shopOptions(req, m, c->shopConfig());
+        return [c, name, type, build](const Request&, const RouteMatch& m, Reply reply) {
+          const ShopOptions o = shopOptions(m, c->shopConfig());
           c->withCatalog(
               [c, reply, o, name, type, build](Catalog& cat) {
                 auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, false));
@@ -317,8 +314,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
              shopRoute("merchant.tsv", "text/tab-separated-values; charset=utf-8", merchantTsv));
 
   router.add(
-      V::get, "/api/export/catalog.zip", [c](const Request& req, const RouteMatch& m, Reply reply) {
-        const ShopOptions o = shopOptions(req, m, c->shopConfig());
+      V::get, "/api/export/catalog.zip", [c](const Request&, const RouteMatch& m, Reply reply) {
+        const ShopOptions o = shopOptions(m, c->shopConfig());
         c->withCatalog(
             [c, reply, o](Catalog& cat) {
               auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, true));
@@ -378,23 +375,33 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                       for (auto [file, build] : {std::pair{"shopify.csv", &shopifyCsv},
                                                  std::pair{"woocommerce.csv", &wooCommerceCsv},
                                                  std::pair{"merchant.tsv", &merchantTsv}}) {
-                        ShopFile f = build(items, o);
-                        for (const auto& w : f.warnings)
-                          notes.push_back(std::string(file) + ": " + w);
-                        files.push_back({file, std::move(f.bytes)});
+                        // A shop file the settings cannot make yet (no public address) is left
+                        // out with the reason; the patterns and photos are still worth having.
+                        try {
+                          ShopFile f = build(items, o);
+                          for (const auto& w : f.warnings)
+                            notes.push_back(std::string(file) + ": " + w);
+                          files.push_back({file, std::move(f.bytes)});
+                        } catch (const ExportError& e) {
+                          notes.push_back(std::string(file) + " left out: " + e.what());
+                        }
                       }
                       std::string readme =
                           "GarmCap Station catalog export: " + std::to_string(items.size()) +
-                          " approved items.\nUpload the folder so that images/ is reachable at " +
-                          o.publicBaseUrl +
-                          "/images/ before importing the CSVs.\nPatterns: patterns/<item id>/ (DXF "
-                          "in mm, "
-                          "SVG 1:1, GarmentCode JSON, Valentina .vit, graded DXF + RUL when "
-                          "graded).\n";
+                          " approved items.\n" +
+                          (o.publicBaseUrl.empty()
+                               ? std::string("No public address is set ([shop] public_base_url), "
+                                             "so the shop files cannot link the images yet.\n")
+                               : "Upload the folder so that images/ is reachable at " +
+                                     o.publicBaseUrl + "/images/ before importing the CSVs.\n") +
+                          "Patterns: patterns/<item id>/ (DXF in mm, SVG 1:1, GarmentCode JSON, "
+                          "Valentina .vit, graded DXF + RUL when graded).\n";
                       for (const auto& n : notes)
                         readme += "Note: " + n + "\n";
                       files.push_back({"README.txt", readme});
-                      reply(fileResponse("application/zip", storeZip(files), "catalog.zip"));
+                      Response r = fileResponse("application/zip", storeZip(files), "catalog.zip");
+                      setWarnings(r, notes);
+                      reply(std::move(r));
                     } catch (const ExportError& e) {
                       reply(jsonError(http::status::unprocessable_entity, e.what()));
                     } catch (const std::exception& e) {

@@ -327,6 +327,23 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   const auto local = d.get("/api/export/shopify.csv?base_url=http://127.0.0.1:1/files");
   EXPECT_EQ(local.status, 422) << local.body;
   EXPECT_NE(local.json().value("error", "").find("public_base_url"), std::string::npos);
+  // With the shop's addresses unset, the address a tablet reached the station by is not taken
+  // for the shop's: the CSV names the missing setting, and the ZIP leaves the shop files out with
+  // the reason (patterns and photos still in it) instead of publishing LAN links.
+  {
+    const std::vector<std::pair<std::string, std::string>> lanHost = {
+        {"Host", "192.168.1.20:8080"}};
+    const auto csv = httpCallWith(d.port(), http::verb::get, "/api/export/shopify.csv", lanHost);
+    EXPECT_EQ(csv.status, 422) << csv.body;
+    EXPECT_NE(csv.body.find("public_base_url"), std::string::npos) << csv.body;
+    EXPECT_EQ(csv.body.find("192.168"), std::string::npos) << csv.body;
+    const auto zip = httpCallWith(d.port(), http::verb::get, "/api/export/catalog.zip", lanHost);
+    ASSERT_EQ(zip.status, 200) << zip.body;
+    EXPECT_EQ(zip.body.find("192.168.1.20"), std::string::npos);
+    EXPECT_NE(zip.body.find("shopify.csv left out: "), std::string::npos);
+    EXPECT_NE(zip.body.find("No public address is set"), std::string::npos);
+    EXPECT_NE(zip.body.find("patterns/" + std::to_string(cap.id) + "/"), std::string::npos);
+  }
   // The legacy header set names the same variant.
   const auto legacy = d.get("/api/export/shopify.csv" + kQuery + "&legacy=1");
   ASSERT_EQ(legacy.status, 200);
