@@ -36,8 +36,9 @@ DesignParameter hemFlare(double dflt, double lo, double hi) {
 std::vector<DesignParameter> sleeveParams(double capEase, double lengthDefault, double lengthMin,
                                           double wristEase) {
   return {{"sleeve_length", lengthDefault, lengthMin, 1.1,
-           "sleeve length as a fraction of arm_shoulder_tip_to_wrist: 0 = sleeveless, ~0.3 = "
-           "short, 1 = long (to the wrist)"},
+           "sleeve length as a fraction of arm_shoulder_tip_to_wrist: 0 = sleeveless; up to the "
+           "cap height (~0.25) a cap sleeve, cut across the cap; ~0.3 = short; 1 = long (to the "
+           "wrist); at least 2 cm"},
           {"sleeve_cap_ease", capEase, 0, 6,
            "cm the sleeve cap is longer than the armhole it is set into (eased in)"},
           {"ease_wrist", wristEase, 0, 40,
@@ -108,7 +109,7 @@ std::vector<GarmentTypeInfo> buildTypes() {
                       {"bust_circ", "waist_circ", "neck_back_to_waist_b",
                        "arm_shoulder_tip_to_wrist", "arm_wrist_circ"},
                       {easeBust(12, 4, 30), easeWaist(6, 0, 30)}};
-    for (auto& p : sleeveParams(3, 1.0, 0.2, 8))
+    for (auto& p : sleeveParams(3, 1.0, 0.04, 8))
       s.design.push_back(p);
     s.design.push_back(seamAllowance());
     t.push_back(s);
