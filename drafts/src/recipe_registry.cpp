@@ -1,5 +1,6 @@
 // The garment types, their required measurements and design parameters, input validation, and
 // the dispatch to the recipe functions (recipe_*.cpp).
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -98,9 +99,11 @@ std::vector<GarmentTypeInfo> buildTypes() {
         easeHip(4, 0, 20),
         {"pants_length", 0.96, 0.3, 1.05,
          "trouser length from the waist as a fraction of leg_waist_side_to_floor"},
+        // Bunka's test vector (research/drafting_blocks.md §5.1): hemHalf 10.5 at H 90.
         {"hem_width", 21, 12, 50,
-         "front leg hem width, cm (back is 2 cm wider); grows with the hip when graded",
-         "hip_circ"},
+         "front leg hem width, cm (back is 2 cm wider); default 21 x hip_circ / 90 (Bunka's "
+         "21 at hip 90), and grows with the hip when graded",
+         "hip_circ", 90},
         seamAllowance()}});
   {
     GarmentTypeInfo s{"sleeve",
@@ -235,6 +238,11 @@ Pattern draftGarment(const std::string& type, const Measurements& body,
     p.measurements.set(name, body.get(name));
   for (const auto& d : info.design) {
     p.design[d.name] = d.defaultValue;
+    // A width designed for a reference body grows with this one (hem_width with the hip).
+    if (d.gradesFrom > 0 && !d.gradesWith.empty()) {
+      if (auto v = body.find(d.gradesWith))
+        p.design[d.name] = std::clamp(d.defaultValue * *v / d.gradesFrom, d.minValue, d.maxValue);
+    }
     // A design value the body chart also carries (skirt_length: seed table 4.2 lists it as a
     // primary body size) defaults to the body's value, so size runs grade it like the seed.
     if (auto v = body.find(d.name); v && !design.count(d.name)) {

@@ -201,9 +201,8 @@ TEST(RecipeAcceptance, CircumferencesGrowStrictlyFrom44To88) {
       for (const auto& size : c.sizes) {
         const auto m = measurePattern(draftGarment(type.name, c.body(size)));
         for (const auto& [k, v] : m) {
-          // Trouser hems are a design value (hem_width), not a body girth.
-          const bool circ =
-              k.find("circ") != std::string::npos && !(type.name == "pants" && k == "hem_circ");
+          // Trouser hems included: hem_width's default grows with the hip (issue 18).
+          const bool circ = k.find("circ") != std::string::npos;
           if (circ && last.count(k)) {
             EXPECT_GT(v, last[k]) << chart << " " << type.name << " " << k << " at size " << size;
           }
@@ -213,6 +212,27 @@ TEST(RecipeAcceptance, CircumferencesGrowStrictlyFrom44To88) {
       EXPECT_FALSE(last.empty()) << type.name;
     }
   }
+}
+
+TEST(RecipeAcceptance, PantsHemsGradeWithTheSize) {
+  // Issue 18: the trouser hem was 21 + 23 cm in every size. Its default is now Bunka's 21 cm
+  // front hem at hip 90 scaled by the hip, so it grows with every chart's sizes, and a value
+  // the design sets is kept as set.
+  for (const auto& c : sizeCharts()) {
+    double last = 0;
+    for (std::size_t i = 0; i < c.sizes.size(); ++i) {
+      const Pattern p = draftGarment("pants", c.bodies[i]);
+      const double hip = c.bodies[i].get("hip_circ");
+      EXPECT_NEAR(p.design.at("hem_width"), 21.0 * hip / 90.0, 1e-9);
+      const double hem = measurePattern(p).at("hem_circ");
+      // Front hem + back hem (2 cm wider), measured on the panels' hem edges.
+      EXPECT_NEAR(hem, 2 * 21.0 * hip / 90.0 + 2.0, 0.05) << c.name << " " << c.sizes[i];
+      EXPECT_GT(hem, last + 0.5) << c.name << " " << c.sizes[i];
+      last = hem;
+    }
+  }
+  const Measurements b = sizeChart("korean_women").body("88");
+  EXPECT_NEAR(draftGarment("pants", b, {{"hem_width", 21}}).design.at("hem_width"), 21, 1e-12);
 }
 
 TEST(RecipeAcceptance, SweepsBuildValidOrRefuseWithAMessage) {
