@@ -175,8 +175,16 @@ std::optional<Point2> markOnEdge(Pattern& p, const std::string& panelName, const
     auto movable = [&](std::size_t j) {
       return j > 0 && j + 1 < idx.size() && !isDartVertex(at(j));
     };
+    // On a corner that must stay (the edge's end, a dart leg) or within 0.2 mm of it: that
+    // corner ends the seam (moving a neighbour there would leave a zero-length edge).
+    constexpr double kSameCornerCm = 0.02;
+    if (!movable(pick) && (target - at(pick)).norm() < kSameCornerCm)
+      return at(pick);
     if (!movable(pick))
       pick = nearStart ? k + 1 : k;
+    const std::size_t other = pick == k ? k + 1 : k;
+    if (!movable(other) && (target - at(other)).norm() < kSameCornerCm)
+      return at(other);
     if (!movable(pick))
       return std::nullopt;
     const Point2 old = at(pick);

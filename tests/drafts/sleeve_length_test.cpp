@@ -80,6 +80,13 @@ TEST(SleeveLength, EveryLengthDraftsInEveryRecipeWithASleeve) {
                      " cm, cap height " + std::to_string(h) + ")");
         Pattern p;
         ASSERT_NO_THROW(p = draftGarment(type, body, {{"sleeve_length", c.cm / arm}}));
+        for (const auto& panel : p.panels) {
+          EXPECT_TRUE(isSimplePolygon(panel.outline)) << panel.name;
+          for (std::size_t v = 0; v < panel.outline.size(); ++v) {
+            const auto& next = panel.outline[(v + 1) % panel.outline.size()];
+            EXPECT_GT((panel.outline[v] - next).norm(), 1e-3) << panel.name << " vertex " << v;
+          }
+        }
         const Panel* s = sleevePanel(p);
         ASSERT_NE(s, nullptr);
         EXPECT_TRUE(isSimplePolygon(s->outline));
