@@ -3,6 +3,7 @@
 // that each half of the cap is its armhole length plus its share of the cap ease.
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "garmcap/drafts/panel_measure.h"
 #include "recipe_blocks.h"
@@ -118,14 +119,17 @@ std::optional<Polyline> capAbove(const Polyline& cap, double yHem) {
   return std::nullopt;
 }
 
-// Moves the outline vertex of `panelName` nearest to the point at sewn arc length `s` from
-// `from` along its edge from -> to onto that point (dart openings in the edge are skipped, as
-// sewnEdgeLength does), in the panel and in its own draft region, and returns the point. The
-// vertex count stays the same, so a cap sleeve's bodice has the vertices of a sleeved one.
-// The edge's end vertices and dart vertices are never moved; std::nullopt when the nearest
-// movable vertex is not next to the point.
+// Puts a corner on the edge from -> to of `panelName` at sewn arc length `s` from `from`
+// (dart openings in the edge are skipped, as sewnEdgeLength does) and returns it; the panel's
+// own draft region gets the same outline. The run of free vertices between two fixed ones
+// (the edge's ends, dart legs and apex) that holds the point is resampled along itself so that
+// the point is the run's middle vertex: the vertex count stays that of a sleeved bodice, and
+// the corner has the same index in every size, so DSW grading finds the seam's end where the
+// target draft put it. A point within kSnapCm of a fixed vertex is that vertex (no sliver
+// edges). std::nullopt when the edge is shorter than `s` or the run has no free vertex.
 std::optional<Point2> markOnEdge(Pattern& p, const std::string& panelName, const Point2& from,
                                  const Point2& to, double s) {
+  constexpr double kSnapCm = 0.15;
   Panel* panel = nullptr;
   for (auto& x : p.panels)
     panel = x.name == panelName ? &x : panel;
@@ -151,53 +155,51 @@ std::optional<Point2> markOnEdge(Pattern& p, const std::string& panelName, const
     }
     return false;
   };
+  auto fixed = [&](std::size_t k) { return k == 0 || k + 1 == idx.size() || isDartVertex(at(k)); };
   double walked = 0;
-  for (std::size_t k = 0; k + 1 < idx.size(); ++k) {
-    // A dart opening: leg, apex, leg. Closed when sewn, so it adds no length.
+  std::size_t k = 0;
+  while (k + 1 < idx.size()) {
+    // A dart opening (leg, apex, leg) is closed when sewn: no length.
     if (k + 2 < idx.size() && isDartVertex(at(k)) && isDartVertex(at(k + 1)) &&
         isDartVertex(at(k + 2))) {
-      bool opening = false;
-      for (const auto& d : panel->darts)
-        opening = opening || (at(k + 1) - d.apex).norm() < 1e-6;
-      if (opening) {
-        ++k;
-        continue;
-      }
-    }
-    const double seg = (at(k + 1) - at(k)).norm();
-    if (walked + seg < s) {
-      walked += seg;
+      k += 2;
       continue;
     }
-    const Point2 target = at(k) + (seg > 1e-12 ? (s - walked) / seg : 0.0) * (at(k + 1) - at(k));
-    const bool nearStart = (target - at(k)).norm() <= (target - at(k + 1)).norm();
-    std::size_t pick = nearStart ? k : k + 1;
-    auto movable = [&](std::size_t j) {
-      return j > 0 && j + 1 < idx.size() && !isDartVertex(at(j));
-    };
-    // On a corner that must stay (the edge's end, a dart leg) or within 0.2 mm of it: that
-    // corner ends the seam (moving a neighbour there would leave a zero-length edge).
-    constexpr double kSameCornerCm = 0.02;
-    if (!movable(pick) && (target - at(pick)).norm() < kSameCornerCm)
-      return at(pick);
-    if (!movable(pick))
-      pick = nearStart ? k + 1 : k;
-    const std::size_t other = pick == k ? k + 1 : k;
-    if (!movable(other) && (target - at(other)).norm() < kSameCornerCm)
-      return at(other);
-    if (!movable(pick))
-      return std::nullopt;
-    const Point2 old = at(pick);
-    at(pick) = target;
-    for (auto& r : p.regions) {
-      if (r.name != panelName)
-        continue;
-      for (auto& v : r.polygon) {
-        if ((v - old).norm() < 1e-9)
-          v = target;
-      }
+    // The run from fixed vertex k to the next fixed vertex.
+    std::size_t end = k + 1;
+    while (!fixed(end))
+      ++end;
+    Polyline run;
+    for (std::size_t j = k; j <= end; ++j)
+      run.push_back(at(j));
+    const double len = polylineLength(run);
+    if (walked + len < s - 1e-9) {
+      walked += len;
+      k = end;
+      continue;
     }
-    return target;
+    const double sr = s - walked;
+    if (sr < kSnapCm)
+      return at(k);
+    if (len - sr < kSnapCm)
+      return at(end);
+    if (end - k < 2)
+      return std::nullopt;  // no free vertex to put the corner on
+    const std::size_t mid = k + (end - k) / 2;
+    const Polyline first = resample(subPolyline(run, 0, sr), static_cast<int>(mid - k + 1));
+    const Polyline second = resample(subPolyline(run, sr, len), static_cast<int>(end - mid + 1));
+    std::map<int, Point2> moved;  // outline index -> new position
+    for (std::size_t j = 1; j < first.size(); ++j)
+      moved[idx[k + j]] = first[j];
+    for (std::size_t j = 1; j + 1 < second.size(); ++j)
+      moved[idx[mid + j]] = second[j];
+    for (const auto& [i, q] : moved)
+      panel->outline[static_cast<std::size_t>(i)] = q;
+    for (auto& r : p.regions) {
+      if (r.name == panelName && r.polygon.size() == panel->outline.size())
+        r.polygon = panel->outline;
+    }
+    return at(mid);
   }
   return std::nullopt;
 }

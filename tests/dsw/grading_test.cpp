@@ -200,6 +200,31 @@ TEST(DartCompensation, KeepsTheBaseSizeAndTheDesignedEase) {
   EXPECT_NEAR(waistSeamCm(*three), b55.get("waist_circ") + 3.0, 0.1);
 }
 
+TEST(Grading, CapAndShortSleeveDressesGradeAcrossTheChart) {
+  // Issue 18 item 6: sleeves shorter than their cap are drafted as cap sleeves; their regions
+  // keep the vertex counts of a sleeved draft, so DSW grades them like any other design.
+  const drafts::Measurements b55 = body("55");
+  for (const double cm : {8.0, 15.0, 22.0}) {
+    SCOPED_TRACE(std::to_string(cm) + " cm sleeve");
+    const double fraction = cm / b55.get("arm_shoulder_tip_to_wrist");
+    const drafts::Pattern src = drafts::draftGarment("dress", b55, {{"sleeve_length", fraction}});
+    for (const std::string size : {"44", "66", "77"}) {
+      auto g = gradePattern(src, body(size));
+      ASSERT_TRUE(g.ok()) << size << ": " << g.error().message;
+      const auto m = drafts::measurePattern(*g);
+      EXPECT_NEAR(m.at("sleeve_length"), fraction * body(size).get("arm_shoulder_tip_to_wrist"),
+                  0.3)
+          << size;
+      for (const auto& s : g->seams) {
+        EXPECT_NEAR(drafts::sewnEdgeLength(g->panel(s.b.panel), s.b) -
+                        drafts::sewnEdgeLength(g->panel(s.a.panel), s.a),
+                    s.easeCm, 0.3)
+            << size << " " << s.name;
+      }
+    }
+  }
+}
+
 TEST(Grading, PanelsOutsideTheDraftArePositionedAndMovedBack) {
   drafts::Pattern src = sourceDress();
   auto inPlace = gradePattern(src, body("77"));
