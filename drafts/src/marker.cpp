@@ -324,6 +324,25 @@ std::string markerPdf(const Marker& m, const std::string& title) {
   return doc.bytes(title);
 }
 
+nlohmann::json markerSummaryJson(const Marker& m, const std::string& title) {
+  nlohmann::json pieces = nlohmann::json::array();
+  for (const auto& p : m.pieces)
+    pieces.push_back({{"panel", p.panel},
+                      {"size", p.size},
+                      {"mirrored", p.mirrored},
+                      {"unfolded", p.unfolded},
+                      {"turned", p.turned},
+                      {"area_cm2", p.areaCm2}});
+  return {{"title", title},
+          {"fabric_width_cm", m.widthCm},
+          {"length_cm", m.lengthCm},
+          {"piece_area_cm2", m.pieceAreaCm2},
+          {"efficiency", m.efficiency},
+          {"sizes", sizesOf(m)},
+          {"piece_count", m.pieces.size()},
+          {"pieces", pieces}};
+}
+
 std::string markerDxf(const Marker& m) {
   const auto sizes = sizesOf(m);
   std::vector<detail::DxfLayer> layers = {
