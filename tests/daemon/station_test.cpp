@@ -112,8 +112,10 @@ TEST(Station, AnItemWithoutADraftedPatternAnswers422NotAnEmptyPattern) {
                   "no pattern: recipe 'dress': sleeve of 1.1 cm, shorter than 2 cm"),
               std::string::npos)
         << stored.dump();
-    for (const char* route : {"/pattern.json", "/pattern.svg", "/pattern.dxf", "/pattern.pdf",
-                              "/garmentcode.json", "/pattern.json?size=base"}) {
+    for (const char* route :
+         {"/pattern.json", "/pattern.svg", "/pattern.dxf", "/pattern.pdf", "/garmentcode.json",
+          "/pattern.json?size=base", "/pattern.pdf?paper=a0", "/pattern_graded.dxf",
+          "/nested_grading.svg", "/marker.json", "/marker.svg?width=140&sizes=base"}) {
       auto r = rig.call(http::verb::get, item + route);
       EXPECT_EQ(r.result(), http::status::unprocessable_entity) << route << ": " << r.body();
       const std::string error = rig.json(r).value("error", "");
