@@ -519,11 +519,16 @@ function showPattern() {
   img.onerror = () => $('#panels').replaceChildren(el('span', { class: 'muted', text: 'The pattern cannot be drawn in this build.' }));
   $('#panels').replaceChildren(img);
   const links = [
-    ['DXF-AAMA', '/pattern.dxf' + q], ['PDF A4 tiled', '/pattern.pdf' + q], ['SVG 1:1', '/pattern.svg' + q],
-    ['GarmentCode', '/garmentcode.json' + q], ['Valentina .vit', '/measurements.vit'],
+    ['DXF-AAMA', '/pattern.dxf' + q], ['PDF A4 tiled', '/pattern.pdf' + q],
+    ['PDF Letter tiled', '/pattern.pdf' + q + '&paper=letter'], ['PDF A0', '/pattern.pdf' + q + '&paper=a0'],
+    ['SVG 1:1', '/pattern.svg' + q], ['GarmentCode', '/garmentcode.json' + q], ['Valentina .vit', '/measurements.vit'],
+    // This size's pieces laid on 150 cm fabric (the API takes other widths and several sizes).
+    ['Marker 150 cm PDF', '/marker.pdf?sizes=' + encodeURIComponent(size)],
   ];
   if (it.sizes.filter((s) => s !== 'base').length >= 2)
-    links.push(['Graded DXF', '/pattern_graded.dxf'], ['Grade rules .RUL', '/pattern_graded.rul']);
+    links.push(['Graded DXF', '/pattern_graded.dxf'], ['Grade rules .RUL', '/pattern_graded.rul'],
+      ['Nested grading SVG', '/nested_grading.svg'], ['Nested grading PDF', '/nested_grading.pdf'],
+      ['Nested grading DXF', '/nested_grading.dxf']);
   $('#pattern-links').replaceChildren(...links.map(([t, p]) =>
     el('a', { class: 'btn small secondary', href: base + p, download: '', text: t, onclick: download })));
 }
