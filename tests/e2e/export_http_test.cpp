@@ -624,8 +624,9 @@ TEST(ExportHttp, TiledPdfNestedGradingAndMarkers) {
   // A piece wider than the fabric: the marker cannot be laid.
   const auto narrow = d.get(at + "/marker.svg?width=50");
   EXPECT_EQ(narrow.status, 422) << narrow.body;
-  EXPECT_NE(narrow.json().value("error", "").find("wider than the fabric"), std::string::npos)
-      << narrow.body;
+  const std::string why = narrow.json().value("error", "");
+  EXPECT_NE(why.find("wider than the fabric (50.0 cm)"), std::string::npos) << narrow.body;
+  EXPECT_EQ(why.rfind("marker: panel '", 0), 0u) << "names the piece: " << narrow.body;
   for (const char* route : {"marker.json", "nested_grading.svg", "pattern.pdf?paper=a0"}) {
     const auto none = d.get("/api/items/987654/" + std::string(route));
     EXPECT_EQ(none.status, 404) << route << ": " << none.body;
