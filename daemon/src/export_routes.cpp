@@ -333,7 +333,7 @@ MarkerQuery markerQuery(const RouteMatch& m) {
     q.widthCm = v;
   }
   if (const auto list = m.queryValue("sizes"); list && !list->empty()) {
-    std::string rest = *list;
+    const std::string& rest = *list;
     for (std::size_t at = 0;;) {
       const std::size_t comma = rest.find(',', at);
       const std::string s =
@@ -714,8 +714,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
         std::string title = style(it) + " " + sized.front().pattern.type + " size";
         for (const auto& sp : sized)
           title += " " + sp.size;
-        const std::string name = (it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku) +
-                                 "_marker_" + labels + "_" + widthTag(q.widthCm) + "cm";
+        const std::string name =
+            fileBase(it, "marker_" + labels + "_" + widthTag(q.widthCm) + "cm");
         switch (format) {
           case MarkerFile::kSvg:
             return fileResponse("image/svg+xml", drafts::markerSvg(laid, title), name + ".svg");
