@@ -585,6 +585,12 @@ TEST(ExportHttp, TiledPdfNestedGradingAndMarkers) {
   EXPECT_DOUBLE_EQ(m2["efficiency"].get<double>(), cli2["efficiency"].get<double>());
   EXPECT_DOUBLE_EQ(m2["length_cm"].get<double>(), cli2["length_cm"].get<double>());
   EXPECT_EQ(m2["piece_count"].get<std::size_t>(), 2 * m["piece_count"].get<std::size_t>());
+  std::printf(
+      "pattern.pdf pages: A4 %d, Letter %d, A0 %d; marker %s on 150 cm: %.1f cm, %.1f %%; "
+      "%s on 137.5 cm: %.1f cm, %.1f %%\n",
+      pdfs["a4"].pages, pdfs["letter"].pages, pdfs["A0"].pages, baseSize.c_str(),
+      m["length_cm"].get<double>(), 100 * eff, two.c_str(), m2["length_cm"].get<double>(),
+      100 * m2["efficiency"].get<double>());
 
   const std::string q = "?width=137.5&sizes=" + two;
   const std::string name = "PRN-1_marker_" + graded.front() + "-" + graded.back() + "_137.5cm";
