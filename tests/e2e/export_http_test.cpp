@@ -585,6 +585,26 @@ TEST(ExportHttp, TiledPdfNestedGradingAndMarkers) {
   EXPECT_DOUBLE_EQ(m2["efficiency"].get<double>(), cli2["efficiency"].get<double>());
   EXPECT_DOUBLE_EQ(m2["length_cm"].get<double>(), cli2["length_cm"].get<double>());
   EXPECT_EQ(m2["piece_count"].get<std::size_t>(), 2 * m["piece_count"].get<std::size_t>());
+  {
+    // garmcapctl fetches the same marker through the same route, and refuses an option that does
+    // not go with the file it asks for.
+    const std::string ctl = std::string(GARMCAP_BIN_DIR) +
+                            "/garmcapctl --url http://127.0.0.1:" + std::to_string(d.port()) +
+                            " export " + std::to_string(cap.id);
+    int status = 0;
+    const std::string out =
+        run(ctl + " --what marker.json --width 137.5 --sizes " + two + " 2>&1", status);
+    ASSERT_EQ(status, 0) << out;
+    const Json viaCtl = Json::parse(out);
+    EXPECT_DOUBLE_EQ(viaCtl["efficiency"].get<double>(), m2["efficiency"].get<double>());
+    EXPECT_DOUBLE_EQ(viaCtl["length_cm"].get<double>(), m2["length_cm"].get<double>());
+    const std::string badPaper = run(ctl + " --what pattern.svg --paper a4 2>&1", status);
+    EXPECT_NE(status, 0);
+    EXPECT_NE(badPaper.find("--paper goes with --what pattern.pdf"), std::string::npos) << badPaper;
+    const std::string badWidth = run(ctl + " --what marker.json --width 20 2>&1", status);
+    EXPECT_NE(status, 0);
+    EXPECT_NE(badWidth.find("width"), std::string::npos) << badWidth;
+  }
   std::printf(
       "pattern.pdf pages: A4 %d, Letter %d, A0 %d; marker %s on 150 cm: %.1f cm, %.1f %%; "
       "%s on 137.5 cm: %.1f cm, %.1f %%\n",
