@@ -102,26 +102,6 @@ std::vector<Measurements> bodiesFromRows(const std::vector<Row>& rows, size_t si
 
 // Table 4.2's grading rule: one constant step per size for every row (44 -> 55 -> 66 -> 77 in
 // the seed). Size 88 is 77 plus this step; no source gives an 88 of that series.
-struct KoreanStep {
-  const char* name;
-  double step;
-};
-constexpr KoreanStep kKoreanSteps[] = {
-    {"bust_circ", 5.0},
-    {"waist_circ", 5.0},
-    {"hip_circ", 5.0},
-    {"neck_back_to_waist_b", 0.6},
-    {"bustpoint_to_bustpoint", 0.6},
-    {"bustpoint_to_neck_side", 0.8},
-    {"skirt_length", 1.9},
-    {"waist_to_hip_b", 0.6},
-    {"height", 1.5},
-    {"front_armhole_circ", 0.6},
-    {"back_armhole_circ", 0.6},
-    {"arm_shoulder_tip_to_wrist", 0.6},
-    {"arm_wrist_circ", 0.6},
-};
-
 SizeChart koreanWomen() {
   SizeChart c;
   c.name = "korean_women";
@@ -159,13 +139,10 @@ SizeChart koreanWomen() {
       {"arm_wrist_circ", {19.4, 20.0, 20.6, 21.2}},
   };
   std::vector<Row> rows = table42;
+  // 88 = 77 + the row's own constant step, 77 - 66 (40.2 + 0.6 -> 40.8).
   for (auto& row : rows) {
-    for (const auto& st : kKoreanSteps) {
-      if (std::string(st.name) == row.name)  // 88 = 77 + the step (40.2 + 0.6 -> 40.8)
-        row.values.push_back(std::round((row.values.back() + st.step) * 1000.0) / 1000.0);
-    }
-    if (row.values.size() != c.sizes.size())
-      throw std::logic_error(std::string("korean_women: no grading step for ") + row.name);
+    const double step = row.values[3] - row.values[2];
+    row.values.push_back(std::round((row.values.back() + step) * 1000.0) / 1000.0);
   }
   c.bodies = bodiesFromRows(rows, c.sizes.size());
   for (auto& b : c.bodies)
