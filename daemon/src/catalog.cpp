@@ -153,6 +153,15 @@ CREATE TABLE outbox_refused(
   refused_at TEXT NOT NULL);
 )sql";
 
+// Version 6: blobs are reclaimed (docs/daemon.md, "Storage"): finding the rows that still name a
+// blob must not scan every item's images or every job.
+constexpr const char* kMigrateV5ToV6 = R"sql(
+CREATE INDEX item_images_sha256 ON item_images(sha256);
+CREATE INDEX jobs_dressed_sha256 ON jobs(dressed_sha256);
+CREATE INDEX jobs_empty_sha256 ON jobs(empty_sha256);
+CREATE INDEX calibrations_empty_sha256 ON calibrations(empty_sha256);
+)sql";
+
 const char* text(sqlite3_stmt* s, int col) {
   const unsigned char* t = sqlite3_column_text(s, col);
   return t ? reinterpret_cast<const char*>(t) : "";
@@ -193,6 +202,9 @@ std::string catalogSchemaSql(int version) {
   if (version == 5)
     return std::string(kSchemaV1) + kMigrateV1ToV2 + kMigrateV2ToV3 + kMigrateV3ToV4 +
            kMigrateV4ToV5;
+  if (version == 6)
+    return std::string(kSchemaV1) + kMigrateV1ToV2 + kMigrateV2ToV3 + kMigrateV3ToV4 +
+           kMigrateV4ToV5 + kMigrateV5ToV6;
   throw CatalogError("no catalog schema version " + std::to_string(version));
 }
 
@@ -403,8 +415,8 @@ void Catalog::migrate() {
     throw CatalogError("catalog " + file_.string() + ": bad schema version " +
                        std::to_string(version));
   // Ordered migrations, each in its own transaction together with its user_version.
-  static const std::vector<const char*> kMigrations = {kMigrateV1ToV2, kMigrateV2ToV3,
-                                                       kMigrateV3ToV4, kMigrateV4ToV5};
+  static const std::vector<const char*> kMigrations = {
+      kMigrateV1ToV2, kMigrateV2ToV3, kMigrateV3ToV4, kMigrateV4ToV5, kMigrateV5ToV6};
   while (version < kCatalogSchemaVersion) {
     spdlog::info("catalog: migrating {} from schema {} to {}", file_.string(), version,
                  version + 1);
@@ -458,6 +470,104 @@ std::set<std::string> Catalog::referencedImages() {
   while (s.step())
     out.insert(text(s.get(), 0));
   return out;
+}
+
+namespace {
+// A row that still needs the blob: an item's image (live or soft-deleted: it can be restored), a
+// calibration's bare frame, a job's frames (a re-run starts from them).
+constexpr const char* kBlobStillNamed =
+    "SELECT EXISTS(SELECT 1 FROM item_images WHERE sha256 = ?1) "
+    "OR EXISTS(SELECT 1 FROM calibrations WHERE empty_sha256 = ?1) "
+    "OR EXISTS(SELECT 1 FROM jobs WHERE dressed_sha256 = ?1 OR empty_sha256 = ?1)";
+}  // namespace
+
+std::vector<std::string> Catalog::dropUnreferencedImages(
+    std::optional<std::vector<std::string>> candidates) {
+  Transaction t(db_);
+  if (!candidates) {
+    candidates.emplace();
+    Statement s(*this, "SELECT sha256 FROM images");
+    while (s.step())
+      candidates->push_back(text(s.get(), 0));
+  }
+  std::sort(candidates->begin(), candidates->end());
+  candidates->erase(std::unique(candidates->begin(), candidates->end()), candidates->end());
+  std::vector<std::string> dropped;
+  for (const std::string& sha : *candidates) {
+    Statement named(*this, kBlobStillNamed);
+    named.bind(1, sha);
+    if (named.step() && sqlite3_column_int(named.get(), 0) != 0)
+      continue;
+    Statement(*this, "DELETE FROM images WHERE sha256 = ?").bind(1, sha).run();
+    if (sqlite3_changes(db_) > 0)
+      dropped.push_back(sha);
+  }
+  t.commit();
+  return dropped;
+}
+
+std::vector<std::string> Catalog::purgeDeletedItems(std::chrono::system_clock::time_point cutoff,
+                                                    bool keepUntilHubKnows) {
+  Transaction t(db_);
+  std::vector<std::int64_t> ids;
+  {
+    Statement s(*this,
+                "SELECT id FROM items WHERE deleted_at IS NOT NULL AND deleted_at < ?1 AND "
+                "(?2 = 0 OR NOT EXISTS(SELECT 1 FROM outbox WHERE outbox.item_id = items.id))");
+    s.bind(1, isoUtc(cutoff));
+    s.bind(2, keepUntilHubKnows ? 1 : 0);
+    while (s.step())
+      ids.push_back(sqlite3_column_int64(s.get(), 0));
+  }
+  std::vector<std::string> released;
+  for (std::int64_t id : ids) {
+    {
+      Statement s(*this,
+                  "SELECT sha256 FROM item_images WHERE item_id = ?1 UNION "
+                  "SELECT dressed_sha256 FROM jobs WHERE item_id = ?1 OR id = (SELECT job_id FROM "
+                  "items WHERE id = ?1) UNION "
+                  "SELECT empty_sha256 FROM jobs WHERE item_id = ?1 OR id = (SELECT job_id FROM "
+                  "items WHERE id = ?1)");
+      s.bind(1, id);
+      while (s.step())
+        if (std::string sha = text(s.get(), 0); !sha.empty())
+          released.push_back(std::move(sha));
+    }
+    // The item's jobs stay (the job list is history) but no longer hold its frames.
+    Statement(*this,
+              "UPDATE jobs SET dressed_sha256 = '', empty_sha256 = '' WHERE item_id = ?1 OR id = "
+              "(SELECT job_id FROM items WHERE id = ?1)")
+        .bind(1, id)
+        .run();
+    // Without a hub nothing reads the outbox: its rows for the item go with it.
+    Statement(*this, "DELETE FROM outbox WHERE item_id = ?").bind(1, id).run();
+    Statement(*this, "DELETE FROM items WHERE id = ?").bind(1, id).run();  // cascades
+  }
+  t.commit();
+  return released;
+}
+
+std::vector<std::string> Catalog::forgetFailedJobFrames(
+    std::chrono::system_clock::time_point cutoff) {
+  Transaction t(db_);
+  std::vector<std::string> released;
+  {
+    Statement s(*this,
+                "SELECT dressed_sha256, empty_sha256 FROM jobs WHERE state = 'failed' AND "
+                "updated_at < ? AND (dressed_sha256 != '' OR empty_sha256 != '')");
+    s.bind(1, isoUtc(cutoff));
+    while (s.step())
+      for (int col : {0, 1})
+        if (std::string sha = text(s.get(), col); !sha.empty())
+          released.push_back(std::move(sha));
+  }
+  Statement(*this,
+            "UPDATE jobs SET dressed_sha256 = '', empty_sha256 = '' WHERE state = 'failed' AND "
+            "updated_at < ? AND (dressed_sha256 != '' OR empty_sha256 != '')")
+      .bind(1, isoUtc(cutoff))
+      .run();
+  t.commit();
+  return released;
 }
 
 // --- calibrations ------------------------------------------------------------------------------
@@ -910,9 +1020,16 @@ std::int64_t Catalog::addItem(const NewItem& n) {
   return id;
 }
 
-void Catalog::replaceItemResults(std::int64_t id, const NewItem& n) {
+std::vector<std::string> Catalog::replaceItemResults(std::int64_t id, const NewItem& n) {
   Transaction t(db_);
   const std::string ts = now();
+  std::vector<std::string> previous;
+  {
+    Statement s(*this, "SELECT sha256 FROM item_images WHERE item_id = ?");
+    s.bind(1, id);
+    while (s.step())
+      previous.push_back(text(s.get(), 0));
+  }
   Statement(*this,
             "UPDATE items SET type = ?, attributes = ?, confidence = ?, warnings = ?, base_size = "
             "?, size_guide = ?, result = ?, calibration_id = ?, status = ?, updated_at = ? WHERE "
@@ -931,9 +1048,12 @@ void Catalog::replaceItemResults(std::int64_t id, const NewItem& n) {
       .run();
   Statement(*this, "DELETE FROM measurements WHERE item_id = ?").bind(1, id).run();
   Statement(*this, "DELETE FROM patterns WHERE item_id = ?").bind(1, id).run();
+  // A kind the re-run no longer makes must not keep showing the old picture.
+  Statement(*this, "DELETE FROM item_images WHERE item_id = ?").bind(1, id).run();
   writeItemContents(id, n, ts);
   queueForHub(kOutboxUpsert, id, ts);
   t.commit();
+  return previous;
 }
 
 std::optional<Item> Catalog::item(std::int64_t id, bool includeDeleted) {

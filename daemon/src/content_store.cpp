@@ -146,11 +146,11 @@ std::optional<std::string> ContentStore::read(std::string_view sha) const {
   return out.str();
 }
 
-void ContentStore::remove(std::string_view sha) const {
-  if (auto p = path(sha)) {
-    std::error_code ec;
+std::error_code ContentStore::remove(std::string_view sha) const {
+  std::error_code ec;
+  if (auto p = path(sha))
     fs::remove(*p, ec);
-  }
+  return ec;
 }
 
 std::set<std::string> ContentStore::list() const {

@@ -4,8 +4,10 @@
 
 #include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/post.hpp>
+#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
+#include <utility>
 
 #include "garmcap/capture/camera.h"
 #include "garmcap/capture/gpio.h"
@@ -313,6 +315,8 @@ void Station::start() {
     queue_.push_back(std::move(p));
     spdlog::info("station: job {} ({}) resumed from the queue", j.id, j.kind);
   }
+  if (!catalog_->readOnly())
+    reclaimStorage(std::nullopt);
   const std::size_t swept = store_->sweepOrphans(catalog_->referencedImages());
   if (swept)
     spdlog::warn("station: removed {} orphaned blobs left by a crash", swept);
@@ -882,7 +886,8 @@ void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {
     std::int64_t id = 0;
     if (req.kind == JobKind::kRerun) {
       // Keep the original frames on the item; the re-run belongs to the new job.
-      catalog_->replaceItemResults(req.itemId, *item);
+      for (auto& sha : catalog_->replaceItemResults(req.itemId, *item))
+        reclaimCandidates_.push_back(std::move(sha));
       id = req.itemId;
     } else {
       id = catalog_->addItem(*item);
@@ -929,8 +934,56 @@ void Station::finishJob() {
   }
   running_.reset();
   setState(calibrated_ ? StationState::kReady : StationState::kUncalibrated);
+  if (queue_.empty() && !catalog_->readOnly())
+    reclaimStorage(std::exchange(reclaimCandidates_, {}));
   maybeFinishShutdown();
   startNext();
+}
+
+void Station::reclaimStorage(std::optional<std::vector<std::string>> candidates) {
+  using std::chrono::hours;
+  try {
+    const auto steadyNow = Clock::now();
+    if (!lastRetentionPurge_ || steadyNow - *lastRetentionPurge_ >= hours(1)) {
+      lastRetentionPurge_ = steadyNow;
+      const auto now = std::chrono::system_clock::now();
+      std::vector<std::string> released;
+      if (config_.keepDeletedDays > 0)
+        released = catalog_->purgeDeletedItems(now - hours(24) * config_.keepDeletedDays,
+                                               !config_.hubUrl.empty());
+      if (config_.keepFailedFramesDays > 0)
+        for (auto& sha :
+             catalog_->forgetFailedJobFrames(now - hours(24) * config_.keepFailedFramesDays))
+          released.push_back(std::move(sha));
+      if (candidates)
+        candidates->insert(candidates->end(), released.begin(), released.end());
+    }
+    if (candidates && candidates->empty())
+      return;
+    std::uintmax_t bytes = 0;
+    std::size_t files = 0;
+    for (const std::string& sha : catalog_->dropUnreferencedImages(std::move(candidates))) {
+      std::error_code sizeError;
+      const auto path = store_->path(sha);
+      const std::uintmax_t size = path ? std::filesystem::file_size(*path, sizeError) : 0;
+      if (const std::error_code ec = store_->remove(sha)) {
+        // Its row is gone: the start-up sweep removes the file.
+        spdlog::warn("station: cannot remove reclaimed blob {}: {}", sha, ec.message());
+        continue;
+      }
+      if (path) {
+        ++files;
+        bytes += sizeError ? 0 : size;
+      }
+    }
+    if (files)
+      spdlog::info("station: reclaimed {} image files ({:.1f} MB) that nothing refers to any more",
+                   files, static_cast<double>(bytes) / 1e6);
+  } catch (const std::exception& e) {
+    // Nothing is lost: the rows stay until a later attempt succeeds.
+    spdlog::error("station: reclaiming storage failed, tried again after the next job: {}",
+                  e.what());
+  }
 }
 
 // --- status, events ------------------------------------------------------------------------------
@@ -984,6 +1037,8 @@ nlohmann::json Station::statusJson() {
   s["config"] = {{"review_below_confidence", config_.reviewBelowConfidence},
                  {"queue_limit", config_.queueLimit},
                  {"resume_queued_s", config_.resumeQueuedS},
+                 {"keep_deleted_days", config_.keepDeletedDays},
+                 {"keep_failed_frames_days", config_.keepFailedFramesDays},
                  {"naming_template", config_.namingTemplate},
                  {"size_chart", config_.sizeChart},
                  {"product_images", config_.makeProductImages},
@@ -1268,6 +1323,8 @@ void Station::reload(const Config& c) {
     config_.productSizePx = c.productSizePx;
     config_.sizeChart = c.sizeChart;
     config_.resumeQueuedS = c.resumeQueuedS;
+    config_.keepDeletedDays = c.keepDeletedDays;
+    config_.keepFailedFramesDays = c.keepFailedFramesDays;
     for (const auto& key : restartOnlyChanges(config_, c))
       spdlog::warn("station: {} changed in the configuration; it takes effect after a restart",
                    key);

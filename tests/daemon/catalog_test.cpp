@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <algorithm>
+#include <chrono>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -110,6 +112,95 @@ TEST(Catalog, ItemRoundTripEditDeleteRestore) {
   EXPECT_TRUE(c.restoreItem(id));
   EXPECT_TRUE(c.item(id));
   EXPECT_FALSE(c.restoreItem(id));
+}
+
+// Reclaiming storage (docs/daemon.md, "Storage"): a blob goes only when no row names it.
+TEST(CatalogStorage, ReRunReleasesOnlyTheImagesNothingElseNames) {
+  test::TempDir dir;
+  Catalog c(dir.path() / "c.sqlite");
+  c.addImage(sha('e'), "image/png", 10);
+  const auto cal = c.addCalibration(sha('e'), {{"scale", 1}});
+  const auto job = c.addJob("dressed", "SKU-42");
+  c.addImage(sha('d'), "image/png", 100);
+  c.setJobFrames(job, sha('e'), sha('d'));
+  NewItem first = sampleItem(job, cal);
+  first.images.push_back({"texture", sha('t'), "image/png", 20});
+  const auto id = c.addItem(first);
+  // A second item shares the cutout (the same garment replayed gives the same bytes).
+  const auto other = c.addItem(sampleItem(c.addJob("dressed", "SKU-43"), cal));
+
+  NewItem again = sampleItem(job, cal);
+  again.images = {{"dressed", sha('d'), "image/png", 100}, {"cutout", sha('1'), "image/png", 60}};
+  auto previous = c.replaceItemResults(id, again);
+  std::sort(previous.begin(), previous.end());
+  EXPECT_EQ(previous, (std::vector<std::string>{sha('c'), sha('d'), sha('t')}));
+  // The texture the re-run no longer makes is not shown any more.
+  ASSERT_EQ(c.item(id)->images.size(), 2u);
+
+  // Only the texture goes: the old cutout is still the other item's, the dressed frame the job's.
+  EXPECT_EQ(c.dropUnreferencedImages(previous), std::vector<std::string>{sha('t')});
+  EXPECT_EQ(c.referencedImages().count(sha('t')), 0u);
+  EXPECT_EQ(c.referencedImages().count(sha('c')), 1u);
+  EXPECT_TRUE(c.dropUnreferencedImages(previous).empty());  // idempotent
+  EXPECT_TRUE(c.dropUnreferencedImages().empty());          // the full scan agrees
+  ASSERT_TRUE(c.item(other));
+  EXPECT_EQ(c.integrityCheck(), "ok");
+}
+
+TEST(CatalogStorage, DeletedItemsArePurgedAfterTheirRetentionAndNotBeforeTheHubKnows) {
+  test::TempDir dir;
+  Catalog c(dir.path() / "c.sqlite");
+  c.addImage(sha('e'), "image/png", 10);
+  const auto cal = c.addCalibration(sha('e'), {{"scale", 1}});
+  const auto job = c.addJob("dressed", "SKU-42");
+  c.addImage(sha('d'), "image/png", 100);
+  c.setJobFrames(job, sha('e'), sha('d'));
+  const auto id = c.addItem(sampleItem(job, cal));
+  NewItem kept = sampleItem(c.addJob("dressed", "SKU-43"), cal);
+  kept.images[0].sha256 = sha('2');  // its own frame, the same cutout
+  const auto keep = c.addItem(kept);
+  ASSERT_TRUE(c.deleteItem(id));
+  const auto now = std::chrono::system_clock::now();
+
+  // Deleted just now: a retention that started a day ago keeps it (it can still be restored).
+  EXPECT_TRUE(c.purgeDeletedItems(now - std::chrono::hours(24), false).empty());
+  EXPECT_TRUE(c.item(id, true));
+  // With a hub, the deletion waits in the outbox: the item stays until it has been sent.
+  EXPECT_TRUE(c.purgeDeletedItems(now + std::chrono::seconds(1), true).empty());
+  EXPECT_TRUE(c.item(id, true));
+
+  auto released = c.purgeDeletedItems(now + std::chrono::seconds(1), false);
+  std::sort(released.begin(), released.end());
+  EXPECT_EQ(released, (std::vector<std::string>{sha('c'), sha('d'), sha('e')}));
+  EXPECT_FALSE(c.item(id, true));
+  EXPECT_TRUE(c.job(job));  // the job list is history
+  EXPECT_EQ(c.job(job)->dressedSha256, "");
+  // The dressed frame goes; the bare frame is the calibration's, the cutout the other item's.
+  EXPECT_EQ(c.dropUnreferencedImages(released), std::vector<std::string>{sha('d')});
+  ASSERT_TRUE(c.item(keep));
+  EXPECT_EQ(c.item(keep)->images.size(), 2u);
+  for (const auto& e : c.outbox(1000))
+    EXPECT_NE(e.itemId, id);
+  EXPECT_EQ(c.integrityCheck(), "ok");
+}
+
+TEST(CatalogStorage, FailedCapturesKeepTheirFramesForTheRetentionOnly) {
+  test::TempDir dir;
+  Catalog c(dir.path() / "c.sqlite");
+  c.addImage(sha('e'), "image/png", 10);
+  c.addCalibration(sha('e'), {{"scale", 1}});
+  const auto job = c.addJob("dressed", "");
+  c.addImage(sha('f'), "image/png", 100);
+  c.setJobFrames(job, sha('e'), sha('f'));
+  c.failJob(job, "no garment was found on the form");
+  const auto now = std::chrono::system_clock::now();
+  EXPECT_TRUE(c.forgetFailedJobFrames(now - std::chrono::hours(24 * 14)).empty());
+  EXPECT_TRUE(c.dropUnreferencedImages().empty());
+  const auto released = c.forgetFailedJobFrames(now + std::chrono::seconds(1));
+  EXPECT_EQ(released.size(), 2u);
+  EXPECT_EQ(c.job(job)->state, "failed");
+  EXPECT_EQ(c.job(job)->error, "no garment was found on the form");
+  EXPECT_EQ(c.dropUnreferencedImages(released), std::vector<std::string>{sha('f')});
 }
 
 TEST(Catalog, SearchFilterAndPaging) {

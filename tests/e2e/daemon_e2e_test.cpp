@@ -267,9 +267,36 @@ TEST(SimulatedStation, TwentyCapturesAfterOneBareFormAreAllFiled) {
       seconds.front(), rest / static_cast<double>(seconds.size() - 1));
   // Different garments, not one scene served twenty times.
   EXPECT_GE(types.size(), 2u);
-  auto rerun = d.post("/api/items/" + std::to_string(items.front()) + "/rerun");
+  const std::string first = "/api/items/" + std::to_string(items.front());
+  auto rerun = d.post(first + "/rerun");
   ASSERT_EQ(rerun.status, 202) << rerun.body;
   EXPECT_EQ(d.waitJob(rerun.json()["job"])["state"], "done");
+
+  // A re-run after a new bare-form frame makes new photos: the ones it replaced are reclaimed
+  // (file and row), what is still named stays, and the item serves its new photo.
+  auto blobFile = [&](const std::string& sha) {
+    return dir.path() / "blobs" / sha.substr(0, 2) / sha;
+  };
+  const auto before = d.get(first).json()["images"];
+  ASSERT_EQ(d.waitJob(d.post("/api/capture/empty").json()["job"])["state"], "done");
+  ASSERT_EQ(d.waitJob(d.post(first + "/rerun").json()["job"])["state"], "done");
+  const auto after = d.get(first).json()["images"];
+  int replaced = 0;
+  for (const auto& [kind, im] : before.items()) {
+    const std::string sha = im["sha256"];
+    const bool stillNamed = after.contains(kind) && after[kind]["sha256"] == sha;
+    if (kind == "dressed") {
+      EXPECT_TRUE(stillNamed);  // the re-run starts from the same frame
+      EXPECT_TRUE(std::filesystem::exists(blobFile(sha)));
+    } else if (!stillNamed && kind != "empty") {
+      ++replaced;
+      EXPECT_FALSE(std::filesystem::exists(blobFile(sha))) << kind << " " << sha;
+    }
+  }
+  EXPECT_GE(replaced, 1) << "the re-run made the same photos: " << after.dump();
+  for (const auto& [kind, im] : after.items())
+    EXPECT_TRUE(std::filesystem::exists(blobFile(im["sha256"]))) << kind;
+  EXPECT_EQ(d.get(first + "/images/product").status, 200);
   EXPECT_EQ(d.terminate(), 0);
 }
 

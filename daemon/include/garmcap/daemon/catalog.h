@@ -29,7 +29,7 @@ class CatalogError : public std::runtime_error {
 };
 
 inline constexpr std::int32_t kCatalogApplicationId = 0x47434150;  // "GCAP"
-inline constexpr int kCatalogSchemaVersion = 5;
+inline constexpr int kCatalogSchemaVersion = 6;
 
 /// Review status of an item: a capture with low confidence or warnings starts as kNeedsReview and
 /// cannot be exported until a person approves it.
@@ -196,6 +196,21 @@ class Catalog {
   std::optional<std::string> imageMediaType(const std::string& sha256);
   /// Every blob name a row refers to (for the start-up orphan sweep).
   std::set<std::string> referencedImages();
+  /// Drops the image rows of blobs no row needs any more (no item, live or soft-deleted, no
+  /// calibration, no job names them) among `candidates`, or among all images; one transaction.
+  /// Returns the dropped names: the caller removes their files afterwards (a crash in between
+  /// leaves unlisted files, which the start-up orphan sweep removes).
+  std::vector<std::string> dropUnreferencedImages(
+      std::optional<std::vector<std::string>> candidates = std::nullopt);
+  /// Purges items soft-deleted before `cutoff`: their rows go (measurements, images, patterns and
+  /// tape with them), their jobs stay without frames. With `keepUntilHubKnows`, an item whose
+  /// change still waits in the outbox stays until the hub has it. Returns the blob names the
+  /// purged rows held (candidates for dropUnreferencedImages).
+  std::vector<std::string> purgeDeletedItems(std::chrono::system_clock::time_point cutoff,
+                                             bool keepUntilHubKnows);
+  /// Forgets the frames of jobs that failed before `cutoff` (kept until then for a look at what
+  /// went wrong). Returns the blob names released.
+  std::vector<std::string> forgetFailedJobFrames(std::chrono::system_clock::time_point cutoff);
 
   // --- calibrations --------------------------------------------------------------------------
   std::int64_t addCalibration(const std::string& emptySha256, const nlohmann::json& json);
@@ -244,8 +259,9 @@ class Catalog {
   /// Inserts the item, measurements, images, patterns, size guide and finishes `jobId`, in one
   /// transaction. Returns the new id.
   std::int64_t addItem(const NewItem& item);
-  /// Replaces the pipeline outputs of an existing item (re-run), one transaction.
-  void replaceItemResults(std::int64_t id, const NewItem& results);
+  /// Replaces the pipeline outputs of an existing item (re-run), one transaction. Returns the
+  /// blob names of the images it replaced (candidates for dropUnreferencedImages).
+  std::vector<std::string> replaceItemResults(std::int64_t id, const NewItem& results);
   std::optional<Item> item(std::int64_t id, bool includeDeleted = false);
   std::pair<std::vector<Item>, std::int64_t> items(const ItemQuery& query);  // page, total
   /// Throws CatalogError on a bad status value. Returns false if no such live item.

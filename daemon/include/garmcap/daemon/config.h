@@ -80,6 +80,10 @@ struct Config {
   // starts again within this many seconds of the request; older ones are failed as expired
   // (the garment is likely no longer on the form). 0: never resume.
   int resumeQueuedS = 600;
+  // [storage]: how long what staff deleted and the frames of failed captures are kept before
+  // their rows and image files are reclaimed (docs/daemon.md, "Storage"). 0: keep forever.
+  int keepDeletedDays = 30;
+  int keepFailedFramesDays = 14;
   // [naming]
   std::string namingTemplate = "{sku}_{kind}";
   // [shop]

@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <system_error>
 
 namespace garmcap::daemon {
 
@@ -32,8 +33,8 @@ class ContentStore {
   /// Reads a blob; nullopt if absent. Throws on a read error.
   std::optional<std::string> read(std::string_view sha) const;
   bool contains(std::string_view sha) const;
-  /// Removes a blob (used only by the orphan sweep).
-  void remove(std::string_view sha) const;
+  /// Removes a blob whose row is gone (the orphan sweep, reclaiming); an absent blob is no error.
+  std::error_code remove(std::string_view sha) const;
 
   /// All blob names on disk.
   std::set<std::string> list() const;

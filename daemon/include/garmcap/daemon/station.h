@@ -178,6 +178,11 @@ class Station : public RouteContext {
   void onProcessed(Pending req, std::shared_ptr<NewItem> item);
   void failJob(const Pending& req, const std::string& error, bool cameraFault);
   void finishJob();
+  // On the strand, with no job in hand (a job puts its blobs before the row that names them, so
+  // one it is about to name could look unreferenced): drops the image rows and files of blobs no
+  // row needs any more among `candidates`, or among all when nullopt; hourly and at start-up also
+  // purges what the [storage] retention lets go (deleted items, failed captures' frames).
+  void reclaimStorage(std::optional<std::vector<std::string>> candidates);
   void broadcast(const std::string& event, const nlohmann::json& data);
   nlohmann::json jobJson(const Job& job) const;
   nlohmann::json statusJson();
@@ -233,6 +238,8 @@ class Station : public RouteContext {
   std::optional<std::int64_t> calibrationId_;
   std::deque<Pending> queue_;
   std::optional<Running> running_;
+  std::vector<std::string> reclaimCandidates_;  // blobs a re-run replaced, reclaimed when idle
+  std::optional<std::chrono::steady_clock::time_point> lastRetentionPurge_;
   std::string lastError_;
   std::string readOnly_;  // why the station runs read-only (a full disk at start), or empty
   std::map<std::int64_t, std::string> unrecordedFailures_;  // job id -> reason (catalog unwritable)
