@@ -16,11 +16,11 @@
 
 #include "garmcap/capture/camera.h"
 #include "garmcap/capture/gpio.h"
-#include "garmcap/daemon/api_routes.h"
 #include "garmcap/daemon/config.h"
 #include "garmcap/daemon/http_server.h"
 #include "garmcap/daemon/hub_pusher.h"
 #include "garmcap/daemon/station.h"
+#include "garmcap/daemon/station_routes.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 #include "garmcap/sim/synthetic_camera.h"
 
@@ -148,11 +148,7 @@ int main(int argc, char** argv) {
       station->setHubStatus([p = pusher.get()] { return p->status(); });
       pusher->start();
     }
-    daemon::addApiRoutes(router, *station);
-    for (const auto& [name, module] : daemon::routeModules()) {
-      module(router, *station);
-      spdlog::info("http: route module '{}' added", name);
-    }
+    daemon::addStationRoutes(router, *station);
 #ifdef GARMCAP_WEB_DIR
     const std::string webDir = config.webDir.empty() ? GARMCAP_WEB_DIR : config.webDir;
 #else

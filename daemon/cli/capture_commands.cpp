@@ -159,7 +159,7 @@ void runRender(const RenderArgs& a) {
 
 }  // namespace
 
-void addCaptureCommands(CLI::App& app) {
+void addCaptureCommands(CLI::App& app, CLI::App& rigGroup) {
   auto args = std::make_shared<RenderArgs>();
   auto renderImages = std::make_shared<ImageArgs>();
   auto* render = app.add_subcommand(
@@ -191,14 +191,7 @@ void addCaptureCommands(CLI::App& app) {
     runRender(*args);
   });
 
-  // "rig" is shared with the pipeline's `rig eval`: whichever module registers first creates it.
-  CLI::App* rig = nullptr;
-  for (auto* sub : app.get_subcommands([](CLI::App* a) { return a->get_name() == "rig"; }))
-    rig = sub;
-  if (rig == nullptr) {
-    rig = app.add_subcommand("rig", "Rigs of replayed images: make (simulator), eval (pipeline)");
-    rig->require_subcommand(1);
-  }
+  CLI::App* rig = &rigGroup;
   auto ro = std::make_shared<sim::RigMakeOptions>();
   auto form = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();

@@ -8,11 +8,13 @@
 
 namespace garmcap::cli {
 
-void addDraftCommands(CLI::App& app);     // draft_commands.cpp: draft, measure
-void addDswCommands(CLI::App& app);       // dsw_commands.cpp: coords, grade, sizerun
-void addCalibCommands(CLI::App& app);     // calib_commands.cpp: form, calibrate, calibrate-camera
-void addCaptureCommands(CLI::App& app);   // capture_commands.cpp: render, rig make
-void addPipelineCommands(CLI::App& app);  // pipeline_commands.cpp: capture, rig eval
+void addDraftCommands(CLI::App& app);  // draft_commands.cpp: draft, measure
+void addDswCommands(CLI::App& app);    // dsw_commands.cpp: coords, grade, sizerun
+void addCalibCommands(CLI::App& app);  // calib_commands.cpp: form, calibrate, calibrate-camera
+// `rig` is the group main makes for the rig subcommands of both.
+void addCaptureCommands(CLI::App& app, CLI::App& rig);  // capture_commands.cpp: render, rig make
+void addPipelineCommands(CLI::App& app,
+                         CLI::App& rig);  // pipeline_commands.cpp: capture, rig eval/crop
 void addTapeCommands(CLI::App& app);      // tape_commands.cpp: tape (the station's catalog)
 void addMarkerCommands(CLI::App& app);    // marker_commands.cpp: marker
 

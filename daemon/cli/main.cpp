@@ -12,8 +12,12 @@ int main(int argc, char** argv) {
   garmcap::cli::addDraftCommands(app);
   garmcap::cli::addDswCommands(app);
   garmcap::cli::addCalibCommands(app);
-  garmcap::cli::addCaptureCommands(app);
-  garmcap::cli::addPipelineCommands(app);
+  // One group, two owners: the simulator makes rigs, the pipeline evaluates and crops them.
+  CLI::App* rig = app.add_subcommand(
+      "rig", "Rigs of replayed images: make (simulator), eval and crop (pipeline)");
+  rig->require_subcommand(1);
+  garmcap::cli::addCaptureCommands(app, *rig);
+  garmcap::cli::addPipelineCommands(app, *rig);
   garmcap::cli::addTapeCommands(app);
   garmcap::cli::addMarkerCommands(app);
   try {

@@ -377,7 +377,7 @@ void rigCrop(const fs::path& rigDir, const fs::path& outDir, double atCm, double
 
 }  // namespace
 
-void addPipelineCommands(CLI::App& app) {
+void addPipelineCommands(CLI::App& app, CLI::App& rigGroup) {
   auto* cap = app.add_subcommand("capture", "Run GarmCap on a bare-form and a dressed frame");
   static fs::path empty, dressed, calibration, out;
   static std::string captureChart = pipeline::kDefaultSizeChart;
@@ -399,13 +399,7 @@ void addPipelineCommands(CLI::App& app) {
     std::cout << r.toJson().dump(2) << "\n";
   });
 
-  CLI::App* rig = nullptr;
-  for (auto* sub : app.get_subcommands([](CLI::App* a) { return a->get_name() == "rig"; }))
-    rig = sub;
-  if (rig == nullptr) {
-    rig = app.add_subcommand("rig", "Rigs of replayed images: make (simulator), eval (pipeline)");
-    rig->require_subcommand(1);
-  }
+  CLI::App* rig = &rigGroup;
   auto* crop = rig->add_subcommand(
       "crop", "Cut a rig's frames at a height on the form, as a station framing the garment");
   static fs::path cropIn, cropOut;

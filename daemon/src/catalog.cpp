@@ -4,6 +4,7 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <ctime>
@@ -715,33 +716,63 @@ std::int64_t Catalog::addJob(const std::string& kind, const std::string& sku,
 }
 
 namespace {
-constexpr const char* kJobColumns =
-    "SELECT id, kind, state, stage, progress, item_id, calibration_id, error, sku, empty_sha256, "
-    "dressed_sha256, created_at, updated_at FROM jobs ";
+// Each column once: its name and how it is read; the SELECT and the reader come from this list.
+template <class Row>
+struct Column {
+  const char* name;
+  void (*read)(sqlite3_stmt* s, int col, Row& row);
+};
+
+template <class Row, std::size_t N>
+std::string selectFrom(const std::array<Column<Row>, N>& columns, const char* table) {
+  std::string sql = "SELECT ";
+  for (std::size_t i = 0; i < N; ++i)
+    sql += std::string(i ? ", " : "") + columns[i].name;
+  return sql + " FROM " + table + " ";
+}
+
+template <class Row, std::size_t N>
+Row readRow(const std::array<Column<Row>, N>& columns, sqlite3_stmt* s) {
+  Row row;
+  for (std::size_t i = 0; i < N; ++i)
+    columns[i].read(s, static_cast<int>(i), row);
+  return row;
+}
+
+std::optional<std::int64_t> optionalInt(sqlite3_stmt* s, int col) {
+  if (sqlite3_column_type(s, col) == SQLITE_NULL)
+    return std::nullopt;
+  return sqlite3_column_int64(s, col);
+}
+
+const std::array<Column<Job>, 13> kJobColumns = {{
+    {"id", [](sqlite3_stmt* s, int c, Job& j) { j.id = sqlite3_column_int64(s, c); }},
+    {"kind", [](sqlite3_stmt* s, int c, Job& j) { j.kind = text(s, c); }},
+    {"state", [](sqlite3_stmt* s, int c, Job& j) { j.state = text(s, c); }},
+    {"stage", [](sqlite3_stmt* s, int c, Job& j) { j.stage = text(s, c); }},
+    {"progress", [](sqlite3_stmt* s, int c, Job& j) { j.progress = sqlite3_column_double(s, c); }},
+    {"item_id", [](sqlite3_stmt* s, int c, Job& j) { j.itemId = optionalInt(s, c); }},
+    {"calibration_id", [](sqlite3_stmt* s, int c, Job& j) { j.calibrationId = optionalInt(s, c); }},
+    {"error", [](sqlite3_stmt* s, int c, Job& j) { j.error = text(s, c); }},
+    {"sku", [](sqlite3_stmt* s, int c, Job& j) { j.sku = text(s, c); }},
+    {"empty_sha256", [](sqlite3_stmt* s, int c, Job& j) { j.emptySha256 = text(s, c); }},
+    {"dressed_sha256", [](sqlite3_stmt* s, int c, Job& j) { j.dressedSha256 = text(s, c); }},
+    {"created_at", [](sqlite3_stmt* s, int c, Job& j) { j.createdAt = text(s, c); }},
+    {"updated_at", [](sqlite3_stmt* s, int c, Job& j) { j.updatedAt = text(s, c); }},
+}};
+
+const std::string& jobSelect() {
+  static const std::string sql = selectFrom(kJobColumns, "jobs");
+  return sql;
+}
 
 Job readJob(sqlite3_stmt* s) {
-  Job j;
-  j.id = sqlite3_column_int64(s, 0);
-  j.kind = text(s, 1);
-  j.state = text(s, 2);
-  j.stage = text(s, 3);
-  j.progress = sqlite3_column_double(s, 4);
-  if (sqlite3_column_type(s, 5) != SQLITE_NULL)
-    j.itemId = sqlite3_column_int64(s, 5);
-  if (sqlite3_column_type(s, 6) != SQLITE_NULL)
-    j.calibrationId = sqlite3_column_int64(s, 6);
-  j.error = text(s, 7);
-  j.sku = text(s, 8);
-  j.emptySha256 = text(s, 9);
-  j.dressedSha256 = text(s, 10);
-  j.createdAt = text(s, 11);
-  j.updatedAt = text(s, 12);
-  return j;
+  return readRow(kJobColumns, s);
 }
 }  // namespace
 
 std::optional<Job> Catalog::job(std::int64_t id) {
-  const std::string sql = std::string(kJobColumns) + "WHERE id = ?";
+  const std::string sql = jobSelect() + "WHERE id = ?";
   Statement s(*this, sql.c_str());
   s.bind(1, id);
   if (!s.step())
@@ -750,7 +781,7 @@ std::optional<Job> Catalog::job(std::int64_t id) {
 }
 
 std::vector<Job> Catalog::recentJobs(int limit) {
-  const std::string sql = std::string(kJobColumns) + "ORDER BY id DESC LIMIT ?";
+  const std::string sql = jobSelect() + "ORDER BY id DESC LIMIT ?";
   Statement s(*this, sql.c_str());
   s.bind(1, limit);
   std::vector<Job> out;
@@ -839,7 +870,7 @@ std::vector<std::int64_t> Catalog::expireQueuedJobs(std::chrono::seconds maxAge,
 }
 
 std::vector<Job> Catalog::queuedJobs() {
-  const std::string sql = std::string(kJobColumns) + "WHERE state = 'queued' ORDER BY id";
+  const std::string sql = jobSelect() + "WHERE state = 'queued' ORDER BY id";
   Statement s(*this, sql.c_str());
   std::vector<Job> out;
   while (s.step())
@@ -880,43 +911,92 @@ nlohmann::json Item::toJson() const {
 }
 
 namespace {
-constexpr const char* kItemColumns =
-    "SELECT id, sku, title, price_cents, tags, notes, status, type, attributes, confidence, "
-    "warnings, base_size, calibration_id, job_id, created_at, updated_at, deleted_at FROM items ";
+std::vector<std::string> stringsOf(const nlohmann::json& array) {
+  std::vector<std::string> out;
+  for (const auto& v : array)
+    if (v.is_string())
+      out.push_back(v.get<std::string>());
+  return out;
+}
+
+const std::array<Column<Item>, 17> kItemColumns = {{
+    {"id", [](sqlite3_stmt* s, int c, Item& it) { it.id = sqlite3_column_int64(s, c); }},
+    {"sku", [](sqlite3_stmt* s, int c, Item& it) { it.sku = text(s, c); }},
+    {"title", [](sqlite3_stmt* s, int c, Item& it) { it.title = text(s, c); }},
+    {"price_cents", [](sqlite3_stmt* s, int c, Item& it) { it.priceCents = optionalInt(s, c); }},
+    {"tags", [](sqlite3_stmt* s, int c,
+                Item& it) { it.tags = stringsOf(jsonColumn(s, c, nlohmann::json::array())); }},
+    {"notes", [](sqlite3_stmt* s, int c, Item& it) { it.notes = text(s, c); }},
+    {"status", [](sqlite3_stmt* s, int c, Item& it) { it.status = text(s, c); }},
+    {"type", [](sqlite3_stmt* s, int c, Item& it) { it.type = text(s, c); }},
+    {"attributes",
+     [](sqlite3_stmt* s, int c, Item& it) {
+       const nlohmann::json attributes = jsonColumn(s, c, nlohmann::json::object());
+       for (const auto& [k, v] : attributes.items())
+         if (v.is_string())
+           it.attributes[k] = v.get<std::string>();
+     }},
+    {"confidence",
+     [](sqlite3_stmt* s, int c, Item& it) { it.confidence = sqlite3_column_double(s, c); }},
+    {"warnings",
+     [](sqlite3_stmt* s, int c, Item& it) {
+       it.warnings = stringsOf(jsonColumn(s, c, nlohmann::json::array()));
+     }},
+    {"base_size", [](sqlite3_stmt* s, int c, Item& it) { it.baseSize = text(s, c); }},
+    {"calibration_id",
+     [](sqlite3_stmt* s, int c, Item& it) { it.calibrationId = optionalInt(s, c); }},
+    {"job_id", [](sqlite3_stmt* s, int c, Item& it) { it.jobId = optionalInt(s, c); }},
+    {"created_at", [](sqlite3_stmt* s, int c, Item& it) { it.createdAt = text(s, c); }},
+    {"updated_at", [](sqlite3_stmt* s, int c, Item& it) { it.updatedAt = text(s, c); }},
+    {"deleted_at",
+     [](sqlite3_stmt* s, int c, Item& it) {
+       if (sqlite3_column_type(s, c) != SQLITE_NULL)
+         it.deletedAt = std::string(text(s, c));
+     }},
+}};
+
+const std::string& itemSelect() {
+  static const std::string sql = selectFrom(kItemColumns, "items");
+  return sql;
+}
 
 Item readItem(sqlite3_stmt* s) {
-  Item it;
-  it.id = sqlite3_column_int64(s, 0);
-  it.sku = text(s, 1);
-  it.title = text(s, 2);
-  if (sqlite3_column_type(s, 3) != SQLITE_NULL)
-    it.priceCents = sqlite3_column_int64(s, 3);
-  auto tags = jsonColumn(s, 4, nlohmann::json::array());
-  for (const auto& t : tags)
-    if (t.is_string())
-      it.tags.push_back(t.get<std::string>());
-  it.notes = text(s, 5);
-  it.status = text(s, 6);
-  it.type = text(s, 7);
-  auto attrs = jsonColumn(s, 8, nlohmann::json::object());
-  for (const auto& [k, v] : attrs.items())
-    if (v.is_string())
-      it.attributes[k] = v.get<std::string>();
-  it.confidence = sqlite3_column_double(s, 9);
-  auto warnings = jsonColumn(s, 10, nlohmann::json::array());
-  for (const auto& w : warnings)
-    if (w.is_string())
-      it.warnings.push_back(w.get<std::string>());
-  it.baseSize = text(s, 11);
-  if (sqlite3_column_type(s, 12) != SQLITE_NULL)
-    it.calibrationId = sqlite3_column_int64(s, 12);
-  if (sqlite3_column_type(s, 13) != SQLITE_NULL)
-    it.jobId = sqlite3_column_int64(s, 13);
-  it.createdAt = text(s, 14);
-  it.updatedAt = text(s, 15);
-  if (sqlite3_column_type(s, 16) != SQLITE_NULL)
-    it.deletedAt = std::string(text(s, 16));
-  return it;
+  return readRow(kItemColumns, s);
+}
+
+// The pipeline's outputs on an item row, listed once: a capture writes them (addItem), a re-run
+// replaces them (replaceItemResults).
+constexpr std::array<const char*, 9> kResultColumns = {"type",     "attributes",     "confidence",
+                                                       "warnings", "base_size",      "size_guide",
+                                                       "result",   "calibration_id", "status"};
+
+std::string placeholders(std::size_t count) {
+  std::string out;
+  for (std::size_t i = 0; i < count; ++i)
+    out += i ? ", ?" : "?";
+  return out;
+}
+
+std::string resultColumns(const char* each) {
+  std::string out;
+  for (const char* name : kResultColumns)
+    out += std::string(out.empty() ? "" : ", ") + name + each;
+  return out;
+}
+
+/// Binds kResultColumns from `n` at `first`, `first` + 1, ...; returns the next index.
+template <class Stmt>
+int bindResults(Stmt& s, int first, const NewItem& n) {
+  s.bind(first, n.type)
+      .bind(first + 1, nlohmann::json(n.attributes).dump())
+      .bind(first + 2, n.confidence)
+      .bind(first + 3, nlohmann::json(n.warnings).dump())
+      .bind(first + 4, n.baseSize)
+      .bind(first + 5, n.sizeGuide.is_null() ? std::string("null") : n.sizeGuide.dump())
+      .bind(first + 6, n.result.dump())
+      .bind(first + 7, n.calibrationId)
+      .bind(first + 8, n.needsReview ? kStatusNeedsReview : kStatusApproved);
+  return first + static_cast<int>(kResultColumns.size());
 }
 }  // namespace
 
@@ -994,25 +1074,13 @@ void Catalog::writeItemContents(std::int64_t id, const NewItem& n, const std::st
 std::int64_t Catalog::addItem(const NewItem& n) {
   Transaction t(db_);
   const std::string ts = now();
-  Statement(*this,
-            "INSERT INTO items(sku, title, status, type, attributes, confidence, warnings, "
-            "base_size, size_guide, result, calibration_id, job_id, created_at, updated_at) "
-            "VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)")
-      .bind(1, n.sku)
-      .bind(2, n.title)
-      .bind(3, n.needsReview ? kStatusNeedsReview : kStatusApproved)
-      .bind(4, n.type)
-      .bind(5, nlohmann::json(n.attributes).dump())
-      .bind(6, n.confidence)
-      .bind(7, nlohmann::json(n.warnings).dump())
-      .bind(8, n.baseSize)
-      .bind(9, n.sizeGuide.is_null() ? std::string("null") : n.sizeGuide.dump())
-      .bind(10, n.result.dump())
-      .bind(11, n.calibrationId)
-      .bind(12, n.jobId)
-      .bind(13, ts)
-      .bind(14, ts)
-      .run();
+  static const std::string insert =
+      "INSERT INTO items(sku, title, job_id, created_at, updated_at, " + resultColumns("") +
+      ") VALUES(?, ?, ?, ?, ?, " + placeholders(kResultColumns.size()) + ")";
+  Statement insertItem(*this, insert.c_str());
+  insertItem.bind(1, n.sku).bind(2, n.title).bind(3, n.jobId).bind(4, ts).bind(5, ts);
+  bindResults(insertItem, 6, n);
+  insertItem.run();
   const std::int64_t id = sqlite3_last_insert_rowid(db_);
   writeItemContents(id, n, ts);
   queueForHub(kOutboxUpsert, id, ts);
@@ -1030,22 +1098,11 @@ std::vector<std::string> Catalog::replaceItemResults(std::int64_t id, const NewI
     while (s.step())
       previous.push_back(text(s.get(), 0));
   }
-  Statement(*this,
-            "UPDATE items SET type = ?, attributes = ?, confidence = ?, warnings = ?, base_size = "
-            "?, size_guide = ?, result = ?, calibration_id = ?, status = ?, updated_at = ? WHERE "
-            "id = ?")
-      .bind(1, n.type)
-      .bind(2, nlohmann::json(n.attributes).dump())
-      .bind(3, n.confidence)
-      .bind(4, nlohmann::json(n.warnings).dump())
-      .bind(5, n.baseSize)
-      .bind(6, n.sizeGuide.is_null() ? std::string("null") : n.sizeGuide.dump())
-      .bind(7, n.result.dump())
-      .bind(8, n.calibrationId)
-      .bind(9, n.needsReview ? kStatusNeedsReview : kStatusApproved)
-      .bind(10, ts)
-      .bind(11, id)
-      .run();
+  static const std::string update =
+      "UPDATE items SET " + resultColumns(" = ?") + ", updated_at = ? WHERE id = ?";
+  Statement updateItem(*this, update.c_str());
+  const int next = bindResults(updateItem, 1, n);
+  updateItem.bind(next, ts).bind(next + 1, id).run();
   Statement(*this, "DELETE FROM measurements WHERE item_id = ?").bind(1, id).run();
   Statement(*this, "DELETE FROM patterns WHERE item_id = ?").bind(1, id).run();
   // A kind the re-run no longer makes must not keep showing the old picture.
@@ -1057,8 +1114,8 @@ std::vector<std::string> Catalog::replaceItemResults(std::int64_t id, const NewI
 }
 
 std::optional<Item> Catalog::item(std::int64_t id, bool includeDeleted) {
-  const std::string sql = std::string(kItemColumns) + "WHERE id = ?" +
-                          (includeDeleted ? "" : " AND deleted_at IS NULL");
+  const std::string sql =
+      itemSelect() + "WHERE id = ?" + (includeDeleted ? "" : " AND deleted_at IS NULL");
   Statement s(*this, sql.c_str());
   s.bind(1, id);
   if (!s.step())
@@ -1088,8 +1145,7 @@ std::pair<std::vector<Item>, std::int64_t> Catalog::items(const ItemQuery& q) {
       total = sqlite3_column_int64(s.get(), 0);
   }
   std::vector<Item> out;
-  const std::string sql =
-      std::string(kItemColumns) + kWhere + "ORDER BY id DESC LIMIT ?5 OFFSET ?6";
+  const std::string sql = itemSelect() + kWhere + "ORDER BY id DESC LIMIT ?5 OFFSET ?6";
   Statement s(*this, sql.c_str());
   s.bind(1, q.deleted ? 1 : 0).bind(2, q.type).bind(3, q.status).bind(4, q.search);
   s.bind(5, limit).bind(6, offset);

@@ -31,6 +31,7 @@
 #include "garmcap/daemon/export_zip.h"
 #include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
+#include "garmcap/daemon/station_routes.h"
 #include "garmcap/drafts/export_dxf_aama.h"
 #include "garmcap/drafts/export_garmentcode.h"
 #include "garmcap/drafts/export_nested_grading.h"
@@ -363,6 +364,8 @@ std::string widthTag(double cm) {
   os << cm;
   return os.str();
 }
+
+}  // namespace
 
 void addExportRoutes(Router& router, RouteContext& ctx) {
   using V = http::verb;
@@ -749,9 +752,5 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                             fileBase(it, "body") + ".vit");
       }));
 }
-
-}  // namespace
-
-GARMCAP_ROUTE_MODULE(exports, addExportRoutes)
 
 }  // namespace garmcap::daemon

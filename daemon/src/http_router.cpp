@@ -269,22 +269,6 @@ void Router::dispatch(const Request& request, Reply reply) const {
   }
 }
 
-namespace {
-std::vector<std::pair<std::string, RouteModule>>& moduleList() {
-  static std::vector<std::pair<std::string, RouteModule>> modules;
-  return modules;
-}
-}  // namespace
-
-bool registerRouteModule(const char* name, RouteModule module) {
-  moduleList().emplace_back(name, module);
-  return true;
-}
-
-const std::vector<std::pair<std::string, RouteModule>>& routeModules() {
-  return moduleList();
-}
-
 Response jsonResponse(http::status status, const nlohmann::json& body) {
   Response res{status, 11};
   res.set(http::field::content_type, "application/json");

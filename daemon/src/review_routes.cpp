@@ -12,6 +12,7 @@
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
+#include "garmcap/daemon/station_routes.h"
 
 namespace garmcap::daemon {
 namespace {
@@ -49,6 +50,8 @@ ReviewRequest parseReview(const nlohmann::json& body) {
   return r;
 }
 
+}  // namespace
+
 void addReviewRoutes(Router& router, RouteContext& ctx) {
   RouteContext* c = &ctx;
   router.add(
@@ -72,9 +75,5 @@ void addReviewRoutes(Router& router, RouteContext& ctx) {
             reply);
       });
 }
-
-}  // namespace
-
-GARMCAP_ROUTE_MODULE(review, addReviewRoutes)
 
 }  // namespace garmcap::daemon

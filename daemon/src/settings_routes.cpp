@@ -12,6 +12,7 @@
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/config.h"
 #include "garmcap/daemon/http_router.h"
+#include "garmcap/daemon/station_routes.h"
 
 namespace garmcap::daemon {
 namespace {
@@ -26,6 +27,8 @@ nlohmann::json settingsView(const ShopConfig& shop, const nlohmann::json& saved)
     missing.push_back("public_base_url");
   return {{"settings", shopSettingsJson(shop)}, {"saved", saved}, {"missing", missing}};
 }
+
+}  // namespace
 
 void addSettingsRoutes(Router& router, RouteContext& ctx) {
   RouteContext* c = &ctx;
@@ -46,9 +49,5 @@ void addSettingsRoutes(Router& router, RouteContext& ctx) {
             reply);
       });
 }
-
-}  // namespace
-
-GARMCAP_ROUTE_MODULE(settings, addSettingsRoutes)
 
 }  // namespace garmcap::daemon

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "garmcap/daemon/http_router.h"
+#include "garmcap/daemon/station_routes.h"
 #include "garmcap/daemon/tape.h"
 #include "garmcap/daemon/utf8.h"
 #include "garmcap/pipeline/garment_measurer.h"
@@ -113,8 +114,6 @@ nlohmann::json tapeRowsJson(const std::vector<TapeEntry>& rows) {
   return out;
 }
 
-namespace {
-
 void addTapeRoutes(Router& router, RouteContext& ctx) {
   RouteContext* c = &ctx;
   using V = http::verb;
@@ -158,9 +157,5 @@ void addTapeRoutes(Router& router, RouteContext& ctx) {
         reply);
   });
 }
-
-}  // namespace
-
-GARMCAP_ROUTE_MODULE(tape, addTapeRoutes)
 
 }  // namespace garmcap::daemon

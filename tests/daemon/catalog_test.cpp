@@ -115,14 +115,20 @@ TEST(Catalog, ItemRoundTripEditDeleteRestore) {
 }
 
 // Reclaiming storage (docs/daemon.md, "Storage"): a blob goes only when no row names it.
-TEST(CatalogStorage, ReRunReleasesOnlyTheImagesNothingElseNames) {
-  test::TempDir dir;
-  Catalog c(dir.path() / "c.sqlite");
+// A calibration on bare frame 'e' and a capture job whose dressed frame 'd' is stored.
+std::pair<std::int64_t, std::int64_t> calibrateAndCapture(Catalog& c) {
   c.addImage(sha('e'), "image/png", 10);
   const auto cal = c.addCalibration(sha('e'), {{"scale", 1}});
   const auto job = c.addJob("dressed", "SKU-42");
   c.addImage(sha('d'), "image/png", 100);
   c.setJobFrames(job, sha('e'), sha('d'));
+  return {cal, job};
+}
+
+TEST(CatalogStorage, ReRunReleasesOnlyTheImagesNothingElseNames) {
+  test::TempDir dir;
+  Catalog c(dir.path() / "c.sqlite");
+  const auto [cal, job] = calibrateAndCapture(c);
   NewItem first = sampleItem(job, cal);
   first.images.push_back({"texture", sha('t'), "image/png", 20});
   const auto id = c.addItem(first);
@@ -150,11 +156,7 @@ TEST(CatalogStorage, ReRunReleasesOnlyTheImagesNothingElseNames) {
 TEST(CatalogStorage, DeletedItemsArePurgedAfterTheirRetentionAndNotBeforeTheHubKnows) {
   test::TempDir dir;
   Catalog c(dir.path() / "c.sqlite");
-  c.addImage(sha('e'), "image/png", 10);
-  const auto cal = c.addCalibration(sha('e'), {{"scale", 1}});
-  const auto job = c.addJob("dressed", "SKU-42");
-  c.addImage(sha('d'), "image/png", 100);
-  c.setJobFrames(job, sha('e'), sha('d'));
+  const auto [cal, job] = calibrateAndCapture(c);
   const auto id = c.addItem(sampleItem(job, cal));
   NewItem kept = sampleItem(c.addJob("dressed", "SKU-43"), cal);
   kept.images[0].sha256 = sha('2');  // its own frame, the same cutout

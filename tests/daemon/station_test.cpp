@@ -8,6 +8,7 @@
 #include <set>
 
 #include "garmcap/daemon/api_routes.h"
+#include "garmcap/daemon/station_routes.h"
 #include "station_rig.h"
 
 namespace garmcap::daemon {
@@ -96,9 +97,8 @@ TEST(Station, AnItemWithoutADraftedPatternAnswers422NotAnEmptyPattern) {
   for (const bool legacy : {false, true}) {
     SCOPED_TRACE(legacy ? "empty pattern row (old catalog)" : "no pattern row");
     Rig rig;
-    // The pattern file routes too (route modules: export_routes.cpp).
-    for (const auto& [name, module] : routeModules())
-      module(rig.router, *rig.station);
+    // The pattern file routes too (export_routes.cpp).
+    addExportRoutes(rig.router, *rig.station);
     (legacy ? rig.processor->legacyEmptyPattern : rig.processor->undraftable) = true;
     rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"]);
     auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);

@@ -1,6 +1,6 @@
 #pragma once
-// Registers the station's JSON API (docs/api.md) on a router. Route modules of other owners
-// (GARMCAP_ROUTE_MODULE) are added after these, so a literal route here wins over a pattern there.
+// The station's JSON API (docs/api.md): status, events, captures, jobs, items and their images
+// and patterns. station_routes.h registers it first, then the other resources.
 
 #include <nlohmann/json.hpp>
 #include <string>

@@ -5,9 +5,8 @@
 //
 // ADDING A ROUTE (e.g. in daemon/src/export_routes.cpp):
 //
-//   #include "garmcap/daemon/http_router.h"
+//   #include "garmcap/daemon/station_routes.h"   // declares addExportRoutes
 //   namespace garmcap::daemon {
-//   namespace {
 //   void addExportRoutes(Router& router, RouteContext& ctx) {
 //     router.add(http::verb::get, "/api/items/{id}/pattern.{ext}",
 //                [&ctx](const Request& req, const RouteMatch& m, Reply reply) {
@@ -19,9 +18,9 @@
 //                  });
 //                });
 //   }
-//   }  // namespace
-//   GARMCAP_ROUTE_MODULE(exports, addExportRoutes)   // registered before garmcapd starts serving
 //   }  // namespace garmcap::daemon
+//
+// and call it from addStationRoutes (station_routes.cpp), which garmcapd runs before it serves.
 //
 // Patterns: a segment is literal, or `{name}` with an optional literal prefix/suffix inside the
 // segment (`pattern.{ext}`, `{id}.json`). A captured value is 1..64 characters of
@@ -132,7 +131,7 @@ class Router {
   std::vector<std::shared_ptr<Route>> routes_;
 };
 
-/// What route modules get: serialized catalog access, a worker pool and the stores.
+/// What route functions get: serialized catalog access, a worker pool and the stores.
 class RouteContext {
  public:
   virtual ~RouteContext() = default;
@@ -156,16 +155,6 @@ class RouteContext {
   /// force. Throws BadRequest naming the key for a bad one; nothing is stored then.
   virtual ShopConfig saveShopSettings(Catalog& catalog, const nlohmann::json& changes) = 0;
 };
-
-using RouteModule = void (*)(Router&, RouteContext&);
-/// Registers a module; called from GARMCAP_ROUTE_MODULE's static initializer.
-bool registerRouteModule(const char* name, RouteModule module);
-/// All registered modules (name, function), in registration order.
-const std::vector<std::pair<std::string, RouteModule>>& routeModules();
-
-#define GARMCAP_ROUTE_MODULE(name, fn)                             \
-  [[maybe_unused]] static const bool garmcap_route_module_##name = \
-      ::garmcap::daemon::registerRouteModule(#name, &(fn));
 
 // --- Response helpers -----------------------------------------------------------------------
 Response jsonResponse(http::status status, const nlohmann::json& body);
