@@ -11,11 +11,11 @@
 
 #include "common/bundled_form.h"
 #include "garmcap/calib/form_model.h"
-#include "garmcap/calib/garment_model.h"
 #include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 #include "garmcap/pipeline/garment_measurer.h"
 #include "garmcap/pipeline/grabcut_refine.h"
+#include "garmcap/sim/garment_model.h"
 #include "garmcap/sim/scene.h"
 #include "garmcap/sim/sim.h"
 
@@ -196,7 +196,7 @@ TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
 // from the simulator's. Scoring needs the two to agree name for name.
 TEST(Measure, NamesPerTypeAreTheRigsTruthNames) {
   for (const std::string type : {"top", "dress", "skirt", "pants"})
-    EXPECT_EQ(pipeline::measurementNamesFor(type), calib::garmentMeasurementNames(type)) << type;
+    EXPECT_EQ(pipeline::measurementNamesFor(type), sim::garmentMeasurementNames(type)) << type;
   EXPECT_THROW(pipeline::measurementNamesFor("coat"), std::invalid_argument);
 }
 
