@@ -112,19 +112,24 @@ run_station() {
 
 # libFuzzer targets (tests/fuzz/, built with clang into build-fuzz/), each run for FUZZ_SECONDS
 # (60 by default) from its seed corpus; a crash or sanitizer finding fails the run and leaves the
-# input in build-fuzz/ (crash-*). FUZZ_RUNS=N runs N executions instead.
+# input in build-fuzz/ (crash-*). FUZZ_RUNS=N runs N executions instead. An input that runs
+# longer than 10 s (a hang) or takes 2 GB is a finding too.
 fuzz() {
   cmake -S "$ROOT/tests/fuzz" -B "$ROOT/build-fuzz" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo
   cmake --build "$ROOT/build-fuzz" -j"$(nproc)"
-  local name corpus limit
-  for name in http_request pattern_json config_toml; do
+  local name seeds corpus limit
+  # target:seed folder under tests/fuzz/corpus
+  for entry in http_request:http pattern_json:pattern config_toml:toml measurements:measurements \
+    calibration_json:calibration mesh:mesh; do
+    name=${entry%%:*} seeds="$ROOT/tests/fuzz/corpus/${entry#*:}"
     corpus="$ROOT/build-fuzz/corpus/$name"
     mkdir -p "$corpus"
-    cp "$ROOT/tests/fuzz/corpus/${name%%_*}/"* "$corpus/" 2>/dev/null || true
+    [ -d "$seeds" ] || { echo "fuzz: no seed folder $seeds" >&2; return 1; }
+    cp "$seeds/"* "$corpus/"
     if [ -n "${FUZZ_RUNS:-}" ]; then limit="-runs=$FUZZ_RUNS"; else limit="-max_total_time=${FUZZ_SECONDS:-60}"; fi
     echo "fuzz: $name ($limit)"
-    (cd "$ROOT/build-fuzz" && "./fuzz_$name" "$limit" -max_len=65536 -print_final_stats=1 "$corpus" 2>&1 |
+    (cd "$ROOT/build-fuzz" && "./fuzz_$name" "$limit" -timeout=10 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "$corpus" 2>&1 |
       grep -E "^(Done|stat::number_of_executed_units|stat::peak_rss_mb|==[0-9]+==ERROR|SUMMARY)" ;
       exit "${PIPESTATUS[0]}")
   done

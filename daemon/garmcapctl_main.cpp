@@ -1,12 +1,15 @@
 // garmcapctl: drive a running garmcapd over its HTTP API (docs/api.md).
 //   garmcapctl status | press | capture-empty [--wait] | capture [--sku S] [--wait]
 //   garmcapctl list [--q TEXT] [--type T] [--limit N] | show ID
-//   garmcapctl export ID --what pattern.json|pattern.svg|sizeguide.csv|sizeguide.json|image
-//                     [--size S] [--kind product] --out FILE
+//   garmcapctl export ID --what pattern.json|pattern.svg|pattern.dxf|pattern.pdf|sizeguide.csv|
+//                     sizeguide.json|nested_grading.svg|.pdf|.dxf|marker.svg|.pdf|.dxf|.json|image
+//                     [--size S] [--paper a4|letter|a0] [--width CM] [--sizes S,S]
+//                     [--kind product] --out FILE
 //   garmcapctl tape --json FILE|- [--item ID] | tape --list | tape --delete ID
 // Options: --url http://127.0.0.1:8080 (env GARMCAPD_URL), --token T (env GARMCAPD_TOKEN).
 // Exit status: 0 ok, 1 the API answered an error (printed), 2 cannot reach the daemon.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <boost/asio/connect.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core.hpp>
@@ -17,7 +20,9 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
 #include <thread>
+#include <vector>
 
 namespace asio = boost::asio;
 namespace beast = boost::beast;
@@ -130,6 +135,20 @@ std::string urlEncode(const std::string& s) {
   return out;
 }
 
+// The item files `export --what` fetches: /api/items/ID/<name> (docs/api.md).
+const std::vector<std::string> kExportFiles = {
+    "pattern.json",       "pattern.svg",   "pattern.dxf",        "pattern.pdf",
+    "sizeguide.json",     "sizeguide.csv", "nested_grading.svg", "nested_grading.pdf",
+    "nested_grading.dxf", "marker.svg",    "marker.pdf",         "marker.dxf",
+    "marker.json"};
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names)
+    out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -143,7 +162,7 @@ int main(int argc, char** argv) {
 
   bool wait = false;
   int timeoutS = 300;
-  std::string sku, q, type, what = "pattern.json", size, kind = "product", out;
+  std::string sku, q, type, what = "pattern.json", size, kind = "product", out, paper, width, sizes;
   int limit = 20;
   std::int64_t id = 0;
   auto* status = app.add_subcommand("status", "station state, queue, camera");
@@ -164,8 +183,12 @@ int main(int argc, char** argv) {
   auto* exp = app.add_subcommand("export", "download an item's pattern, size guide or image");
   exp->add_option("id", id)->required();
   exp->add_option("--what", what,
-                  "pattern.json, pattern.svg, sizeguide.json, sizeguide.csv, image");
+                  "pattern.json|svg|dxf|pdf, sizeguide.json|csv, nested_grading.svg|pdf|dxf, "
+                  "marker.svg|pdf|dxf|json, image");
   exp->add_option("--size", size, "pattern size (default: as measured)");
+  exp->add_option("--paper", paper, "pattern.pdf tiled for a4, letter or a0 (default a4)");
+  exp->add_option("--width", width, "marker: fabric width in cm (default 150)");
+  exp->add_option("--sizes", sizes, "marker: sizes to lay, comma separated (default: as measured)");
   exp->add_option("--kind", kind, "image kind (product, cutout, dressed, ...)");
   exp->add_option("--out", out, "output file (default: stdout)");
   // The shop's tape measure (issue 15 part 7): the body is {"item": id, "measurements": {name:
@@ -271,15 +294,27 @@ int main(int argc, char** argv) {
       std::string path = "/api/items/" + std::to_string(id) + "/";
       if (what == "image")
         path += "images/" + urlEncode(kind);
-      else if (what == "pattern.json" || what == "pattern.svg" || what == "sizeguide.json" ||
-               what == "sizeguide.csv" || what == "pattern.dxf" || what == "pattern.pdf")
+      else if (std::find(kExportFiles.begin(), kExportFiles.end(), what) != kExportFiles.end())
         path += what;
       else
-        throw Failure(
-            "--what must be pattern.json, pattern.svg, pattern.dxf, pattern.pdf, "
-            "sizeguide.json, sizeguide.csv or image");
+        throw Failure("--what must be one of " + joined(kExportFiles) + " or image");
+      // The daemon checks every value and names what is wrong (docs/exports.md).
+      std::vector<std::string> query;
+      const bool pdf = what == "pattern.pdf", marker = what.rfind("marker.", 0) == 0;
       if (!size.empty())
-        path += "?size=" + urlEncode(size);
+        query.push_back("size=" + urlEncode(size));
+      if (!paper.empty() && !pdf)
+        throw Failure("--paper goes with --what pattern.pdf");
+      if (!paper.empty())
+        query.push_back("paper=" + urlEncode(paper));
+      if ((!width.empty() || !sizes.empty()) && !marker)
+        throw Failure("--width and --sizes go with --what marker.*");
+      if (!width.empty())
+        query.push_back("width=" + urlEncode(width));
+      if (!sizes.empty())
+        query.push_back("sizes=" + urlEncode(sizes));
+      for (std::size_t i = 0; i < query.size(); ++i)
+        path += (i == 0 ? "?" : "&") + query[i];
       auto res = request(t, http::verb::get, path);
       if (res.result_int() >= 400)
         jsonOrThrow(res);

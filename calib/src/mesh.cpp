@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <unordered_map>
@@ -202,7 +204,8 @@ TriMesh readPly(const std::filesystem::path& path) {
       ls >> format;
     } else if (kw == "element") {
       PlyElement e;
-      ls >> e.name >> e.count;
+      if (!(ls >> e.name >> e.count))
+        throw ParseError(what + ": PLY element line '" + line + "' is not 'element NAME COUNT'");
       elements.push_back(e);
     } else if (kw == "property") {
       if (elements.empty())
@@ -233,17 +236,44 @@ TriMesh readPly(const std::filesystem::path& path) {
     }
     return plyReadBinary(p, end, type, what);
   };
+  // Counts and indices come from the file: every value takes at least one byte (binary) or one
+  // character (ascii), so a count the remaining bytes cannot hold is a corrupt header, refused
+  // before looping on it; indices are checked as integers before any conversion.
+  auto boundedCount = [&](double n, const std::string& of) {
+    if (!std::isfinite(n) || n < 0 || n != std::floor(n) ||
+        n > static_cast<double>(end - data.data()))
+      throw ParseError(what + ": PLY " + of + " count " + std::to_string(n) +
+                       " is not a whole number the file can hold");
+    return static_cast<long>(n);
+  };
+  auto vertexIndex = [&](double x) {
+    if (!std::isfinite(x) || x != std::floor(x) || x < 0 ||
+        x > static_cast<double>(std::numeric_limits<int>::max()))
+      throw ParseError(what + ": PLY vertex index " + std::to_string(x) +
+                       " is not a non-negative integer");
+    return static_cast<long>(x);
+  };
   for (const auto& e : elements) {
+    if (!e.props.empty() && e.count > static_cast<std::size_t>(end - p) / e.props.size() + 1)
+      throw ParseError(what + ": PLY element '" + e.name + "' declares " + std::to_string(e.count) +
+                       " entries, more than the file holds");
+    if (e.props.empty())
+      continue;  // nothing to read for it
     for (std::size_t i = 0; i < e.count; ++i) {
       Eigen::Vector3d v = Eigen::Vector3d::Zero();
       std::vector<long> poly;
       for (const auto& prop : e.props) {
         if (!prop.countType.empty()) {
-          const auto n = static_cast<long>(readValue(prop.countType));
+          const long n = boundedCount(readValue(prop.countType), "list");
+          const bool indices =
+              e.name == "face" && (prop.name == "vertex_indices" || prop.name == "vertex_index");
           std::vector<long> list;
-          for (long k = 0; k < n; ++k)
-            list.push_back(static_cast<long>(readValue(prop.type)));
-          if (e.name == "face" && (prop.name == "vertex_indices" || prop.name == "vertex_index"))
+          for (long k = 0; k < n; ++k) {
+            const double x = readValue(prop.type);
+            if (indices)
+              list.push_back(vertexIndex(x));
+          }
+          if (indices)
             poly = list;
         } else {
           const double x = readValue(prop.type);

@@ -78,6 +78,8 @@ void runDraft(const DraftOptions& o) {
                             {"description", d.description}};
         if (!d.gradesWith.empty())
           p["grades_with"] = d.gradesWith;
+        if (d.gradesFrom > 0)
+          p["default_for"] = {{d.gradesWith, d.gradesFrom}};
         design.push_back(std::move(p));
       }
       types.push_back({{"name", t.name},

@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -61,7 +62,7 @@ struct GradeCliOptions {
   std::string chart;
   std::string coords = "mvc";
   bool dartCompensation = false;
-  double marginCm = 3.0;
+  std::optional<double> marginCm;
   bool baseDraft = false;
   std::string out;
   std::string svg;
@@ -132,9 +133,10 @@ void addGradingOptions(CLI::App* cmd, GradeCliOptions& o) {
       ->required();
   cmd->add_option("--coords", o.coords, "Coordinates: mvc (default), tbc, green, wachspress");
   cmd->add_flag("--dart-compensation", o.dartCompensation,
-                "Restore the waist margin by the waist darts (eq. 4.14)");
+                "Restore the source's waist margin in every size by the waist darts (eq. 4.14)");
   cmd->add_option("--margin", o.marginCm,
-                  "Waist margin m of the dart compensation, cm (default 3)");
+                  "Waist margin m of the dart compensation, cm (default: the source pattern's own "
+                  "waist ease, so the base size keeps its waist; a value overrides that ease)");
   cmd->add_flag("--base-draft", o.baseDraft,
                 "Grade through the base block instead of the garment's draft (4.4)");
 }

@@ -2,7 +2,6 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -63,22 +62,7 @@ void runMarker(const MarkerOptions& o) {
     gd::writeFileAtomic(o.pdf, gd::markerPdf(m, title));
   if (!o.dxf.empty())
     gd::writeFileAtomic(o.dxf, gd::markerDxf(m));
-  nlohmann::json pieces = nlohmann::json::array();
-  for (const auto& p : m.pieces)
-    pieces.push_back({{"panel", p.panel},
-                      {"size", p.size},
-                      {"mirrored", p.mirrored},
-                      {"unfolded", p.unfolded},
-                      {"turned", p.turned},
-                      {"area_cm2", p.areaCm2}});
-  std::cout << nlohmann::json{{"title", title},
-                              {"fabric_width_cm", m.widthCm},
-                              {"length_cm", m.lengthCm},
-                              {"piece_area_cm2", m.pieceAreaCm2},
-                              {"efficiency", m.efficiency},
-                              {"pieces", pieces}}
-                   .dump(2)
-            << "\n";
+  std::cout << gd::markerSummaryJson(m, title).dump(2) << "\n";
 }
 
 }  // namespace

@@ -6,8 +6,11 @@
 //   GET /api/export/shopify.csv?base_url=&legacy=1   GET /api/export/woocommerce.csv?base_url=
 //   GET /api/export/merchant.tsv?base_url=&store_url=   GET /api/export/catalog.zip?base_url=
 //   GET /api/export/files/images/{id}-{kind}.{jpg,png}  (the default public base URL's images)
-//   GET /api/items/{id}/pattern.dxf?size=   pattern.pdf?size=   garmentcode.json?size=
+//   GET /api/items/{id}/pattern.dxf?size=   pattern.pdf?size=&paper=a4|letter|a0
+//   GET /api/items/{id}/garmentcode.json?size=
 //   GET /api/items/{id}/pattern_graded.dxf   pattern_graded.rul   measurements.vit
+//   GET /api/items/{id}/nested_grading.svg   nested_grading.pdf   nested_grading.dxf
+//   GET /api/items/{id}/marker.svg|pdf|dxf|json?width=<cm>&sizes=<size,size,...>
 //
 // Only approved items are exported to shops (a capture waiting for review is not). Options come
 // from the query (the web UI keeps them per browser); without base_url the images are linked
@@ -16,7 +19,10 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <memory>
+#include <sstream>
 
 #include "garmcap/daemon/api_routes.h"
 #include "garmcap/daemon/catalog.h"
@@ -27,9 +33,11 @@
 #include "garmcap/daemon/http_router.h"
 #include "garmcap/drafts/export_dxf_aama.h"
 #include "garmcap/drafts/export_garmentcode.h"
+#include "garmcap/drafts/export_nested_grading.h"
 #include "garmcap/drafts/export_pdf.h"
 #include "garmcap/drafts/export_rul.h"
 #include "garmcap/drafts/export_svg.h"
+#include "garmcap/drafts/marker.h"
 #include "garmcap/drafts/measurements.h"
 #include "garmcap/drafts/pattern_io.h"
 #include "garmcap/dsw/size_guide.h"
@@ -90,18 +98,15 @@ std::string shortOption(const RouteMatch& m, const std::string& key, const std::
 // The shop's settings come from the config ([shop]); a query value overrides one for this
 // export. Without a configured or given URL the station's own address is used, which the
 // export refuses when it is a loopback one (unless [shop] allow_loopback).
-ShopOptions shopOptions(const Request& req, const RouteMatch& m, const ShopConfig& shop) {
+// The shop's addresses come from the [shop] settings (or the request's explicit options), never
+// from the request's Host header: the address a tablet reached the station by (127.0.0.1, a
+// 192.168.x LAN address) is not one a shop's importer can fetch images or link products from, and
+// an export built on it would publish dead links without a word. Left empty, the export refuses
+// with the option's name (export_shop.cpp's checkPublicUrl).
+ShopOptions shopOptions(const RouteMatch& m, const ShopConfig& shop) {
   ShopOptions o;
-  std::string host(req[http::field::host]);
-  bool hostOk =
-      !host.empty() && host.size() <= 255 &&
-      std::all_of(host.begin(), host.end(), [](unsigned char c) {
-        return std::isalnum(c) || c == '.' || c == ':' || c == '-' || c == '[' || c == ']';
-      });
-  const std::string self = hostOk ? "http://" + host : "http://127.0.0.1";
-  o.publicBaseUrl = urlOption(
-      m, "base_url", shop.publicBaseUrl.empty() ? self + "/api/export/files" : shop.publicBaseUrl);
-  o.storeUrl = urlOption(m, "store_url", shop.storeUrl.empty() ? self : shop.storeUrl);
+  o.publicBaseUrl = urlOption(m, "base_url", shop.publicBaseUrl);
+  o.storeUrl = urlOption(m, "store_url", shop.storeUrl);
   o.storePlatform = shortOption(m, "store_platform", shop.storePlatform, 16);
   o.brand = shortOption(m, "brand", shortOption(m, "vendor", shop.brand, 150), 150);
   o.currency = shortOption(m, "currency", shop.currency, 3);
@@ -275,6 +280,90 @@ drafts::Measurements vitMeasurements(const Item& it, const std::optional<nlohman
   return m;
 }
 
+// The `paper` query of pattern.pdf: A4 (the default, as before the query), US Letter or A0.
+drafts::Paper paperParam(const RouteMatch& m) {
+  const auto v = m.queryValue("paper");
+  if (!v || v->empty())
+    return drafts::Paper::kA4;
+  try {
+    return drafts::parsePaper(*v);
+  } catch (const std::invalid_argument&) {
+    throw BadRequest("query 'paper' must be a4, letter or a0, got '" + quoteInput(*v) + "'");
+  }
+}
+
+const char* paperFileTag(drafts::Paper p) {
+  switch (p) {
+    case drafts::Paper::kA4:
+      return "A4";
+    case drafts::Paper::kLetter:
+      return "Letter";
+    case drafts::Paper::kA0:
+      return "A0";
+  }
+  return "paper";
+}
+
+// Fabric widths a marker is laid on: from a narrow lining to the widest wide goods; outside
+// that the number is a typing error (150 typed as 15 or 1500), not a fabric.
+constexpr double kMinFabricWidthCm = 50.0;
+constexpr double kMaxFabricWidthCm = 400.0;
+// Sizes in one marker: a size run of the charts (5) plus the piece as measured, with room. The
+// nesting time grows with the pieces (a dress in five sizes: about 4 s).
+constexpr std::size_t kMaxMarkerSizes = 8;
+
+// The queries of the marker routes: `width` in cm (default 150) and `sizes`, a comma list of
+// the item's sizes (default: none given, the item's own size). Only their form is checked here;
+// whether the item has the sizes is checked against its patterns.
+struct MarkerQuery {
+  double widthCm = 150.0;
+  std::vector<std::string> sizes;
+};
+
+MarkerQuery markerQuery(const RouteMatch& m) {
+  MarkerQuery q;
+  if (const auto w = m.queryValue("width"); w && !w->empty()) {
+    double v = 0;
+    const auto [end, ec] = std::from_chars(w->data(), w->data() + w->size(), v);
+    if (ec != std::errc() || end != w->data() + w->size() || !std::isfinite(v) ||
+        v < kMinFabricWidthCm || v > kMaxFabricWidthCm)
+      throw BadRequest(
+          "query 'width' must be the fabric width in cm, a number from 50 to 400, got '" +
+          quoteInput(*w) + "'");
+    q.widthCm = v;
+  }
+  if (const auto list = m.queryValue("sizes"); list && !list->empty()) {
+    const std::string& rest = *list;
+    for (std::size_t at = 0;;) {
+      const std::size_t comma = rest.find(',', at);
+      const std::string s =
+          rest.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+      if (s.empty() || s.size() > 16 || !std::all_of(s.begin(), s.end(), [](char c) {
+            return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+          }))
+        throw BadRequest("query 'sizes' must be a comma list of size names like 55,66, got '" +
+                         quoteInput(*list) + "'");
+      if (std::find(q.sizes.begin(), q.sizes.end(), s) != q.sizes.end())
+        throw BadRequest("query 'sizes' names size '" + s + "' twice");
+      q.sizes.push_back(s);
+      if (comma == std::string::npos)
+        break;
+      at = comma + 1;
+    }
+    if (q.sizes.size() > kMaxMarkerSizes)
+      throw BadRequest("query 'sizes' names " + std::to_string(q.sizes.size()) +
+                       " sizes; a marker takes at most " + std::to_string(kMaxMarkerSizes));
+  }
+  return q;
+}
+
+// A width as it goes into a file name: 150, 137.5.
+std::string widthTag(double cm) {
+  std::ostringstream os;
+  os << cm;
+  return os.str();
+}
+
 void addExportRoutes(Router& router, RouteContext& ctx) {
   using V = http::verb;
   RouteContext* c = &ctx;
@@ -283,8 +372,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
   auto shopRoute =
       [c](std::string name, std::string type,
           std::function<ShopFile(const std::vector<ExportItem>&, const ShopOptions&)> build) {
-        return [c, name, type, build](const Request& req, const RouteMatch& m, Reply reply) {
-          const ShopOptions o = shopOptions(req, m, c->shopConfig());
+        return [c, name, type, build](const Request&, const RouteMatch& m, Reply reply) {
+          const ShopOptions o = shopOptions(m, c->shopConfig());
           c->withCatalog(
               [c, reply, o, name, type, build](Catalog& cat) {
                 auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, false));
@@ -317,8 +406,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
              shopRoute("merchant.tsv", "text/tab-separated-values; charset=utf-8", merchantTsv));
 
   router.add(
-      V::get, "/api/export/catalog.zip", [c](const Request& req, const RouteMatch& m, Reply reply) {
-        const ShopOptions o = shopOptions(req, m, c->shopConfig());
+      V::get, "/api/export/catalog.zip", [c](const Request&, const RouteMatch& m, Reply reply) {
+        const ShopOptions o = shopOptions(m, c->shopConfig());
         c->withCatalog(
             [c, reply, o](Catalog& cat) {
               auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, true));
@@ -378,23 +467,33 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                       for (auto [file, build] : {std::pair{"shopify.csv", &shopifyCsv},
                                                  std::pair{"woocommerce.csv", &wooCommerceCsv},
                                                  std::pair{"merchant.tsv", &merchantTsv}}) {
-                        ShopFile f = build(items, o);
-                        for (const auto& w : f.warnings)
-                          notes.push_back(std::string(file) + ": " + w);
-                        files.push_back({file, std::move(f.bytes)});
+                        // A shop file the settings cannot make yet (no public address) is left
+                        // out with the reason; the patterns and photos are still worth having.
+                        try {
+                          ShopFile f = build(items, o);
+                          for (const auto& w : f.warnings)
+                            notes.push_back(std::string(file) + ": " + w);
+                          files.push_back({file, std::move(f.bytes)});
+                        } catch (const ExportError& e) {
+                          notes.push_back(std::string(file) + " left out: " + e.what());
+                        }
                       }
                       std::string readme =
                           "GarmCap Station catalog export: " + std::to_string(items.size()) +
-                          " approved items.\nUpload the folder so that images/ is reachable at " +
-                          o.publicBaseUrl +
-                          "/images/ before importing the CSVs.\nPatterns: patterns/<item id>/ (DXF "
-                          "in mm, "
-                          "SVG 1:1, GarmentCode JSON, Valentina .vit, graded DXF + RUL when "
-                          "graded).\n";
+                          " approved items.\n" +
+                          (o.publicBaseUrl.empty()
+                               ? std::string("No public address is set ([shop] public_base_url), "
+                                             "so the shop files cannot link the images yet.\n")
+                               : "Upload the folder so that images/ is reachable at " +
+                                     o.publicBaseUrl + "/images/ before importing the CSVs.\n") +
+                          "Patterns: patterns/<item id>/ (DXF in mm, SVG 1:1, GarmentCode JSON, "
+                          "Valentina .vit, graded DXF + RUL when graded).\n";
                       for (const auto& n : notes)
                         readme += "Note: " + n + "\n";
                       files.push_back({"README.txt", readme});
-                      reply(fileResponse("application/zip", storeZip(files), "catalog.zip"));
+                      Response r = fileResponse("application/zip", storeZip(files), "catalog.zip");
+                      setWarnings(r, notes);
+                      reply(std::move(r));
                     } catch (const ExportError& e) {
                       reply(jsonError(http::status::unprocessable_entity, e.what()));
                     } catch (const std::exception& e) {
@@ -511,16 +610,21 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
         return fileResponse("application/dxf", patternDxf(*p, {style(it), sizeLabel(it, size)}),
                             fileBase(it, size) + ".dxf");
       }));
-  router.add(
-      V::get, "/api/items/{id}/pattern.pdf",
-      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
-                       const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
-        auto p = onePattern(it, pats, size);
-        if (!p)
-          return noPatternForSize(it, size);
-        return fileResponse("application/pdf", patternPdfA4(*p, {style(it), sizeLabel(it, size)}),
-                            fileBase(it, size) + "_A4.pdf");
-      }));
+  // Tiled for office paper (A4 by default, US Letter) or on A0 plotter pages.
+  router.add(V::get, "/api/items/{id}/pattern.pdf",
+             [=](const Request& req, const RouteMatch& m, Reply reply) {
+               const drafts::Paper paper = paperParam(m);
+               patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
+                                const std::map<std::string, nlohmann::json>& pats,
+                                const std::string& size) {
+                 auto p = onePattern(it, pats, size);
+                 if (!p)
+                   return noPatternForSize(it, size);
+                 return fileResponse("application/pdf",
+                                     patternPdf(*p, {style(it), sizeLabel(it, size)}, paper),
+                                     fileBase(it, size) + "_" + paperFileTag(paper) + ".pdf");
+               })(req, m, std::move(reply));
+             });
   router.add(
       V::get, "/api/items/{id}/garmentcode.json",
       patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
@@ -532,21 +636,104 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                             garmentCodeJson(*p, {style(it), sizeLabel(it, size)}),
                             fileBase(it, size) + "_specification.json");
       }));
-  auto graded = [=](bool rul) {
+  // Files of the item's graded size run; an item whose garment could not be drafted says why.
+  auto graded = [=](std::function<Response(const Item&, const GradedRun&)> write) {
     return patternRoute([=](const Item& it, const std::optional<nlohmann::json>& guide,
                             const std::map<std::string, nlohmann::json>& pats, const std::string&) {
+      if (pats.empty())
+        return noDraftedPattern(it, "base");
       auto run = gradedRun(it, guide, pats);
       if (!run)
         return jsonError(http::status::not_found,
                          "item " + std::to_string(it.id) +
                              " has no graded size run (fewer than two graded sizes stored)");
-      return rul ? fileResponse("text/plain; charset=us-ascii", gradeRuleTable(*run),
-                                style(it) + ".rul")
-                 : fileResponse("application/dxf", gradedDxf(*run), style(it) + ".dxf");
+      return write(it, *run);
     });
   };
-  router.add(V::get, "/api/items/{id}/pattern_graded.dxf", graded(false));
-  router.add(V::get, "/api/items/{id}/pattern_graded.rul", graded(true));
+  router.add(V::get, "/api/items/{id}/pattern_graded.dxf",
+             graded([=](const Item& it, const GradedRun& run) {
+               return fileResponse("application/dxf", gradedDxf(run), style(it) + ".dxf");
+             }));
+  router.add(V::get, "/api/items/{id}/pattern_graded.rul",
+             graded([=](const Item& it, const GradedRun& run) {
+               return fileResponse("text/plain; charset=us-ascii", gradeRuleTable(run),
+                                   style(it) + ".rul");
+             }));
+  // Nested grading: every size of the run superimposed per piece, the sample size marked.
+  router.add(V::get, "/api/items/{id}/nested_grading.svg",
+             graded([=](const Item& it, const GradedRun& run) {
+               return fileResponse("image/svg+xml", drafts::nestedGradingSvg(run),
+                                   style(it) + "_nested_grading.svg");
+             }));
+  router.add(V::get, "/api/items/{id}/nested_grading.pdf",
+             graded([=](const Item& it, const GradedRun& run) {
+               return fileResponse("application/pdf", drafts::nestedGradingPdf(run),
+                                   style(it) + "_nested_grading.pdf");
+             }));
+  router.add(V::get, "/api/items/{id}/nested_grading.dxf",
+             graded([=](const Item& it, const GradedRun& run) {
+               return fileResponse("application/dxf", drafts::nestedGradingDxf(run),
+                                   style(it) + "_nested_grading.dxf");
+             }));
+
+  // Markers: every piece of the sizes asked for (default: the item's own) laid on the fabric
+  // width. A marker that cannot be laid (a piece wider than the fabric) is a 422 naming why.
+  enum class MarkerFile { kSvg, kPdf, kDxf, kJson };
+  auto marker = [=](MarkerFile format) {
+    return [=](const Request& req, const RouteMatch& m, Reply reply) {
+      const MarkerQuery q = markerQuery(m);
+      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
+                       const std::map<std::string, nlohmann::json>& pats, const std::string&) {
+        if (pats.empty())
+          return noDraftedPattern(it, "base");
+        std::vector<std::string> sizes = q.sizes;
+        if (sizes.empty())
+          sizes.push_back(pats.count("base") || !pats.count(it.baseSize) ? "base" : it.baseSize);
+        std::vector<drafts::SizedPattern> sized;
+        std::string labels;
+        for (const auto& s : sizes) {
+          if (!pats.count(s)) {
+            if (q.sizes.empty())
+              return noPatternForSize(it, s);
+            std::string have;
+            for (const auto& h : it.sizes)
+              have += (have.empty() ? "" : ", ") + h;
+            return jsonError(http::status::bad_request,
+                             "query 'sizes': item " + std::to_string(it.id) +
+                                 " has no pattern for size '" + s + "' (sizes: " + have + ")");
+          }
+          if (patternIsEmpty(pats.at(s)))
+            return noDraftedPattern(it, s);
+          // The piece as measured keeps the name "base" beside its own chart size.
+          const bool both =
+              s == "base" && std::find(sizes.begin(), sizes.end(), it.baseSize) != sizes.end();
+          sized.push_back({both ? s : sizeLabel(it, s), *onePattern(it, pats, s)});
+          labels += (labels.empty() ? "" : "-") + sized.back().size;
+        }
+        const drafts::Marker laid = drafts::layMarker(sized, {q.widthCm});
+        std::string title = style(it) + " " + sized.front().pattern.type + " size";
+        for (const auto& sp : sized)
+          title += " " + sp.size;
+        const std::string name =
+            fileBase(it, "marker_" + labels + "_" + widthTag(q.widthCm) + "cm");
+        switch (format) {
+          case MarkerFile::kSvg:
+            return fileResponse("image/svg+xml", drafts::markerSvg(laid, title), name + ".svg");
+          case MarkerFile::kPdf:
+            return fileResponse("application/pdf", drafts::markerPdf(laid, title), name + ".pdf");
+          case MarkerFile::kDxf:
+            return fileResponse("application/dxf", drafts::markerDxf(laid), name + ".dxf");
+          case MarkerFile::kJson:
+            break;
+        }
+        return jsonResponse(http::status::ok, drafts::markerSummaryJson(laid, title));
+      })(req, m, std::move(reply));
+    };
+  };
+  router.add(V::get, "/api/items/{id}/marker.svg", marker(MarkerFile::kSvg));
+  router.add(V::get, "/api/items/{id}/marker.pdf", marker(MarkerFile::kPdf));
+  router.add(V::get, "/api/items/{id}/marker.dxf", marker(MarkerFile::kDxf));
+  router.add(V::get, "/api/items/{id}/marker.json", marker(MarkerFile::kJson));
   router.add(
       V::get, "/api/items/{id}/measurements.vit",
       patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,

@@ -224,7 +224,10 @@ function applyStatus(s) {
   // say so once, and turn off every control that would only fail.
   const readOnly = st.read_only === true;
   document.body.classList.toggle('read-only', readOnly);
-  for (const id of WRITE_CONTROLS) { const el = $('#' + id); if (el) el.disabled = readOnly; }
+  for (const id of WRITE_CONTROLS) {
+    const el = $('#' + id);
+    if (el) el.disabled = readOnly || el.closest('[aria-busy="true"]') !== null;
+  }
   $('#btn-capture').disabled = readOnly || !st.calibrated || cam.open === false || state === 'error' || state === 'stopping';
   $('#btn-empty').disabled = readOnly || cam.open === false || state === 'stopping';
   $('#btn-capture').textContent = busy ? 'Capturing…' : 'Capture garment';
@@ -438,8 +441,19 @@ function tileLink(it, src) {
 }
 
 // --- item page ------------------------------------------------------------------------------
+// While an item loads its form is off: whatever staff typed before the item arrived would be
+// overwritten by the stored values (and a save would go to the item shown before).
+function setItemFormLoading(loading) {
+  const form = $('#item-form');
+  form.setAttribute('aria-busy', loading ? 'true' : 'false');
+  const readOnly = document.body.classList.contains('read-only');
+  for (const c of form.querySelectorAll('input, select, textarea, button')) {
+    c.disabled = loading || (readOnly && WRITE_CONTROLS.includes(c.id));
+  }
+}
 async function loadItem(id) {
   let it;
+  setItemFormLoading(true);
   try { it = await api('GET', '/api/items/' + id); } catch (e) {
     toast(e.status === 404 ? 'Item ' + id + ' does not exist (deleted?).' : e.message, true);
     location.hash = '#/catalog';
@@ -464,7 +478,6 @@ async function loadItem(id) {
   $('#f-print').checked = a.pattern === 'print';
   $('#f-sleeve-field').hidden = !(it.type === 'top' || it.type === 'dress');
   $('#f-skirt-field').hidden = !(it.type === 'skirt' || it.type === 'dress');
-  loadMeasurementEditor(it);
   loadTape(it);
   $('#f-approve').hidden = it.status === 'approved';
   $('#f-reject').hidden = it.status === 'rejected';
@@ -496,6 +509,8 @@ async function loadItem(id) {
   sel.value = ui.itemSize;
   showPattern();
   loadSizeGuide(it);
+  await loadMeasurementEditor(it);
+  setItemFormLoading(false);
 }
 function showPhoto() {
   const it = ui.item;
@@ -519,11 +534,16 @@ function showPattern() {
   img.onerror = () => $('#panels').replaceChildren(el('span', { class: 'muted', text: 'The pattern cannot be drawn in this build.' }));
   $('#panels').replaceChildren(img);
   const links = [
-    ['DXF-AAMA', '/pattern.dxf' + q], ['PDF A4 tiled', '/pattern.pdf' + q], ['SVG 1:1', '/pattern.svg' + q],
-    ['GarmentCode', '/garmentcode.json' + q], ['Valentina .vit', '/measurements.vit'],
+    ['DXF-AAMA', '/pattern.dxf' + q], ['PDF A4 tiled', '/pattern.pdf' + q],
+    ['PDF Letter tiled', '/pattern.pdf' + q + '&paper=letter'], ['PDF A0', '/pattern.pdf' + q + '&paper=a0'],
+    ['SVG 1:1', '/pattern.svg' + q], ['GarmentCode', '/garmentcode.json' + q], ['Valentina .vit', '/measurements.vit'],
+    // This size's pieces laid on 150 cm fabric (the API takes other widths and several sizes).
+    ['Marker 150 cm PDF', '/marker.pdf?sizes=' + encodeURIComponent(size)],
   ];
   if (it.sizes.filter((s) => s !== 'base').length >= 2)
-    links.push(['Graded DXF', '/pattern_graded.dxf'], ['Grade rules .RUL', '/pattern_graded.rul']);
+    links.push(['Graded DXF', '/pattern_graded.dxf'], ['Grade rules .RUL', '/pattern_graded.rul'],
+      ['Nested grading SVG', '/nested_grading.svg'], ['Nested grading PDF', '/nested_grading.pdf'],
+      ['Nested grading DXF', '/nested_grading.dxf']);
   $('#pattern-links').replaceChildren(...links.map(([t, p]) =>
     el('a', { class: 'btn small secondary', href: base + p, download: '', text: t, onclick: download })));
 }

@@ -23,37 +23,42 @@ void DxfR12::xy(const Point2& pCm, int cx) {
 }
 
 DxfR12::DxfR12(const std::vector<DxfLayer>& layers) {
-  code(0, "SECTION");
-  code(2, "HEADER");
+  headerAndTables(layers, true);
+  beginSection("ENTITIES");
+}
+
+void DxfR12::headerAndTables(const std::vector<DxfLayer>& layers, bool withLinetypes) {
+  beginSection("HEADER");
   code(9, "$ACADVER");
   code(1, "AC1009");
   code(9, "$INSUNITS");
   code(70, "4");  // millimetres
   code(9, "$MEASUREMENT");
-  code(70, "1");
-  code(0, "ENDSEC");
-  code(0, "SECTION");
-  code(2, "TABLES");
-  code(0, "TABLE");
-  code(2, "LTYPE");
-  code(70, "2");
-  code(0, "LTYPE");
-  code(2, "CONTINUOUS");
-  code(70, "0");
-  code(3, "Solid line");
-  code(72, "65");
-  code(73, "0");
-  code(40, "0.0");
-  code(0, "LTYPE");
-  code(2, "DASHED");
-  code(70, "0");
-  code(3, "__ __ __");
-  code(72, "65");
-  code(73, "2");
-  code(40, "7.5");
-  code(49, "5.0");
-  code(49, "-2.5");
-  code(0, "ENDTAB");
+  code(70, "1");  // metric
+  endSection();
+  beginSection("TABLES");
+  if (withLinetypes) {
+    code(0, "TABLE");
+    code(2, "LTYPE");
+    code(70, "2");
+    code(0, "LTYPE");
+    code(2, "CONTINUOUS");
+    code(70, "0");
+    code(3, "Solid line");
+    code(72, "65");
+    code(73, "0");
+    code(40, "0.0");
+    code(0, "LTYPE");
+    code(2, "DASHED");
+    code(70, "0");
+    code(3, "__ __ __");
+    code(72, "65");
+    code(73, "2");
+    code(40, "7.5");
+    code(49, "5.0");
+    code(49, "-2.5");
+    code(0, "ENDTAB");
+  }
   code(0, "TABLE");
   code(2, "LAYER");
   code(70, std::to_string(layers.size()));
@@ -65,9 +70,16 @@ DxfR12::DxfR12(const std::vector<DxfLayer>& layers) {
     code(6, l.linetype);
   }
   code(0, "ENDTAB");
-  code(0, "ENDSEC");
+  endSection();
+}
+
+void DxfR12::beginSection(const std::string& name) {
   code(0, "SECTION");
-  code(2, "ENTITIES");
+  code(2, name);
+}
+
+void DxfR12::endSection() {
+  code(0, "ENDSEC");
 }
 
 void DxfR12::polyline(const std::string& layer, const Polyline& pts, bool closed) {
@@ -87,6 +99,12 @@ void DxfR12::polyline(const std::string& layer, const Polyline& pts, bool closed
   code(8, layer);
 }
 
+void DxfR12::point(const std::string& layer, const Point2& at) {
+  code(0, "POINT");
+  code(8, layer);
+  xy(at, 10);
+}
+
 void DxfR12::line(const std::string& layer, const Point2& a, const Point2& b) {
   code(0, "LINE");
   code(8, layer);
@@ -104,7 +122,7 @@ void DxfR12::text(const std::string& layer, const Point2& at, double heightMm,
 }
 
 std::string DxfR12::finish() {
-  code(0, "ENDSEC");
+  endSection();
   code(0, "EOF");
   return std::move(out_);
 }

@@ -1,7 +1,9 @@
 #pragma once
-// Private: a minimal DXF R12 (AC1009) writer in mm with y up for the drawings that are not
-// DXF-AAMA pattern files (nested grading, markers): named coloured layers, closed or open
-// POLYLINEs, LINEs and TEXTs in the ENTITIES section.
+// Private: the DXF R12 (AC1009) group-code writer in mm with y up that every DXF of drafts/
+// shares. Drawings that are not pattern files (nested grading, markers) take the whole file from
+// it: header, line types and named coloured layers, then POLYLINEs, LINEs and TEXTs in the
+// ENTITIES section. DXF-AAMA pattern files (export_dxf_aama.cpp) use its header, layer table,
+// entities and group codes, and write their BLOCKS section themselves.
 
 #include <string>
 #include <vector>
@@ -19,16 +21,33 @@ struct DxfLayer {
 class DxfR12 {
  public:
   /// Points are given in pattern cm with y down and written as mm with y up.
+  /// A drawing: the header and tables (with the CONTINUOUS and DASHED line types), then the
+  /// ENTITIES section opened.
   explicit DxfR12(const std::vector<DxfLayer>& layers);
+  /// Nothing written yet: the caller writes the sections (headerAndTables, then its own).
+  DxfR12() = default;
+
+  /// The HEADER section (AC1009, millimetres, metric) and the TABLES section: the LTYPE table
+  /// defining CONTINUOUS and DASHED when `withLinetypes`, then the LAYER table of `layers`.
+  void headerAndTables(const std::vector<DxfLayer>& layers, bool withLinetypes);
+  /// "0 SECTION 2 <name>" and "0 ENDSEC".
+  void beginSection(const std::string& name);
+  void endSection();
+
   void polyline(const std::string& layer, const Polyline& ptsCm, bool closed);
   void line(const std::string& layer, const Point2& aCm, const Point2& bCm);
+  void point(const std::string& layer, const Point2& atCm);
   void text(const std::string& layer, const Point2& atCm, double heightMm, const std::string& s);
-  /// Closes the ENTITIES section and the file.
+
+  /// One group: the code right-aligned in 3 columns, CR LF, the value, CR LF.
+  void code(int c, const std::string& v);
+  /// A point as the groups cx, cx + 10, cx + 20 (x, y, z = 0) in mm with y up.
+  void xy(const Point2& pCm, int cx = 10);
+
+  /// Closes the open (ENTITIES) section and the file.
   std::string finish();
 
  private:
-  void code(int c, const std::string& v);
-  void xy(const Point2& pCm, int cx);
   std::string out_;
 };
 

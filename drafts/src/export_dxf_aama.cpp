@@ -1,10 +1,10 @@
 // DXF-AAMA / ASTM D6673 writer (R12 group codes): one size or a graded run in one file.
 #include "garmcap/drafts/export_dxf_aama.h"
 
-#include <cstdio>
 #include <map>
 #include <set>
 
+#include "dxf_r12.h"
 #include "export_util.h"
 #include "garmcap/drafts/panel_edges.h"
 #include "garmcap/drafts/seam_allowance.h"
@@ -12,95 +12,21 @@
 namespace garmcap::drafts {
 namespace {
 
-using detail::asciiText;
 using detail::blockName;
 using detail::Box;
 using detail::fixed;
 using detail::inwardNormal;
 using detail::panelBox;
 
-// ---------------------------------------------------------------------------------------------
-// DXF writer (R12 group codes).
-class Dxf {
- public:
-  void code(int c, const std::string& v) {
-    char buf[8];
-    std::snprintf(buf, sizeof buf, "%3d", c);
-    out_ += buf;
-    out_ += "\r\n";
-    out_ += v;
-    out_ += "\r\n";
-  }
-  void xy(const Point2& pCm, int cx = 10) {
-    code(cx, fixed(pCm.x() * 10.0));
-    code(cx + 10, fixed(-pCm.y() * 10.0));
-    code(cx + 20, "0.0");
-  }
-  void text(const std::string& layer, const Point2& at, double heightMm, const std::string& s) {
-    code(0, "TEXT");
-    code(8, layer);
-    xy(at);
-    code(40, fixed(heightMm, 2));
-    code(1, asciiText(s));
-  }
-  void point(const std::string& layer, const Point2& at) {
-    code(0, "POINT");
-    code(8, layer);
-    xy(at);
-  }
-  void line(const std::string& layer, const Point2& a, const Point2& b) {
-    code(0, "LINE");
-    code(8, layer);
-    xy(a, 10);
-    xy(b, 11);
-  }
-  void polyline(const std::string& layer, const Polyline& pts, bool closed) {
-    code(0, "POLYLINE");
-    code(8, layer);
-    code(66, "1");
-    code(10, "0.0");
-    code(20, "0.0");
-    code(30, "0.0");
-    code(70, closed ? "1" : "0");
-    for (const auto& p : pts) {
-      code(0, "VERTEX");
-      code(8, layer);
-      xy(p);
-    }
-    code(0, "SEQEND");
-    code(8, layer);
-  }
-  std::string& str() { return out_; }
+using Dxf = detail::DxfR12;
 
- private:
-  std::string out_;
-};
-
+// The header and the layer table of a DXF-AAMA file: the AAMA/ASTM layer numbers. No LTYPE
+// table: every layer is CONTINUOUS, which R12 readers know without one (ezdxf audits clean).
 void dxfHeader(Dxf& d) {
-  d.code(0, "SECTION");
-  d.code(2, "HEADER");
-  d.code(9, "$ACADVER");
-  d.code(1, "AC1009");
-  d.code(9, "$INSUNITS");
-  d.code(70, "4");  // millimetres
-  d.code(9, "$MEASUREMENT");
-  d.code(70, "1");  // metric
-  d.code(0, "ENDSEC");
-  d.code(0, "SECTION");
-  d.code(2, "TABLES");
-  d.code(0, "TABLE");
-  d.code(2, "LAYER");
-  const std::vector<std::string> layers = {"1", "2", "3", "4", "6", "7", "8", "13", "14", "15"};
-  d.code(70, std::to_string(layers.size()));
-  for (const auto& l : layers) {
-    d.code(0, "LAYER");
-    d.code(2, l);
-    d.code(70, "0");
-    d.code(62, "7");
-    d.code(6, "CONTINUOUS");
-  }
-  d.code(0, "ENDTAB");
-  d.code(0, "ENDSEC");
+  std::vector<detail::DxfLayer> layers;
+  for (const char* l : {"1", "2", "3", "4", "6", "7", "8", "13", "14", "15"})
+    layers.push_back({l, 7, "CONTINUOUS"});
+  d.headerAndTables(layers, false);
 }
 
 // One piece of one size as a BLOCK. `ruleAt` (outline index -> rule number, empty but in the
@@ -195,20 +121,16 @@ std::string patternDxf(const Pattern& pattern, const PieceText& text) {
   detail::checkPattern<DxfExportError>(pattern);
   Dxf d;
   dxfHeader(d);
-  d.code(0, "SECTION");
-  d.code(2, "BLOCKS");
+  d.beginSection("BLOCKS");
   for (const auto& p : pattern.panels)
     dxfPieceBlock(d, pattern, p, text.size, text, turnPointIndices(p, pattern), {}, false);
-  d.code(0, "ENDSEC");
-  d.code(0, "SECTION");
-  d.code(2, "ENTITIES");
+  d.endSection();
+  d.beginSection("ENTITIES");
   dxfStyleText(d, {kAstmVersionLine, "Style Name: " + text.style, "Units: METRIC",
                    "Size: " + text.size, "Author: GarmCap Station"});
   for (const auto& p : pattern.panels)
     dxfInsert(d, blockName(p.name, text.size));
-  d.code(0, "ENDSEC");
-  d.code(0, "EOF");
-  return std::move(d.str());
+  return d.finish();
 }
 
 std::string gradedDxf(const GradedRun& run) {
@@ -221,8 +143,7 @@ std::string gradedDxf(const GradedRun& run) {
   const auto& sample = run.patterns[si];
   Dxf d;
   dxfHeader(d);
-  d.code(0, "SECTION");
-  d.code(2, "BLOCKS");
+  d.beginSection("BLOCKS");
   // Rules numbered as the RUL numbers them: pieces in order, grade points ascending.
   int rule = 1;
   std::vector<std::vector<int>> turnsPerPanel;
@@ -240,9 +161,8 @@ std::string gradedDxf(const GradedRun& run) {
       dxfPieceBlock(d, run.patterns[s], run.patterns[s].panels[i], run.sizes[s], text,
                     turnsPerPanel[i], s == si ? rulesPerPanel[i] : std::map<int, int>{}, s == si);
   }
-  d.code(0, "ENDSEC");
-  d.code(0, "SECTION");
-  d.code(2, "ENTITIES");
+  d.endSection();
+  d.beginSection("ENTITIES");
   std::string list;
   for (const auto& s : run.sizes)
     list += (list.empty() ? "" : " ") + s;
@@ -253,9 +173,7 @@ std::string gradedDxf(const GradedRun& run) {
   for (size_t s = 0; s < run.sizes.size(); ++s)
     for (const auto& p : run.patterns[s].panels)
       dxfInsert(d, blockName(p.name, run.sizes[s]));
-  d.code(0, "ENDSEC");
-  d.code(0, "EOF");
-  return std::move(d.str());
+  return d.finish();
 }
 
 }  // namespace garmcap::drafts

@@ -150,6 +150,19 @@ Marker layMarker(const std::vector<SizedPattern>& sizes, const MarkerOptions& op
       }
     }
   }
+  // Turning by 180 degrees keeps a piece's extent across the grain: one wider than the fabric
+  // cannot be laid at all. Said here, where the piece has its name (the nester knows rings).
+  for (const auto& p : pieces) {
+    double minY = 1e300, maxY = -1e300;
+    for (const auto& q : p.cutLine) {
+      minY = std::min(minY, q.y());
+      maxY = std::max(maxY, q.y());
+    }
+    if (maxY - minY > options.fabricWidthCm)
+      throw MarkerError("marker: panel '" + p.panel + "' of size " + p.size + " is " +
+                        fixed(maxY - minY, 2) + " cm across the grain, wider than the fabric (" +
+                        fixed(options.fabricWidthCm, 1) + " cm)");
+  }
   std::vector<detail::NestRing> rings;
   for (const auto& p : pieces) {
     detail::NestRing r;
@@ -322,6 +335,25 @@ std::string markerPdf(const Marker& m, const std::string& title) {
   detail::PdfDocument doc;
   doc.addPage(w, h, cs.str());
   return doc.bytes(title);
+}
+
+nlohmann::json markerSummaryJson(const Marker& m, const std::string& title) {
+  nlohmann::json pieces = nlohmann::json::array();
+  for (const auto& p : m.pieces)
+    pieces.push_back({{"panel", p.panel},
+                      {"size", p.size},
+                      {"mirrored", p.mirrored},
+                      {"unfolded", p.unfolded},
+                      {"turned", p.turned},
+                      {"area_cm2", p.areaCm2}});
+  return {{"title", title},
+          {"fabric_width_cm", m.widthCm},
+          {"length_cm", m.lengthCm},
+          {"piece_area_cm2", m.pieceAreaCm2},
+          {"efficiency", m.efficiency},
+          {"sizes", sizesOf(m)},
+          {"piece_count", m.pieces.size()},
+          {"pieces", pieces}};
 }
 
 std::string markerDxf(const Marker& m) {

@@ -284,6 +284,33 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
     const Point2 topV = s->outline[static_cast<std::size_t>(m.vertex(*s, "sleeve_cap_top"))];
     const double hemY = m.point("level_sleeve_hem").y();
     out["sleeve_length"] = hemY - topV.y();
+    // A cap sleeve (no underarm seam) ends on the cap: its cap is the part from hem to hem
+    // over the top, and its ease is what that part eases into the armhole it is sewn to.
+    const bool capOnly =
+        std::none_of(pattern.seams.begin(), pattern.seams.end(),
+                     [](const SeamPair& x) { return x.name == "sleeve_underarm"; });
+    if (capOnly) {
+      out["sleeve_cap_length"] = m.along("sleeve", "sleeve_hem_front", "sleeve_cap_top") +
+                                 m.along("sleeve", "sleeve_cap_top", "sleeve_hem_back");
+      const int top = m.vertex(*s, "sleeve_cap_top");
+      const int hf = m.vertex(*s, "sleeve_hem_front"), hb = m.vertex(*s, "sleeve_hem_back");
+      // The hem is the edge between the hem corners that does not pass over the cap top.
+      const EdgeRef fwd{s->name, hb, hf}, bwd{s->name, hf, hb};
+      const int n = static_cast<int>(s->outline.size());
+      const bool fwdHasTop = (top - hb + n) % n < (hf - hb + n) % n;
+      out["sleeve_hem_circ"] = sewnEdgeLength(*s, fwdHasTop ? bwd : fwd);
+      double armholeSewn = 0;
+      bool sewn = false;
+      for (const auto& x : pattern.seams) {
+        if (x.name.rfind("armhole", 0) == 0 && x.b.panel == "sleeve") {
+          armholeSewn += sewnEdgeLength(pattern.panel(x.a.panel), x.a);
+          sewn = true;
+        }
+      }
+      if (sewn)
+        out["sleeve_cap_ease"] = out["sleeve_cap_length"] - armholeSewn;
+      return out;
+    }
     out["sleeve_cap_length"] = m.along("sleeve", "sleeve_underarm_front", "sleeve_cap_top") +
                                m.along("sleeve", "sleeve_cap_top", "sleeve_underarm_back");
     out["sleeve_biceps_circ"] =

@@ -93,9 +93,15 @@ struct SleeveOptions {
 
 struct SleeveDraft {
   Point2 top, underFront, underBack, hemFront, hemBack;
-  Polyline capFront;  // underFront -> top
-  Polyline capBack;   // top -> underBack
-  double easeFront = 0, easeBack = 0;
+  Polyline capFront;  // underFront -> top (cap sleeve: hemFront -> top, the part that is cut)
+  Polyline capBack;   // top -> underBack (cap sleeve: top -> hemBack)
+  double easeFront = 0, easeBack = 0;        // cap ease of the whole cap, front and back halves
+  double capFrontFull = 0, capBackFull = 0;  // lengths of the whole drafted cap halves
+  // Cap sleeve: the sleeve ends at or above the underarm (no underarm seam); the hem is the
+  // straight line hemBack -> hemFront across the cap, drawn through two inner points so the
+  // outline has the same vertex count as a sleeve with an underarm seam (DSW regions).
+  bool capOnly = false;
+  Polyline hemLine;  // hemBack -> hemFront (2 points, 4 for a cap sleeve)
 };
 
 SleeveDraft draftSleeve(DraftBuilder& b, const SleeveOptions& o);

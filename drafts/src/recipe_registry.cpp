@@ -1,5 +1,6 @@
 // The garment types, their required measurements and design parameters, input validation, and
 // the dispatch to the recipe functions (recipe_*.cpp).
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -36,8 +37,9 @@ DesignParameter hemFlare(double dflt, double lo, double hi) {
 std::vector<DesignParameter> sleeveParams(double capEase, double lengthDefault, double lengthMin,
                                           double wristEase) {
   return {{"sleeve_length", lengthDefault, lengthMin, 1.1,
-           "sleeve length as a fraction of arm_shoulder_tip_to_wrist: 0 = sleeveless, ~0.3 = "
-           "short, 1 = long (to the wrist)"},
+           "sleeve length as a fraction of arm_shoulder_tip_to_wrist: 0 = sleeveless; up to the "
+           "cap height (~0.25) a cap sleeve, cut across the cap; ~0.3 = short; 1 = long (to the "
+           "wrist); at least 2 cm"},
           {"sleeve_cap_ease", capEase, 0, 6,
            "cm the sleeve cap is longer than the armhole it is set into (eased in)"},
           {"ease_wrist", wristEase, 0, 40,
@@ -97,9 +99,11 @@ std::vector<GarmentTypeInfo> buildTypes() {
         easeHip(4, 0, 20),
         {"pants_length", 0.96, 0.3, 1.05,
          "trouser length from the waist as a fraction of leg_waist_side_to_floor"},
+        // Bunka's test vector (research/drafting_blocks.md §5.1): hemHalf 10.5 at H 90.
         {"hem_width", 21, 12, 50,
-         "front leg hem width, cm (back is 2 cm wider); grows with the hip when graded",
-         "hip_circ"},
+         "front leg hem width, cm (back is 2 cm wider); default 21 x hip_circ / 90 (Bunka's "
+         "21 at hip 90), and grows with the hip when graded",
+         "hip_circ", 90},
         seamAllowance()}});
   {
     GarmentTypeInfo s{"sleeve",
@@ -108,7 +112,7 @@ std::vector<GarmentTypeInfo> buildTypes() {
                       {"bust_circ", "waist_circ", "neck_back_to_waist_b",
                        "arm_shoulder_tip_to_wrist", "arm_wrist_circ"},
                       {easeBust(12, 4, 30), easeWaist(6, 0, 30)}};
-    for (auto& p : sleeveParams(3, 1.0, 0.2, 8))
+    for (auto& p : sleeveParams(3, 1.0, 0.04, 8))
       s.design.push_back(p);
     s.design.push_back(seamAllowance());
     t.push_back(s);
@@ -234,6 +238,11 @@ Pattern draftGarment(const std::string& type, const Measurements& body,
     p.measurements.set(name, body.get(name));
   for (const auto& d : info.design) {
     p.design[d.name] = d.defaultValue;
+    // A width designed for a reference body grows with this one (hem_width with the hip).
+    if (d.gradesFrom > 0 && !d.gradesWith.empty()) {
+      if (auto v = body.find(d.gradesWith))
+        p.design[d.name] = std::clamp(d.defaultValue * *v / d.gradesFrom, d.minValue, d.maxValue);
+    }
     // A design value the body chart also carries (skirt_length: seed table 4.2 lists it as a
     // primary body size) defaults to the body's value, so size runs grade it like the seed.
     if (auto v = body.find(d.name); v && !design.count(d.name)) {

@@ -1,8 +1,11 @@
 // Bunka set-in sleeve (research/drafting_blocks.md §4.1) with the cap fitted to the armhole
 // the way FreeSewing's Brian does it (§4.4): the front and back slant lengths are solved so
 // that each half of the cap is its armhole length plus its share of the cap ease.
+#include <algorithm>
 #include <cmath>
+#include <map>
 
+#include "garmcap/drafts/panel_measure.h"
 #include "recipe_blocks.h"
 #include "recipe_list.h"
 
@@ -89,6 +92,118 @@ std::optional<double> solveSlant(F capOf, double lo, double hi, double target) {
   return (lo + hi) / 2;
 }
 
+// Shortest sleeve drafted (cm from the cap top); anything shorter is no sleeve.
+constexpr double kMinSleeveCm = 2.0;
+// An underarm seam shorter than this is not sewn: such a sleeve is drafted as a cap sleeve
+// ending at the underarm (its length is then short of the request by less than this).
+constexpr double kMinUnderarmSeamCm = 0.1;
+
+// The part of a half cap running from its underarm end to the cap top (`cap` from the
+// underarm to the top) that lies above y = yHem: from the last crossing of that level to the
+// top. std::nullopt when the cap never reaches the level.
+std::optional<Polyline> capAbove(const Polyline& cap, double yHem) {
+  for (std::size_t i = cap.size() - 1; i > 0; --i) {
+    const Point2& lo = cap[i - 1];  // nearer the underarm
+    const Point2& hi = cap[i];
+    if (lo.y() >= yHem && hi.y() <= yHem) {
+      const double span = lo.y() - hi.y();
+      const double f = span > 1e-12 ? (lo.y() - yHem) / span : 0.0;
+      Polyline part{lo + f * (hi - lo)};
+      for (std::size_t k = i; k < cap.size(); ++k)
+        append(part, cap[k]);
+      if (part.size() < 2)
+        return std::nullopt;
+      return part;
+    }
+  }
+  return std::nullopt;
+}
+
+// Puts a corner on the edge from -> to of `panelName` at sewn arc length `s` from `from`
+// (dart openings in the edge are skipped, as sewnEdgeLength does) and returns it; the panel's
+// own draft region gets the same outline. The run of free vertices between two fixed ones
+// (the edge's ends, dart legs and apex) that holds the point is resampled along itself so that
+// the point is the run's middle vertex: the vertex count stays that of a sleeved bodice, and
+// the corner has the same index in every size, so DSW grading finds the seam's end where the
+// target draft put it. A point within kSnapCm of a fixed vertex is that vertex (no sliver
+// edges). std::nullopt when the edge is shorter than `s` or the run has no free vertex.
+std::optional<Point2> markOnEdge(Pattern& p, const std::string& panelName, const Point2& from,
+                                 const Point2& to, double s) {
+  constexpr double kSnapCm = 0.15;
+  Panel* panel = nullptr;
+  for (auto& x : p.panels)
+    panel = x.name == panelName ? &x : panel;
+  if (!panel)
+    return std::nullopt;
+  const EdgeRef e = shortEdge(*panel, from, to);
+  const int n = static_cast<int>(panel->outline.size());
+  std::vector<int> idx;
+  for (int i = e.from;; i = (i + 1) % n) {
+    idx.push_back(i);
+    if (i == e.to)
+      break;
+  }
+  if (e.from != vertexIndex(*panel, from))
+    std::reverse(idx.begin(), idx.end());
+  auto at = [&](std::size_t k) -> Point2& {
+    return panel->outline[static_cast<std::size_t>(idx[k])];
+  };
+  auto isDartVertex = [&](const Point2& v) {
+    for (const auto& d : panel->darts) {
+      if ((v - d.leg1).norm() < 1e-6 || (v - d.leg2).norm() < 1e-6 || (v - d.apex).norm() < 1e-6)
+        return true;
+    }
+    return false;
+  };
+  auto fixed = [&](std::size_t k) { return k == 0 || k + 1 == idx.size() || isDartVertex(at(k)); };
+  double walked = 0;
+  std::size_t k = 0;
+  while (k + 1 < idx.size()) {
+    // A dart opening (leg, apex, leg) is closed when sewn: no length.
+    if (k + 2 < idx.size() && isDartVertex(at(k)) && isDartVertex(at(k + 1)) &&
+        isDartVertex(at(k + 2))) {
+      k += 2;
+      continue;
+    }
+    // The run from fixed vertex k to the next fixed vertex.
+    std::size_t end = k + 1;
+    while (!fixed(end))
+      ++end;
+    Polyline run;
+    for (std::size_t j = k; j <= end; ++j)
+      run.push_back(at(j));
+    const double len = polylineLength(run);
+    if (walked + len < s - 1e-9) {
+      walked += len;
+      k = end;
+      continue;
+    }
+    const double sr = s - walked;
+    if (sr < kSnapCm)
+      return at(k);
+    if (len - sr < kSnapCm)
+      return at(end);
+    if (end - k < 2)
+      return std::nullopt;  // no free vertex to put the corner on
+    const std::size_t mid = k + (end - k) / 2;
+    const Polyline first = resample(subPolyline(run, 0, sr), static_cast<int>(mid - k + 1));
+    const Polyline second = resample(subPolyline(run, sr, len), static_cast<int>(end - mid + 1));
+    std::map<int, Point2> moved;  // outline index -> new position
+    for (std::size_t j = 1; j < first.size(); ++j)
+      moved[idx[k + j]] = first[j];
+    for (std::size_t j = 1; j + 1 < second.size(); ++j)
+      moved[idx[mid + j]] = second[j];
+    for (const auto& [i, q] : moved)
+      panel->outline[static_cast<std::size_t>(i)] = q;
+    for (auto& r : p.regions) {
+      if (r.name == panelName && r.polygon.size() == panel->outline.size())
+        r.polygon = panel->outline;
+    }
+    return at(mid);
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 double bunkaCapHeight(const BodiceDraft& d, double factor) {
@@ -117,23 +232,54 @@ SleeveDraft draftSleeve(DraftBuilder& b, const SleeveOptions& o) {
   s.top = T;
   s.underFront = b.point("sleeve_underarm_front", s.capFront.front());
   s.underBack = b.point("sleeve_underarm_back", s.capBack.back());
-  // Body of the sleeve: seams straight from the underarm points to the wrist points of a full
-  // sleeve, hem centred between the underarm points so both seams have the same length.
+  s.capFrontFull = polylineLength(s.capFront);
+  s.capBackFull = polylineLength(s.capBack);
   const double full = o.armLength;
   const double len = o.lengthFactor * full;
-  b.require(len > h + 2, "sleeve_length " + std::to_string(o.lengthFactor) +
-                             " gives a sleeve shorter than its cap (use 0 for sleeveless)");
+  b.require(len >= kMinSleeveCm, "sleeve_length " + std::to_string(o.lengthFactor) +
+                                     " gives a sleeve of " + std::to_string(len) +
+                                     " cm, shorter than " + std::to_string(kMinSleeveCm) +
+                                     " cm (use 0 for sleeveless)");
   const double xc = (s.underFront.x() + s.underBack.x()) / 2;
+  s.capOnly = len < h + kMinUnderarmSeamCm;
+  // A cap sleeve ends at the requested level, or at the underarm when the request lies less
+  // than kMinUnderarmSeamCm below it.
+  const double depth = s.capOnly ? std::min(len, h) : len;
+  b.point("level_sleeve_hem", Point2(xc, T.y() + depth));
+  b.construction("sleeve_centre_line", T, Point2(T.x(), T.y() + depth));
+  b.construction("sleeve_biceps_line", s.underFront, s.underBack);
+  b.construction("sleeve_front_slant", T, s.underFront);
+  b.construction("sleeve_back_slant", T, s.underBack);
+  if (s.capOnly) {
+    // Cap sleeve: the block's cap cut by the horizontal hem line; the cap halves keep their
+    // vertex count (resampled), the lower cap stays in the draft as a construction line.
+    const double yHem = T.y() + depth;
+    b.construction("sleeve_cap_front_full", s.capFront);
+    b.construction("sleeve_cap_back_full", s.capBack);
+    const auto front = capAbove(s.capFront, yHem);
+    const auto back = capAbove(reversed(s.capBack), yHem);
+    b.require(front && back, "sleeve cap does not reach the hem level of a " + std::to_string(len) +
+                                 " cm cap sleeve");
+    s.capFront = resample(*front, kCapCount);
+    s.capBack = reversed(resample(*back, kCapCount));
+    s.hemFront = b.point("sleeve_hem_front", s.capFront.front());
+    s.hemBack = b.point("sleeve_hem_back", s.capBack.back());
+    s.hemLine = divideSegment(s.hemBack, s.hemFront, 3);
+    b.contour("sleeve_cap_front", s.capFront);
+    b.contour("sleeve_cap_back", s.capBack);
+    b.contour("sleeve_hem", s.hemLine);
+    return s;
+  }
+  // Body of the sleeve: seams straight from the underarm points to the wrist points of a full
+  // sleeve, hem centred between the underarm points so both seams have the same length. A
+  // shorter sleeve is this block cut at its length: the seams shorten and the hem is the
+  // block's width at that level.
   const double hw = o.wristOpening / 2;
   const Point2 wristF(xc - hw, T.y() + full), wristB(xc + hw, T.y() + full);
   const double t = (len - h) / (full - h);
   s.hemFront = b.point("sleeve_hem_front", pointAtFraction(s.underFront, wristF, t));
   s.hemBack = b.point("sleeve_hem_back", pointAtFraction(s.underBack, wristB, t));
-  b.point("level_sleeve_hem", Point2(xc, T.y() + len));
-  b.construction("sleeve_centre_line", T, Point2(T.x(), T.y() + len));
-  b.construction("sleeve_biceps_line", s.underFront, s.underBack);
-  b.construction("sleeve_front_slant", T, s.underFront);
-  b.construction("sleeve_back_slant", T, s.underBack);
+  s.hemLine = Polyline{s.hemBack, s.hemFront};
   const double yElbow = T.y() + full / 2 + 2.5;
   if (yElbow < T.y() + len) {
     b.construction(
@@ -158,27 +304,64 @@ void addSleevePanel(DraftBuilder& b, const SleeveDraft& s, const std::string& bo
   Pattern& p = b.pattern();
   Polyline out;
   append(out, s.capBack);
-  append(out, Polyline{s.hemBack, s.hemFront});
+  append(out, s.hemLine);
   append(out, s.capFront);
   Panel panel = makePanel("sleeve", out);
   panel.cutCount = 2;
   panel.cutOnFold = false;
-  panel.grainline = grainline(s.top + Point2(0, 2), Point2(s.top.x(), s.hemFront.y() - 2));
+  const double hemY = std::max(s.hemFront.y(), s.hemBack.y());
+  panel.grainline = s.capOnly ? grainline(s.top, Point2(s.top.x(), hemY))
+                              : grainline(s.top + Point2(0, 2), Point2(s.top.x(), hemY - 2));
   panel.notches.push_back(Notch{"cap_top", s.top});
-  panel.notches.push_back(Notch{
-      "armhole_front", pointAlong(s.capFront, 7 + s.easeFront * 7 / polylineLength(s.capFront))});
-  panel.notches.push_back(
-      Notch{"armhole_back", pointAlong(s.capBack, polylineLength(s.capBack) - 8 -
-                                                      s.easeBack * 8 / polylineLength(s.capBack))});
+  // Armhole notches at their places on the whole cap (7 cm above the front underarm, 8 cm above
+  // the back one, plus the ease); a cap sleeve keeps those that lie on its part of the cap.
+  const double cutFront = s.capFrontFull - polylineLength(s.capFront);
+  const double cutBack = s.capBackFull - polylineLength(s.capBack);
+  const double notchFront = 7 + s.easeFront * 7 / s.capFrontFull - cutFront;
+  const double notchBack =
+      polylineLength(s.capBack) - (8 + s.easeBack * 8 / s.capBackFull - cutBack);
+  if (notchFront > 0.5)
+    panel.notches.push_back(Notch{"armhole_front", pointAlong(s.capFront, notchFront)});
+  if (notchBack < polylineLength(s.capBack) - 0.5)
+    panel.notches.push_back(Notch{"armhole_back", pointAlong(s.capBack, notchBack)});
   addPanelWithRegion(p, panel);
-  addSeam(p, "sleeve_underarm", "sleeve", s.underFront, s.hemFront, "sleeve", s.underBack,
-          s.hemBack);
-  if (!bodiceBack.empty()) {
+  if (!s.capOnly) {
+    addSeam(p, "sleeve_underarm", "sleeve", s.underFront, s.hemFront, "sleeve", s.underBack,
+            s.hemBack);
+  }
+  if (bodiceBack.empty())
+    return;
+  if (!s.capOnly) {
     addSeam(p, "armhole_back", bodiceBack, backArmholeFrom, backArmholeTo, "sleeve", s.top,
             s.underBack, s.easeBack, true);
     addSeam(p, "armhole_front", bodiceFront, frontArmholeFrom, frontArmholeTo, "sleeve", s.top,
             s.underFront, s.easeFront, true);
+    return;
   }
+  // Cap sleeve: each part of the cap is sewn to the armhole from the shoulder down, easing in
+  // its share of the cap ease (the whole cap's ease in proportion to length); the armhole
+  // below it is finished on its own. The bodice gets a corner where the sleeve ends.
+  auto sewPart = [&](const std::string& seam, const std::string& bodice, const Point2& from,
+                     const Point2& to, const Polyline& part, double fullCap,
+                     const Point2& sleeveEnd) {
+    const Panel& bp = p.panel(bodice);
+    const double armhole = sewnEdgeLength(bp, shortEdge(bp, from, to));
+    const double partLen = polylineLength(part);
+    const double onBodice = partLen * armhole / fullCap;
+    const auto mark = markOnEdge(p, bodice, from, to, onBodice);
+    b.require(mark.has_value(), "no corner of '" + bodice + "' can end the cap sleeve's " + seam +
+                                    " seam " + std::to_string(onBodice) + " cm below the shoulder");
+    // A notch where the sleeve ends, so the bodice shows how far to set it in.
+    for (auto& x : p.panels) {
+      if (x.name == bodice)
+        x.notches.push_back(Notch{"cap_sleeve_end", *mark});
+    }
+    addSeam(p, seam, bodice, from, *mark, "sleeve", s.top, sleeveEnd, partLen - onBodice, true);
+  };
+  sewPart("armhole_back", bodiceBack, backArmholeFrom, backArmholeTo, s.capBack, s.capBackFull,
+          s.hemBack);
+  sewPart("armhole_front", bodiceFront, frontArmholeFrom, frontArmholeTo, s.capFront,
+          s.capFrontFull, s.hemFront);
 }
 
 void recipeSleeve(DraftBuilder& b) {

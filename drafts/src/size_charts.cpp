@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace garmcap::drafts {
 
@@ -99,40 +100,50 @@ std::vector<Measurements> bodiesFromRows(const std::vector<Row>& rows, size_t si
   return bodies;
 }
 
+// Table 4.2's grading rule: one constant step per size for every row (44 -> 55 -> 66 -> 77 in
+// the seed). Size 88 is 77 plus this step; no source gives an 88 of that series.
 SizeChart koreanWomen() {
   SizeChart c;
   c.name = "korean_women";
   c.sizes = {"44", "55", "66", "77", "88"};
   c.source =
       "Korean women's sizes 44-88 from the dissertation (seed): sizes 44, 55, 66, 77 are the "
-      "bodies of its grading experiment, Table 4.2 (all 13 rows); size 88 takes bust 98, waist "
-      "78, hip 104, waist back length 42, BP-BP 18.8 and neck point-BP 26.8 from Table 3.1, and "
-      "its height, hip length, skirt length, armholes, sleeve length and wrist continue Table "
-      "4.2's constant per-size steps (77 + one step). The two tables DISAGREE on sizes 44 and 66 "
-      "(Table 3.1: 44 = bust 82 / waist 62 / hip 88 / WBL 38 / NP-BP 24.4, 66 = 90 / 70 / 96 / "
-      "40 / 25.6; Table 4.2: 44 = 80 / 60 / 85 / 38.4 / 23.2, 66 = 90 / 70 / 95 / 39.6 / 24.8); "
-      "this chart uses Table 4.2 for 44-77 (the bodies DSW was evaluated on). Table 4.2's "
-      "heights (169.5-174 cm) are the seed's, not the 1981 KS label's 150-165 cm. Measurements "
-      "the tables lack (neck, across chest/back, shoulder length, upper arm, bi-shoulder width, "
-      "rise, waist to floor/knee) are completed by proportion to Donnanno's Italian size 44 "
-      "(widths with the bust, lengths with the height; bi-shoulder = 2 shoulder lengths + 2 "
-      "Aldrich back neck widths N/5 - 0.2); armscye_circ = front + back armhole. See "
-      "docs/size_charts.md.";
-  const std::vector<Row> rows = {
-      {"bust_circ", {80.0, 85.0, 90.0, 95.0, 98.0}},
-      {"waist_circ", {60.0, 65.0, 70.0, 75.0, 78.0}},
-      {"hip_circ", {85.0, 90.0, 95.0, 100.0, 104.0}},
-      {"neck_back_to_waist_b", {38.4, 39.0, 39.6, 40.2, 42.0}},
-      {"bustpoint_to_bustpoint", {16.4, 17.0, 17.6, 18.2, 18.8}},
-      {"bustpoint_to_neck_side", {23.2, 24.0, 24.8, 25.6, 26.8}},
-      {"skirt_length", {53.4, 55.3, 57.2, 59.1, 61.0}},
-      {"waist_to_hip_b", {18.4, 19.0, 19.6, 20.2, 20.8}},
-      {"height", {169.5, 171.0, 172.5, 174.0, 175.5}},
-      {"front_armhole_circ", {19.6, 20.2, 20.8, 21.4, 22.0}},
-      {"back_armhole_circ", {20.8, 21.4, 22.0, 22.6, 23.2}},
-      {"arm_shoulder_tip_to_wrist", {56.4, 57.0, 57.6, 58.2, 58.8}},
-      {"arm_wrist_circ", {19.4, 20.0, 20.6, 21.2, 21.8}},
+      "bodies of its grading experiment, Table 4.2 (all 13 rows), whose rows grow by one "
+      "constant step per size (bust, waist, hip +5; waist back length, BP-BP, hip length, "
+      "armholes, sleeve, wrist +0.6; neck point-BP +0.8; skirt length +1.9; height +1.5); size "
+      "88 is 77 plus that step (an extrapolation by the table's own rule: no source gives an 88 "
+      "of this series). Table 3.1's size 88 (bust 98, waist 78, hip 104, waist back length 42, "
+      "BP-BP 18.8, neck point-BP 26.8) belongs to another series: Table 3.1 and Table 4.2 "
+      "DISAGREE on sizes 44 and 66 too (Table 3.1: 44 = bust 82 / waist 62 / hip 88 / WBL 38 / "
+      "NP-BP 24.4, 66 = 90 / 70 / 96 / 40 / 25.6; Table 4.2: 44 = 80 / 60 / 85 / 38.4 / 23.2, "
+      "66 = 90 / 70 / 95 / 39.6 / 24.8), so splicing its 88 onto Table 4.2 made the 77 -> 88 "
+      "step bust 3 and waist back length 1.8. Table 4.2's heights (169.5-174 cm) are the "
+      "seed's, not the 1981 KS label's 150-165 cm. Measurements the tables lack (neck, across "
+      "chest/back, shoulder length, upper arm, bi-shoulder width, rise, waist to floor/knee) are "
+      "completed by proportion to Donnanno's Italian size 44 (widths with the bust, lengths with "
+      "the height; bi-shoulder = 2 shoulder lengths + 2 Aldrich back neck widths N/5 - 0.2); "
+      "armscye_circ = front + back armhole. See docs/size_charts.md.";
+  const std::vector<Row> table42 = {
+      {"bust_circ", {80.0, 85.0, 90.0, 95.0}},
+      {"waist_circ", {60.0, 65.0, 70.0, 75.0}},
+      {"hip_circ", {85.0, 90.0, 95.0, 100.0}},
+      {"neck_back_to_waist_b", {38.4, 39.0, 39.6, 40.2}},
+      {"bustpoint_to_bustpoint", {16.4, 17.0, 17.6, 18.2}},
+      {"bustpoint_to_neck_side", {23.2, 24.0, 24.8, 25.6}},
+      {"skirt_length", {53.4, 55.3, 57.2, 59.1}},
+      {"waist_to_hip_b", {18.4, 19.0, 19.6, 20.2}},
+      {"height", {169.5, 171.0, 172.5, 174.0}},
+      {"front_armhole_circ", {19.6, 20.2, 20.8, 21.4}},
+      {"back_armhole_circ", {20.8, 21.4, 22.0, 22.6}},
+      {"arm_shoulder_tip_to_wrist", {56.4, 57.0, 57.6, 58.2}},
+      {"arm_wrist_circ", {19.4, 20.0, 20.6, 21.2}},
   };
+  std::vector<Row> rows = table42;
+  // 88 = 77 + the row's own constant step, 77 - 66 (40.2 + 0.6 -> 40.8).
+  for (auto& row : rows) {
+    const double step = row.values[3] - row.values[2];
+    row.values.push_back(std::round((row.values.back() + step) * 1000.0) / 1000.0);
+  }
   c.bodies = bodiesFromRows(rows, c.sizes.size());
   for (auto& b : c.bodies)
     complete(b);

@@ -75,7 +75,13 @@ createServer((req, res) => {
   const p = url.pathname;
   let body = '';
   req.on('data', (c) => { body += c; });
+  // An item answers late, as on a tablet over a slow shop network: the page must not take what
+  // staff type before the item has arrived (the form stays off until then).
   req.on('end', () => {
+    const slow = req.method === 'GET' && /^\/api\/items\/\d+$/.test(p);
+    if (slow) setTimeout(handle, 800); else handle();
+  });
+  const handle = () => {
     const m = p.match(/^\/api\/items\/(\d+)(\/.*)?$/);
     const item = m ? items.find((x) => x.id === Number(m[1]) && !x.deleted) : null;
     if (p === '/api/status') return send(res, 200, { ...state, calibrated: state.calibrated });
@@ -157,5 +163,5 @@ createServer((req, res) => {
     const file = join(webDir, p === '/' ? 'index.html' : p.replace(/^\/+/, ''));
     if (!file.startsWith(webDir) || !existsSync(file)) return send(res, 404, { error: 'not found' });
     return send(res, 200, readFileSync(file, 'utf8'), TYPES[extname(file)] || 'application/octet-stream');
-  });
+  };
 }).listen(port, '127.0.0.1');

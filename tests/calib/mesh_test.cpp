@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "garmcap/calib/slicer.h"
 #include "garmcap/drafts/file_io.h"
@@ -77,6 +79,41 @@ TEST(Mesh, ReadsAsciiAndBinaryPly) {
   ASSERT_EQ(mb.vertices.size(), 4u);
   EXPECT_DOUBLE_EQ(mb.vertices[3].z(), 2.0);
   EXPECT_EQ(openEdgeCount(mb), 0u);
+}
+
+// Found by fuzz_mesh: a face index of 1e72 was converted to long (undefined), and an element
+// declaring 10^18 entries kept the reader looping. Both are corrupt headers, refused by name.
+TEST(Mesh, PlyCountsAndIndicesTheFileCannotHoldAreRefused) {
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\n";
+  const std::string verts = "0 0 0\n1 0 0\n0 1 0\n";
+  const std::string faceHead =
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {head + faceHead + verts + "3 0 1 1e72\n", "vertex index"},
+      {head + faceHead + verts + "3 0 1 -2\n", "vertex index"},
+      {head + faceHead + verts + "3 0 1 0.5\n", "vertex index"},
+      {head + faceHead + verts + "1e12 0 1 2\n", "list count"},
+      {"ply\nformat ascii 1.0\nelement vertex 1000000000000000000\nproperty float x\n"
+       "end_header\n0\n",
+       "more than the file holds"},
+      {"ply\nformat ascii 1.0\nelement vertex many\nend_header\n", "not 'element NAME COUNT'"},
+  };
+  const fs::path p = tempDir() / "corrupt.ply";
+  for (const auto& [text, expected] : cases) {
+    drafts::writeFileAtomic(p, text);
+    try {
+      readMesh(p);
+      ADD_FAILURE() << "no exception for: " << text;
+    } catch (const drafts::ParseError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  // An element without properties (a comment-like block some exporters write) holds nothing.
+  drafts::writeFileAtomic(
+      p, head + "element material 1000000000000\n" + faceHead + verts + "3 0 1 2\n");
+  EXPECT_EQ(readMesh(p).faces.size(), 1u);
 }
 
 TEST(Mesh, OpenMeshHasOpenEdges) {

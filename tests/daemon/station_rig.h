@@ -85,7 +85,7 @@ class FakeProcessor : public CaptureProcessor {
     if (undraftable || legacyEmptyPattern) {
       // The draft failed: the pipeline keeps the measurements and says why. Catalogs written
       // before storeBasePattern kept an empty pattern row too.
-      r.warnings.push_back("no pattern: sleeve shorter than its cap");
+      r.warnings.push_back("no pattern: recipe 'dress': sleeve of 1.1 cm, shorter than 2 cm");
       const nlohmann::json empty = {{"type", "dress"}, {"panels", nlohmann::json::array()}};
       if (legacyEmptyPattern)
         r.patterns["base"] = empty;

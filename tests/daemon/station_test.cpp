@@ -72,7 +72,7 @@ TEST(Station, CalibrateThenCaptureFilesAnItem) {
 
 TEST(StoreBasePattern, AFailedDraftStoresNoPatternAndSaysWhy) {
   ProcessedCapture out;
-  out.warnings = {"no pattern: sleeve shorter than its cap"};
+  out.warnings = {"no pattern: recipe 'dress': sleeve of 1.1 cm, shorter than 2 cm"};
   storeBasePattern(out, {{"type", "dress"}, {"panels", nlohmann::json::array()}});
   EXPECT_TRUE(out.patterns.empty());
   EXPECT_EQ(out.warnings.size(), 1u) << "the pipeline's own reason is kept, not repeated";
@@ -108,15 +108,19 @@ TEST(Station, AnItemWithoutADraftedPatternAnswers422NotAnEmptyPattern) {
     if (!legacy) {
       EXPECT_TRUE(stored["sizes"].empty()) << "a failed draft stores no pattern: " << stored.dump();
     }
-    EXPECT_NE(stored["warnings"].dump().find("no pattern: sleeve shorter than its cap"),
+    EXPECT_NE(stored["warnings"].dump().find(
+                  "no pattern: recipe 'dress': sleeve of 1.1 cm, shorter than 2 cm"),
               std::string::npos)
         << stored.dump();
-    for (const char* route : {"/pattern.json", "/pattern.svg", "/pattern.dxf", "/pattern.pdf",
-                              "/garmentcode.json", "/pattern.json?size=base"}) {
+    for (const char* route :
+         {"/pattern.json", "/pattern.svg", "/pattern.dxf", "/pattern.pdf", "/garmentcode.json",
+          "/pattern.json?size=base", "/pattern.pdf?paper=a0", "/pattern_graded.dxf",
+          "/nested_grading.svg", "/marker.json", "/marker.svg?width=140&sizes=base"}) {
       auto r = rig.call(http::verb::get, item + route);
       EXPECT_EQ(r.result(), http::status::unprocessable_entity) << route << ": " << r.body();
       const std::string error = rig.json(r).value("error", "");
-      EXPECT_EQ(error.rfind("no pattern: sleeve shorter than its cap", 0), 0u)
+      EXPECT_EQ(error.rfind("no pattern: recipe 'dress': sleeve of 1.1 cm, shorter than 2 cm", 0),
+                0u)
           << route << ": " << error;
       EXPECT_NE(error.find("could not be drafted"), std::string::npos) << route << ": " << error;
     }

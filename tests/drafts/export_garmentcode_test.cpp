@@ -156,9 +156,10 @@ double expectedStitchedCm(const Pattern& pat, const Panel& p) {
   return p.cutOnFold ? 2 * sum : sum;
 }
 
-void checkType(const std::string& type, const std::string& size) {
+void checkType(const std::string& type, const std::string& size,
+               const std::map<std::string, double>& design = {}) {
   SCOPED_TRACE(type + " size " + size);
-  const Pattern pat = draftGarment(type, sizeChart("korean_women").body(size));
+  const Pattern pat = draftGarment(type, sizeChart("korean_women").body(size), design);
   const json spec = json::parse(garmentCodeJson(pat, {"T-1", size}));
   EXPECT_EQ(spec["properties"]["units_in_meter"], 100);
   EXPECT_EQ(spec["properties"]["curvature_coords"], "relative");
@@ -263,6 +264,15 @@ TEST(GarmentCodeRebuild, EveryTypeWithinAMillimetre) {
   for (const auto& t : garmentTypes())
     for (const char* size : {"44", "66", "88"})
       checkType(t.name, size);
+}
+
+TEST(GarmentCodeRebuild, CapAndShortSleevesWithinAMillimetre) {
+  // A cap sleeve (8 cm, sewn to the upper armhole only) and a short sleeve (22 cm).
+  for (const char* type : {"dress", "blouse", "sweater"})
+    for (const double cm : {8.0, 22.0})
+      checkType(type, "66",
+                {{"sleeve_length",
+                  cm / sizeChart("korean_women").body("66").get("arm_shoulder_tip_to_wrist")}});
 }
 
 TEST(GarmentCodeRebuild, HLineSkirtClosesIntoATube) {

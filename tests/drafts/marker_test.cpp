@@ -60,7 +60,10 @@ TEST(Marker, RefusesFabricNarrowerThanAPiece) {
     layMarker({{"66", pat}}, {20.0, 0.2});
     FAIL() << "a 20 cm fabric cannot hold a skirt panel";
   } catch (const MarkerError& e) {
-    EXPECT_NE(std::string(e.what()).find("wider than the fabric"), std::string::npos) << e.what();
+    const std::string what = e.what();
+    EXPECT_NE(what.find("wider than the fabric (20.0 cm)"), std::string::npos) << what;
+    EXPECT_EQ(what.rfind("marker: panel '", 0), 0u) << "names the piece: " << what;
+    EXPECT_NE(what.find("' of size 66 is "), std::string::npos) << what;
   }
   EXPECT_THROW(layMarker({}, {150.0, 0.2}), MarkerError);
 }

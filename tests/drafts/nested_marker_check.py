@@ -32,6 +32,8 @@ from pathlib import Path
 
 import ezdxf
 
+from outline_geometry import inside
+
 SVG = "{http://www.w3.org/2000/svg}"
 
 
@@ -150,19 +152,6 @@ def segs_cross(a, b, c, d):
         return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
     o1, o2, o3, o4 = orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b)
     return o1 * o2 < 0 and o3 * o4 < 0
-
-
-def inside(p, ring):
-    x, y = p
-    c = False
-    j = len(ring) - 1
-    for i in range(len(ring)):
-        xi, yi = ring[i]
-        xj, yj = ring[j]
-        if (yi > y) != (yj > y) and x < (xj - xi) * (y - yi) / (yj - yi) + xi:
-            c = not c
-        j = i
-    return c
 
 
 def bbox(r):

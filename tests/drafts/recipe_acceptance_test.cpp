@@ -17,6 +17,20 @@ namespace {
 constexpr double kSeamTolCm = 0.2;     // paired seams equal within 2 mm
 constexpr double kMeasureTolCm = 0.1;  // measure = input + ease within 1 mm
 
+// Share of the drafted cap that a cap sleeve keeps (1 for a sleeve with an underarm seam): the
+// cut cap (contour lines) over the whole cap the recipe fitted to the armhole (construction
+// lines *_full, drawn only for a cap sleeve). A cap sleeve eases in this share of the cap ease.
+double keptCapShare(const Pattern& p) {
+  double kept = 0, full = 0;
+  for (const auto& l : p.lines) {
+    if (l.name == "sleeve_cap_front" || l.name == "sleeve_cap_back")
+      kept += polylineLength(l.points);
+    if (l.name == "sleeve_cap_front_full" || l.name == "sleeve_cap_back_full")
+      full += polylineLength(l.points);
+  }
+  return full > 0 ? kept / full : 1.0;
+}
+
 // What `measurePattern` must return for a pattern: body measurement + declared ease, or the
 // declared garment value.
 std::map<std::string, double> expected(const Pattern& p) {
@@ -49,7 +63,7 @@ std::map<std::string, double> expected(const Pattern& p) {
       e["arm_wrist_circ"] = m.get("arm_wrist_circ") + d.at("ease_wrist");
     }
     if (t != "sleeve")
-      e["sleeve_cap_ease"] = d.at("sleeve_cap_ease");
+      e["sleeve_cap_ease"] = d.at("sleeve_cap_ease") * keptCapShare(p);
   }
   if (t == "pants")
     e["pants_length"] = d.at("pants_length") * m.get("leg_waist_side_to_floor");
@@ -85,9 +99,10 @@ std::string checkPattern(const Pattern& p) {
       hasCap = true;
     }
   }
-  if (hasCap && std::abs(capEase - p.design.at("sleeve_cap_ease")) > kSeamTolCm) {
+  const double declaredCapEase = hasCap ? p.design.at("sleeve_cap_ease") * keptCapShare(p) : 0;
+  if (hasCap && std::abs(capEase - declaredCapEase) > kSeamTolCm) {
     return "armhole seams carry " + std::to_string(capEase) + " cm cap ease, declared " +
-           std::to_string(p.design.at("sleeve_cap_ease"));
+           std::to_string(declaredCapEase);
   }
   const auto got = measurePattern(p);
   for (const auto& [k, v] : expected(p)) {
@@ -186,9 +201,8 @@ TEST(RecipeAcceptance, CircumferencesGrowStrictlyFrom44To88) {
       for (const auto& size : c.sizes) {
         const auto m = measurePattern(draftGarment(type.name, c.body(size)));
         for (const auto& [k, v] : m) {
-          // Trouser hems are a design value (hem_width), not a body girth.
-          const bool circ =
-              k.find("circ") != std::string::npos && !(type.name == "pants" && k == "hem_circ");
+          // Trouser hems included: hem_width's default grows with the hip (issue 18).
+          const bool circ = k.find("circ") != std::string::npos;
           if (circ && last.count(k)) {
             EXPECT_GT(v, last[k]) << chart << " " << type.name << " " << k << " at size " << size;
           }
@@ -198,6 +212,27 @@ TEST(RecipeAcceptance, CircumferencesGrowStrictlyFrom44To88) {
       EXPECT_FALSE(last.empty()) << type.name;
     }
   }
+}
+
+TEST(RecipeAcceptance, PantsHemsGradeWithTheSize) {
+  // Issue 18: the trouser hem was 21 + 23 cm in every size. Its default is now Bunka's 21 cm
+  // front hem at hip 90 scaled by the hip, so it grows with every chart's sizes, and a value
+  // the design sets is kept as set.
+  for (const auto& c : sizeCharts()) {
+    double last = 0;
+    for (std::size_t i = 0; i < c.sizes.size(); ++i) {
+      const Pattern p = draftGarment("pants", c.bodies[i]);
+      const double hip = c.bodies[i].get("hip_circ");
+      EXPECT_NEAR(p.design.at("hem_width"), 21.0 * hip / 90.0, 1e-9);
+      const double hem = measurePattern(p).at("hem_circ");
+      // Front hem + back hem (2 cm wider), measured on the panels' hem edges.
+      EXPECT_NEAR(hem, 2 * 21.0 * hip / 90.0 + 2.0, 0.05) << c.name << " " << c.sizes[i];
+      EXPECT_GT(hem, last + 0.5) << c.name << " " << c.sizes[i];
+      last = hem;
+    }
+  }
+  const Measurements b = sizeChart("korean_women").body("88");
+  EXPECT_NEAR(draftGarment("pants", b, {{"hem_width", 21}}).design.at("hem_width"), 21, 1e-12);
 }
 
 TEST(RecipeAcceptance, SweepsBuildValidOrRefuseWithAMessage) {

@@ -237,6 +237,23 @@ TEST(SeamAllowance, EveryTypeAtEverySizeOfEveryChart) {
   EXPECT_GT(pieces, 100);
 }
 
+TEST(SeamAllowance, CapAndShortSleevesGetTheirCutLinesAndAHem) {
+  const Measurements body = sizeChart("korean_women").body("55");
+  for (const char* type : {"dress", "blouse", "sweater", "sleeve"})
+    for (const double cm : {8.0, 15.0, 22.0}) {
+      const Pattern pat =
+          draftGarment(type, body, {{"sleeve_length", cm / body.get("arm_shoulder_tip_to_wrist")}});
+      for (const auto& panel : pat.panels) {
+        SCOPED_TRACE(std::string(type) + " sleeve " + std::to_string(cm) + " " + panel.name);
+        checkPanel(pat, panel);
+        if (panel.name == "sleeve") {
+          const auto roles = edgeRoles(panel, pat);
+          EXPECT_NE(std::find(roles.begin(), roles.end(), EdgeRole::Hem), roles.end());
+        }
+      }
+    }
+}
+
 TEST(SeamAllowance, SquareWithFoldHemAndSeam) {
   // A hand-built 20 x 30 cm piece cut on the fold at x = 0 (left), hem at the bottom: the cut
   // line is the rectangle from (0, -1) to (21, 33), computed by hand.

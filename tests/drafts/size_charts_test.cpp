@@ -7,6 +7,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
 
 #include "garmcap/drafts/file_io.h"
 
@@ -124,14 +127,14 @@ TEST(SizeCharts, KoreanChartReproducesTheSeedTables) {
   EXPECT_EQ(c.body("44").get("bust_circ"), 80.0);
   EXPECT_EQ(c.body("44").get("hip_circ"), 85.0);
   EXPECT_EQ(c.body("77").get("bustpoint_to_bustpoint"), 18.2);
-  // Table 3.1, size 88.
+  // Size 88: 77 plus one step of table 4.2 (table 3.1's 88 is another series).
   const auto& s88 = c.body("88");
-  EXPECT_EQ(s88.get("bust_circ"), 98.0);
-  EXPECT_EQ(s88.get("waist_circ"), 78.0);
-  EXPECT_EQ(s88.get("hip_circ"), 104.0);
-  EXPECT_EQ(s88.get("neck_back_to_waist_b"), 42.0);
+  EXPECT_EQ(s88.get("bust_circ"), 100.0);
+  EXPECT_EQ(s88.get("waist_circ"), 80.0);
+  EXPECT_EQ(s88.get("hip_circ"), 105.0);
+  EXPECT_EQ(s88.get("neck_back_to_waist_b"), 40.8);
   EXPECT_EQ(s88.get("bustpoint_to_bustpoint"), 18.8);
-  EXPECT_EQ(s88.get("bustpoint_to_neck_side"), 26.8);
+  EXPECT_EQ(s88.get("bustpoint_to_neck_side"), 26.4);
   EXPECT_THAT(c.source,
               AllOf(HasSubstr("Table 3.1"), HasSubstr("Table 4.2"), HasSubstr("DISAGREE")));
   // Completion rules (docs/size_charts.md): armscye = front + back armhole; bi-shoulder =
@@ -140,6 +143,42 @@ TEST(SizeCharts, KoreanChartReproducesTheSeedTables) {
   EXPECT_NEAR(s55.get("shoulder_tip_to_shoulder_tip_b"),
               2 * s55.get("shoulder_length") + 2 * (s55.get("neck_circ") / 5 - 0.2), 0.05 + 1e-9);
   EXPECT_NEAR(s55.get("rise_length_side"), 24.6 * 171.0 / 168.0, 0.05 + 1e-9);
+}
+
+TEST(SizeCharts, KoreanStepsBetweenSizesAreTheDocumentedOnes) {
+  // Issue 18: the chart jumped at 88 (bust +3 instead of +5, waist back length +1.8 instead of
+  // +0.6). Every row of table 4.2 grows by one constant step per size (docs/size_charts.md),
+  // 44 -> 55 -> 66 -> 77 as the seed prints them and 77 -> 88 by the same rule.
+  const std::map<std::string, double> steps = {{"bust_circ", 5.0},
+                                               {"waist_circ", 5.0},
+                                               {"hip_circ", 5.0},
+                                               {"neck_back_to_waist_b", 0.6},
+                                               {"bustpoint_to_bustpoint", 0.6},
+                                               {"bustpoint_to_neck_side", 0.8},
+                                               {"skirt_length", 1.9},
+                                               {"waist_to_hip_b", 0.6},
+                                               {"height", 1.5},
+                                               {"front_armhole_circ", 0.6},
+                                               {"back_armhole_circ", 0.6},
+                                               {"arm_shoulder_tip_to_wrist", 0.6},
+                                               {"arm_wrist_circ", 0.6}};
+  const auto& c = sizeChart("korean_women");
+  ASSERT_EQ(c.sizes, (std::vector<std::string>{"44", "55", "66", "77", "88"}));
+  for (const auto& [name, step] : steps) {
+    for (std::size_t i = 1; i < c.bodies.size(); ++i) {
+      EXPECT_NEAR(c.bodies[i].get(name) - c.bodies[i - 1].get(name), step, 1e-9)
+          << name << " " << c.sizes[i - 1] << " -> " << c.sizes[i];
+    }
+  }
+  // The completed girths follow the bust, so they grow by the same share at every step.
+  for (const char* name : {"neck_circ", "across_chest_f", "arm_upper_circ"}) {
+    for (std::size_t i = 2; i < c.bodies.size(); ++i) {
+      const double d0 = c.bodies[i - 1].get(name) - c.bodies[i - 2].get(name);
+      const double d1 = c.bodies[i].get(name) - c.bodies[i - 1].get(name);
+      EXPECT_NEAR(d1, d0, 0.15) << name << " "
+                                << c.sizes[i];  // completed values are rounded to 1 mm
+    }
+  }
 }
 
 TEST(SizeCharts, ItalianChartIsDonnannoAsPublished) {

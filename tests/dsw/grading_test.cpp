@@ -141,6 +141,90 @@ TEST(DartCompensation, Table41CaseReturnsTheWaistMarginToThreeCentimetres) {
   EXPECT_NEAR(drafts::measurePattern(*five).at("waist_circ") - b77.get("waist_circ"), 5.0, 0.05);
 }
 
+// Finished waist from the pattern's waist seams, not from measurePattern's girth: the sewn
+// length of the bodice side of every waist_* seam (darts closed) times its pieces.
+double waistSeamCm(const drafts::Pattern& p) {
+  double w = 0;
+  for (const auto& s : p.seams) {
+    if (s.name.rfind("waist", 0) != 0)
+      continue;
+    const auto& panel = p.panel(s.a.panel);
+    w += drafts::sewnEdgeLength(panel, s.a) * panel.cutCount * (panel.cutOnFold ? 2 : 1);
+  }
+  return w;
+}
+
+TEST(DartCompensation, KeepsTheBaseSizeAndTheDesignedEase) {
+  // Issue 18: --dart-compensation turned the size-55 dress's waist 71 (body 65 + ease 6) into 68
+  // (a fixed 3 cm margin). Its margin is now the source's own ease: the base size comes back
+  // unchanged, every other size keeps the designed ease, and the hip is never touched.
+  const drafts::Pattern src = sourceDress();
+  const drafts::Measurements b55 = body("55");
+  const double ease = src.design.at("ease_waist");
+  ASSERT_NEAR(waistSeamCm(src), b55.get("waist_circ") + ease, 0.05);
+  auto own = waistMargin(src);
+  ASSERT_TRUE(own.ok()) << own.error().message;
+  EXPECT_NEAR(*own, ease, 0.05);
+  GradeOptions comp;
+  comp.dartCompensation = true;
+  for (const std::string size : {"44", "55", "66", "77"}) {
+    SCOPED_TRACE(size);
+    const drafts::Measurements b = body(size);
+    auto without = gradePattern(src, b);
+    auto with = gradePattern(src, b, comp);
+    ASSERT_TRUE(without.ok()) << without.error().message;
+    ASSERT_TRUE(with.ok()) << with.error().message;
+    const double wWithout = waistSeamCm(*without), wWith = waistSeamCm(*with);
+    std::printf("size %s: waist seam without compensation %.2f, with %.2f (body %.1f + %.1f)\n",
+                size.c_str(), wWithout, wWith, b.get("waist_circ"), ease);
+    EXPECT_NEAR(wWith, b.get("waist_circ") + ease, 0.1);
+    EXPECT_NEAR(wWith, wWithout, 0.1);  // the draft already keeps the ease; nothing to restore
+    EXPECT_NEAR(drafts::measurePattern(*with).at("hip_circ"),
+                drafts::measurePattern(*without).at("hip_circ"), 1e-6);
+    if (size == "55") {
+      EXPECT_NEAR(wWith, 71.0, 0.05);
+      // The skirt side of the waist seams matches the bodice side after compensation.
+      for (const auto& s : with->seams) {
+        if (s.name.rfind("waist", 0) == 0) {
+          EXPECT_NEAR(drafts::sewnEdgeLength(with->panel(s.a.panel), s.a),
+                      drafts::sewnEdgeLength(with->panel(s.b.panel), s.b), 0.05)
+              << s.name;
+        }
+      }
+    }
+  }
+  // An explicit margin still overrides the ease (a design change the user asks for).
+  comp.marginCm = 3.0;
+  auto three = gradePattern(src, b55, comp);
+  ASSERT_TRUE(three.ok()) << three.error().message;
+  EXPECT_NEAR(waistSeamCm(*three), b55.get("waist_circ") + 3.0, 0.1);
+}
+
+TEST(Grading, CapAndShortSleeveDressesGradeAcrossTheChart) {
+  // Issue 18 item 6: sleeves shorter than their cap are drafted as cap sleeves; their regions
+  // keep the vertex counts of a sleeved draft, so DSW grades them like any other design.
+  const drafts::Measurements b55 = body("55");
+  for (const double cm : {8.0, 15.0, 22.0}) {
+    SCOPED_TRACE(std::to_string(cm) + " cm sleeve");
+    const double fraction = cm / b55.get("arm_shoulder_tip_to_wrist");
+    const drafts::Pattern src = drafts::draftGarment("dress", b55, {{"sleeve_length", fraction}});
+    for (const std::string size : {"44", "66", "77"}) {
+      auto g = gradePattern(src, body(size));
+      ASSERT_TRUE(g.ok()) << size << ": " << g.error().message;
+      const auto m = drafts::measurePattern(*g);
+      EXPECT_NEAR(m.at("sleeve_length"), fraction * body(size).get("arm_shoulder_tip_to_wrist"),
+                  0.3)
+          << size;
+      for (const auto& s : g->seams) {
+        EXPECT_NEAR(drafts::sewnEdgeLength(g->panel(s.b.panel), s.b) -
+                        drafts::sewnEdgeLength(g->panel(s.a.panel), s.a),
+                    s.easeCm, 0.3)
+            << size << " " << s.name;
+      }
+    }
+  }
+}
+
 TEST(Grading, PanelsOutsideTheDraftArePositionedAndMovedBack) {
   drafts::Pattern src = sourceDress();
   auto inPlace = gradePattern(src, body("77"));

@@ -52,6 +52,7 @@ struct Reply {
   int status = 0;
   std::string body;
   std::string contentType;
+  std::string disposition;  // Content-Disposition
   Json json() const { return Json::parse(body, nullptr, false); }
 };
 
@@ -111,10 +112,11 @@ inline Reply httpCallWith(int port, http::verb verb, const std::string& target,
     parser.skip(true);
   http::read(stream, buf, parser, ec);
   if (ec)
-    return {0, ec.message(), ""};
+    return {0, ec.message(), "", ""};
   auto res = parser.release();
   return {static_cast<int>(res.result_int()), res.body(),
-          std::string(res[http::field::content_type])};
+          std::string(res[http::field::content_type]),
+          std::string(res[http::field::content_disposition])};
 }
 
 inline Reply httpCall(int port, http::verb verb, const std::string& target,

@@ -11,6 +11,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "../daemon/csv_reader.h"
@@ -327,6 +328,23 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   const auto local = d.get("/api/export/shopify.csv?base_url=http://127.0.0.1:1/files");
   EXPECT_EQ(local.status, 422) << local.body;
   EXPECT_NE(local.json().value("error", "").find("public_base_url"), std::string::npos);
+  // With the shop's addresses unset, the address a tablet reached the station by is not taken
+  // for the shop's: the CSV names the missing setting, and the ZIP leaves the shop files out with
+  // the reason (patterns and photos still in it) instead of publishing LAN links.
+  {
+    const std::vector<std::pair<std::string, std::string>> lanHost = {
+        {"Host", "192.168.1.20:8080"}};
+    const auto csv = httpCallWith(d.port(), http::verb::get, "/api/export/shopify.csv", lanHost);
+    EXPECT_EQ(csv.status, 422) << csv.body;
+    EXPECT_NE(csv.body.find("public_base_url"), std::string::npos) << csv.body;
+    EXPECT_EQ(csv.body.find("192.168"), std::string::npos) << csv.body;
+    const auto zip = httpCallWith(d.port(), http::verb::get, "/api/export/catalog.zip", lanHost);
+    ASSERT_EQ(zip.status, 200) << zip.body;
+    EXPECT_EQ(zip.body.find("192.168.1.20"), std::string::npos);
+    EXPECT_NE(zip.body.find("shopify.csv left out: "), std::string::npos);
+    EXPECT_NE(zip.body.find("No public address is set"), std::string::npos);
+    EXPECT_NE(zip.body.find("patterns/" + std::to_string(cap.id) + "/"), std::string::npos);
+  }
   // The legacy header set names the same variant.
   const auto legacy = d.get("/api/export/shopify.csv" + kQuery + "&legacy=1");
   ASSERT_EQ(legacy.status, 200);
@@ -402,6 +420,244 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   const std::string jpeg = entry("images/" + std::to_string(cap.id) + "-product.jpg");
   EXPECT_EQ(jpeg.substr(0, 3), "\xff\xd8\xff");
   EXPECT_FALSE(entries.count("images/" + std::to_string(cap.id) + "-cutout.png"));
+  EXPECT_EQ(d.terminate(), 0);
+}
+
+// The number after "Pages:" in pdfinfo's report (poppler: a reader independent of the writer),
+// and the page size line; -1 when pdfinfo refused the file.
+struct PdfInfo {
+  int pages = -1;
+  std::string pageSize;
+};
+PdfInfo pdfInfo(const std::filesystem::path& file, const std::string& bytes) {
+  std::ofstream(file, std::ios::binary) << bytes;
+  int st = 0;
+  const std::string out = run("pdfinfo " + quoted(file) + " 2>&1", st);
+  PdfInfo info;
+  if (st != 0)
+    return info;
+  for (const auto& l : lines(out)) {
+    if (l.rfind("Pages:", 0) == 0)
+      info.pages = std::stoi(l.substr(6));
+    if (l.rfind("Page size:", 0) == 0)
+      info.pageSize = l.substr(10);
+  }
+  return info;
+}
+
+// ezdxf (Debian's python3-ezdxf, as the drafts DXF tests) reads the file and audits it clean.
+std::string ezdxfAudit(const std::filesystem::path& file, const std::string& bytes) {
+  std::ofstream(file, std::ios::binary) << bytes;
+  int st = 0;
+  const std::string out =
+      run("/usr/bin/python3 -c 'import sys, ezdxf; a = ezdxf.readfile(sys.argv[1]).audit(); "
+          "print([str(e) for e in a.errors]); sys.exit(1 if a.has_errors else 0)' " +
+              quoted(file) + " 2>&1",
+          st);
+  return st == 0 ? "" : out;
+}
+
+// `garmcap marker` on pattern JSON files (label per file): its JSON report.
+Json cliMarker(const std::vector<std::pair<std::string, std::filesystem::path>>& patterns,
+               const std::string& width) {
+  std::string cmd = std::string(GARMCAP_BIN_DIR) + "/garmcap marker --width " + width;
+  for (const auto& [label, file] : patterns)
+    cmd += " --pattern " + quoted(file) + " --label " + label;
+  int st = 0;
+  const std::string out = run(cmd + " 2>&1", st);
+  if (st != 0)
+    throw std::runtime_error(cmd + ": " + out);
+  return Json::parse(out);
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+    ++n;
+  return n;
+}
+
+// Issue 18's files over HTTP: the pattern PDF tiled for A4, US Letter or A0, the nested
+// grading of the size run, and markers; each read back by an independent reader (pdfinfo,
+// ezdxf), the marker compared with the CLI's on the same patterns, bad queries a 400 naming the
+// query, a marker that cannot be laid a 422 saying why.
+TEST(ExportHttp, TiledPdfNestedGradingAndMarkers) {
+  TempDir dir;
+  Daemon d(dir.path(), {}, makeSimulatedRig(dir.path()));
+  const Captured cap = calibrateAndCapture(d, "PRN-1");
+  const std::string at = itemPath(cap.id);
+  const std::string baseSize = cap.item["base_size"];
+  std::vector<std::string> graded;
+  for (const auto& s : cap.item["sizes"])
+    if (s != "base")
+      graded.push_back(s);
+  ASSERT_GE(graded.size(), 2u) << cap.item.dump();
+
+  // --- pattern.pdf by paper: A4 as before the query, tiles of the paper's size, an A0 sheet
+  // takes fewer pages than A4 tiles.
+  std::map<std::string, PdfInfo> pdfs;
+  for (const auto& [paper, file, size] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"", "_A4.pdf", "(A4)"},
+           {"a4", "_A4.pdf", "(A4)"},
+           {"letter", "_Letter.pdf", "(letter)"},
+           {"A0", "_A0.pdf", "2383.94 x 3370.39 pts"}}) {
+    SCOPED_TRACE("paper " + paper);
+    const auto r = d.get(at + "/pattern.pdf" + (paper.empty() ? "" : "?paper=" + paper));
+    ASSERT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(r.contentType, "application/pdf");
+    EXPECT_EQ(r.disposition, "attachment; filename=\"PRN-1_base" + file + "\"");
+    const PdfInfo info = pdfInfo(dir.path() / "p.pdf", r.body);
+    ASSERT_GT(info.pages, 0) << "pdfinfo refused the PDF";
+    EXPECT_NE(info.pageSize.find(size), std::string::npos) << info.pageSize;
+    pdfs[paper] = info;
+  }
+  EXPECT_EQ(pdfs[""].pages, pdfs["a4"].pages);
+  EXPECT_GT(pdfs["a4"].pages, pdfs["A0"].pages);
+  EXPECT_GE(pdfs["A0"].pages, 1);
+  for (const char* bad : {"b5", "a44", "%20"}) {
+    const auto r = d.get(at + "/pattern.pdf?paper=" + bad);
+    EXPECT_EQ(r.status, 400) << bad << ": " << r.body;
+    EXPECT_NE(r.json().value("error", "").find("'paper' must be a4, letter or a0"),
+              std::string::npos)
+        << r.body;
+  }
+
+  // --- nested grading: every graded size in one drawing, the sample (the piece's size) marked.
+  const auto nsvg = d.get(at + "/nested_grading.svg");
+  ASSERT_EQ(nsvg.status, 200) << nsvg.body;
+  EXPECT_EQ(nsvg.contentType, "image/svg+xml");
+  EXPECT_EQ(nsvg.disposition, "attachment; filename=\"PRN-1_nested_grading.svg\"");
+  const std::size_t pieces = count(nsvg.body, "class=\"piece\"");
+  EXPECT_GT(pieces, 0u);
+  for (const auto& s : graded)
+    EXPECT_EQ(count(nsvg.body, "<polygon data-size=\"" + s + "\""), pieces) << s;
+  EXPECT_EQ(count(nsvg.body, "<polygon data-size=\"" + baseSize + "\" data-sample=\"1\""), pieces)
+      << "the sample is the piece's own size " << baseSize;
+  const auto npdf = d.get(at + "/nested_grading.pdf");
+  ASSERT_EQ(npdf.status, 200) << npdf.body;
+  EXPECT_EQ(npdf.contentType, "application/pdf");
+  EXPECT_EQ(npdf.disposition, "attachment; filename=\"PRN-1_nested_grading.pdf\"");
+  EXPECT_EQ(pdfInfo(dir.path() / "n.pdf", npdf.body).pages, 1);
+  const auto ndxf = d.get(at + "/nested_grading.dxf");
+  ASSERT_EQ(ndxf.status, 200) << ndxf.body;
+  EXPECT_EQ(ndxf.contentType, "application/dxf");
+  EXPECT_EQ(ndxf.disposition, "attachment; filename=\"PRN-1_nested_grading.dxf\"");
+  EXPECT_EQ(ezdxfAudit(dir.path() / "n.dxf", ndxf.body), "");
+  for (const auto& s : graded)
+    EXPECT_NE(ndxf.body.find("SIZE_" + s), std::string::npos) << s;
+
+  // --- markers. Default: the piece as measured on 150 cm, as `garmcap marker` lays the same
+  // pattern (libnest2d is deterministic: the same length and efficiency).
+  const auto base = dir.path() / "base.json";
+  std::ofstream(base) << d.get(at + "/pattern.json").body;
+  const auto mj = d.get(at + "/marker.json");
+  ASSERT_EQ(mj.status, 200) << mj.body;
+  EXPECT_EQ(mj.contentType, "application/json");
+  const Json m = mj.json();
+  EXPECT_EQ(m["sizes"], Json::array({baseSize}));
+  EXPECT_EQ(m["fabric_width_cm"], 150.0);
+  ASSERT_TRUE(m["pieces"].is_array());
+  EXPECT_EQ(m["piece_count"], m["pieces"].size());
+  const double eff = m["efficiency"];
+  EXPECT_GT(eff, 0.3);
+  EXPECT_LE(eff, 1.0);
+  EXPECT_NEAR(eff, m["piece_area_cm2"].get<double>() / (m["length_cm"].get<double>() * 150.0),
+              1e-12);
+  const Json cli = cliMarker({{baseSize, base}}, "150");
+  EXPECT_DOUBLE_EQ(eff, cli["efficiency"].get<double>());
+  EXPECT_DOUBLE_EQ(m["length_cm"].get<double>(), cli["length_cm"].get<double>());
+  EXPECT_EQ(m["piece_count"], cli["pieces"].size());
+
+  // Two graded sizes on 137.5 cm, against the CLI on the same two patterns.
+  const std::string two = graded.front() + "," + graded.back();
+  std::vector<std::pair<std::string, std::filesystem::path>> files;
+  for (const auto& s : {graded.front(), graded.back()}) {
+    files.emplace_back(s, dir.path() / (s + ".json"));
+    std::ofstream(files.back().second) << d.get(at + "/pattern.json?size=" + s).body;
+  }
+  const auto run2 = d.get(at + "/marker.json?width=137.5&sizes=" + two);
+  ASSERT_EQ(run2.status, 200) << run2.body;
+  const Json m2 = run2.json();
+  EXPECT_EQ(m2["sizes"], Json::array({graded.front(), graded.back()}));
+  EXPECT_EQ(m2["fabric_width_cm"], 137.5);
+  const Json cli2 = cliMarker(files, "137.5");
+  EXPECT_DOUBLE_EQ(m2["efficiency"].get<double>(), cli2["efficiency"].get<double>());
+  EXPECT_DOUBLE_EQ(m2["length_cm"].get<double>(), cli2["length_cm"].get<double>());
+  EXPECT_EQ(m2["piece_count"].get<std::size_t>(), 2 * m["piece_count"].get<std::size_t>());
+  {
+    // garmcapctl fetches the same marker through the same route, and refuses an option that does
+    // not go with the file it asks for.
+    const std::string ctl = std::string(GARMCAP_BIN_DIR) +
+                            "/garmcapctl --url http://127.0.0.1:" + std::to_string(d.port()) +
+                            " export " + std::to_string(cap.id);
+    int status = 0;
+    const std::string out =
+        run(ctl + " --what marker.json --width 137.5 --sizes " + two + " 2>&1", status);
+    ASSERT_EQ(status, 0) << out;
+    const Json viaCtl = Json::parse(out);
+    EXPECT_DOUBLE_EQ(viaCtl["efficiency"].get<double>(), m2["efficiency"].get<double>());
+    EXPECT_DOUBLE_EQ(viaCtl["length_cm"].get<double>(), m2["length_cm"].get<double>());
+    const std::string badPaper = run(ctl + " --what pattern.svg --paper a4 2>&1", status);
+    EXPECT_NE(status, 0);
+    EXPECT_NE(badPaper.find("--paper goes with --what pattern.pdf"), std::string::npos) << badPaper;
+    const std::string badWidth = run(ctl + " --what marker.json --width 20 2>&1", status);
+    EXPECT_NE(status, 0);
+    EXPECT_NE(badWidth.find("width"), std::string::npos) << badWidth;
+  }
+  std::printf(
+      "pattern.pdf pages: A4 %d, Letter %d, A0 %d; marker %s on 150 cm: %.1f cm, %.1f %%; "
+      "%s on 137.5 cm: %.1f cm, %.1f %%\n",
+      pdfs["a4"].pages, pdfs["letter"].pages, pdfs["A0"].pages, baseSize.c_str(),
+      m["length_cm"].get<double>(), 100 * eff, two.c_str(), m2["length_cm"].get<double>(),
+      100 * m2["efficiency"].get<double>());
+
+  const std::string q = "?width=137.5&sizes=" + two;
+  const std::string name = "PRN-1_marker_" + graded.front() + "-" + graded.back() + "_137.5cm";
+  const auto msvg = d.get(at + "/marker.svg" + q);
+  ASSERT_EQ(msvg.status, 200) << msvg.body;
+  EXPECT_EQ(msvg.contentType, "image/svg+xml");
+  EXPECT_EQ(msvg.disposition, "attachment; filename=\"" + name + ".svg\"");
+  EXPECT_EQ(count(msvg.body, "class=\"piece\""), m2["piece_count"].get<std::size_t>());
+  const auto mpdf = d.get(at + "/marker.pdf" + q);
+  ASSERT_EQ(mpdf.status, 200) << mpdf.body;
+  EXPECT_EQ(mpdf.contentType, "application/pdf");
+  EXPECT_EQ(mpdf.disposition, "attachment; filename=\"" + name + ".pdf\"");
+  EXPECT_EQ(pdfInfo(dir.path() / "m.pdf", mpdf.body).pages, 1);
+  const auto mdxf = d.get(at + "/marker.dxf" + q);
+  ASSERT_EQ(mdxf.status, 200) << mdxf.body;
+  EXPECT_EQ(mdxf.contentType, "application/dxf");
+  EXPECT_EQ(mdxf.disposition, "attachment; filename=\"" + name + ".dxf\"");
+  EXPECT_EQ(ezdxfAudit(dir.path() / "m.dxf", mdxf.body), "");
+
+  // Bad queries: a 400 naming the query and what is wrong with it.
+  for (const auto& [query, says] : std::vector<std::pair<std::string, std::string>>{
+           {"width=abc", "'width'"},
+           {"width=20", "from 50 to 400"},
+           {"width=401", "from 50 to 400"},
+           {"width=nan", "'width'"},
+           {"width=150cm", "'150cm'"},
+           {"sizes=XXL", "no pattern for size 'XXL' (sizes: base, " + graded.front()},
+           {"sizes=" + graded.front() + ",", "comma list"},
+           {"sizes=" + graded.front() + "," + graded.front(), "twice"},
+           {"sizes=a%20b", "comma list"},
+           {"sizes=1,2,3,4,5,6,7,8,9", "at most 8"}}) {
+    SCOPED_TRACE(query);
+    const auto r = d.get(at + "/marker.json?" + query);
+    EXPECT_EQ(r.status, 400) << r.body;
+    EXPECT_NE(r.json().value("error", "").find(says), std::string::npos) << r.body;
+  }
+  // A piece wider than the fabric: the marker cannot be laid.
+  const auto narrow = d.get(at + "/marker.svg?width=50");
+  EXPECT_EQ(narrow.status, 422) << narrow.body;
+  const std::string why = narrow.json().value("error", "");
+  EXPECT_NE(why.find("wider than the fabric (50.0 cm)"), std::string::npos) << narrow.body;
+  EXPECT_EQ(why.rfind("marker: panel '", 0), 0u) << "names the piece: " << narrow.body;
+  for (const char* route : {"marker.json", "nested_grading.svg", "pattern.pdf?paper=a0"}) {
+    const auto none = d.get("/api/items/987654/" + std::string(route));
+    EXPECT_EQ(none.status, 404) << route << ": " << none.body;
+    EXPECT_NE(none.json().value("error", "").find("987654"), std::string::npos) << none.body;
+  }
   EXPECT_EQ(d.terminate(), 0);
 }
 

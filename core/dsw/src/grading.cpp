@@ -327,12 +327,36 @@ Expected<Pattern> gradePattern(const Pattern& source, const drafts::Measurements
     auto body = target.find("waist_circ");
     if (!body)
       return Error{"dart compensation: the target body has no waist_circ"};
-    auto dc = compensateDarts(p, *body, options.marginCm);
+    double margin = 0;
+    if (options.marginCm) {
+      margin = *options.marginCm;
+    } else {
+      auto own = waistMargin(source);
+      if (!own)
+        return Error{"dart compensation: " + own.error().message};
+      margin = *own;
+    }
+    auto dc = compensateDarts(p, *body, margin);
     if (!dc)
       return dc.error();
     return p;
   }
   return graded;
+}
+
+Expected<double> waistMargin(const Pattern& pattern) {
+  const auto body = pattern.measurements.find("waist_circ");
+  if (!body)
+    return Error{"the pattern's body has no waist_circ"};
+  try {
+    const auto m = drafts::measurePattern(pattern);
+    const auto it = m.find("waist_circ");
+    if (it == m.end())
+      return Error{"the pattern shows no waist_circ"};
+    return it->second - *body;
+  } catch (const std::exception& e) {
+    return Error{std::string("measuring the pattern's waist: ") + e.what()};
+  }
 }
 
 Expected<DartCompensation> compensateDarts(Pattern& graded, double bodyWaistCm, double marginCm) {

@@ -90,7 +90,17 @@ TEST(DswCli, GradeAndSizeRunWriteTheirFiles) {
   EXPECT_TRUE(fs::exists(d / "g77.svg"));
   Result m = run("measure --pattern " + (d / "g77.json").string());
   ASSERT_EQ(m.status, 0) << m.out;
-  EXPECT_NEAR(nlohmann::json::parse(m.out)["measurements"]["waist_circ"].get<double>(), 78.0, 0.05);
+  // Dart compensation keeps the source's own waist ease (65 + 6 at size 55): 75 + 6 at 77.
+  EXPECT_NEAR(nlohmann::json::parse(m.out)["measurements"]["waist_circ"].get<double>(), 81.0, 0.05);
+  // --margin sets another ease on purpose: 75 + 3.
+  Result g3 = run("grade --pattern " + data + "/designs/dress_55.json --to " + data +
+                  "/bodies/table4_2_77.json --dart-compensation --margin 3 --out " +
+                  (d / "g77m3.json").string());
+  ASSERT_EQ(g3.status, 0) << g3.out;
+  Result m3 = run("measure --pattern " + (d / "g77m3.json").string());
+  ASSERT_EQ(m3.status, 0) << m3.out;
+  EXPECT_NEAR(nlohmann::json::parse(m3.out)["measurements"]["waist_circ"].get<double>(), 78.0,
+              0.05);
   Result s = run("sizerun --pattern " + data +
                  "/designs/dress_55.json --chart korean_women --out " + (d / "run").string());
   ASSERT_EQ(s.status, 0) << s.out;

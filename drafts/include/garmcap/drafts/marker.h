@@ -3,6 +3,7 @@
 // the fabric's length, nested by libnest2d (Debian's libnest2d-dev). Files out: SVG (mm), PDF
 // (one page the size of the marker, for a plotter), DXF R12 (one layer per size).
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,11 @@ Marker layMarker(const std::vector<SizedPattern>& sizes, const MarkerOptions& op
 std::string markerSvg(const Marker& marker, const std::string& title);
 /// PDF: one page of the marker's size plus a 2 cm border, 1:1.
 std::string markerPdf(const Marker& marker, const std::string& title);
+/// The marker as numbers (what `garmcap marker` prints and the API's marker.json answers):
+/// title, fabric_width_cm, length_cm, piece_area_cm2, efficiency (0..1), sizes (the size
+/// labels in the order first laid), piece_count, and pieces (panel, size, mirrored, unfolded,
+/// turned, area_cm2 each).
+nlohmann::json markerSummaryJson(const Marker& marker, const std::string& title);
 /// DXF R12 in mm (y up): layer "FABRIC" (selvedges and ends), one layer "SIZE_<size>" per size
 /// holding that size's closed cut lines, grain lines on "GRAIN".
 std::string markerDxf(const Marker& marker);

@@ -27,6 +27,11 @@ struct DesignParameter {
   // grows with in proportion when the pattern is graded to another size (a trouser hem with the
   // hip). Empty: the value is kept in every size (ease, lengths below the waist, flare).
   std::string gradesWith{};
+  // With gradesWith: the body value the default is designed for. Drafted without an explicit
+  // value, the default then grows with the body in proportion too (defaultValue x body /
+  // gradesFrom, clamped to the range), so every size of a chart gets its own width. 0: the
+  // default is one value for every body.
+  double gradesFrom = 0;
 };
 
 struct GarmentTypeInfo {

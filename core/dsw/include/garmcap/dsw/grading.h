@@ -16,6 +16,7 @@
 // (§4.5, eq. 4.14 with its sign corrected) can follow. See docs/dsw.md.
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,11 @@ namespace garmcap::dsw {
 struct GradeOptions {
   CoordMethod method = CoordMethod::kMeanValue;
   bool dartCompensation = false;
-  double marginCm = 3.0;   // m of eq. 4.14: garment waist − body waist wanted after grading
+  // m of eq. 4.14: garment waist − body waist wanted after grading. Unset (the default): the
+  // source pattern's own margin (its measured waist − its body's waist_circ), so compensation
+  // keeps the designed waist ease in every size and leaves the base size as it is; set, it
+  // overrides that ease (a design change, not a correction).
+  std::optional<double> marginCm;
   bool baseDraft = false;  // force base-draft grading even when the type has a recipe
 };
 
@@ -66,6 +71,10 @@ Expected<drafts::Pattern> decodePattern(const EncodedPattern& encoded,
 /// except those the body itself carries (skirt_length in the seed's table 4.2 bodies).
 Expected<drafts::Pattern> targetDraft(const drafts::Pattern& source,
                                       const drafts::Measurements& target);
+
+/// The source pattern's waist margin: drafts::measurePattern's waist_circ minus its body's
+/// waist_circ. Errors when either is missing.
+Expected<double> waistMargin(const drafts::Pattern& pattern);
 
 /// All five steps, then dart compensation when asked. Base-draft grading when the pattern's
 /// type has no recipe, the pattern has no regions, or options.baseDraft.
