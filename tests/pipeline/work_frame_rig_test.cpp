@@ -160,9 +160,9 @@ TEST(WorkFrame, LegOpeningOnAFormWhoseLegsNearlyTouch) {
 
 // On a form with broad shoulder caps (the generated korean_women_55) a sleeveless bodice covers
 // about 7 cm of the arm from the calibrated shoulder tip, and read as a short sleeve: 3-7 cm on
-// seeds 12, 23 and 27 here (and 2 of 12 tops on a 4 MP holdout rig). The sleeveless reference
-// tops rendered on the form tell how far a bodice reaches there; short sleeves (8 cm and longer
-// in the simulator) stay short.
+// seeds 12, 23 and 27 here (and 2 of 12 tops on a 4 MP holdout rig). The edge that ends the
+// cover runs from the shoulder toward the underarm there, not across the arm as a sleeve's hem
+// (docs/measurement_model.md, "Sleeve or armhole"); short sleeves stay short.
 TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
   const std::string path = std::string(GARMCAP_TEST_DATA_DIR) + "/forms/korean_women_55.json";
   const calib::FormModel broad = calib::FormModel::load(path);

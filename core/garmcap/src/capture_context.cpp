@@ -37,21 +37,6 @@ std::vector<Variant> variants() {
   return v;
 }
 
-// How far along the arm, from the shoulder tip, the sleeveless reference tops reach on this form
-// (the largest of them): a bodice covers the shoulder's edge, and on a form with broad shoulder
-// caps that reads as several centimetres of "sleeve".
-double sleevelessReachCm(const std::vector<ReferenceSilhouette>& refs, const FormView& view) {
-  double reach = 0;
-  for (const auto& r : refs) {
-    if (r.type != "top" || !r.attributes.count("sleeve") || r.attributes.at("sleeve") != "none")
-      continue;
-    const auto m = measureGarment(r.mask, view, "top").measurements;
-    if (const auto it = m.find("sleeve_length"); it != m.end())
-      reach = std::max(reach, it->second);
-  }
-  return reach;
-}
-
 }  // namespace
 
 drafts::Measurements bodyForForm(const calib::FormModel& form, const drafts::SizeChart& chart) {
@@ -152,7 +137,6 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
       refView = &tallView.emplace(*ctx->form, p, cv::Size(refView->size().width, rows));
   }
   std::vector<ReferenceSilhouette> refs = renderReferenceSilhouettes(*refView, ctx->body);
-  ctx->sleevelessReachCm = sleevelessReachCm(refs, *refView);
   if (tallView) {
     for (auto& r : refs)
       r.mask = r.mask(cv::Rect(0, 0, r.mask.cols, refRows)).clone();

@@ -32,9 +32,6 @@ struct CaptureContext {
   std::shared_ptr<const GarmentClassifier> classifier;
   // The size chart whose nearest size completes the form's body (bodyForForm).
   std::string sizeChart;
-  // How far a sleeveless reference top covers the arm from the shoulder tip, in cm (0 on most
-  // forms; several cm on a form with broad shoulder caps): a shorter "sleeve" is the bodice.
-  double sleevelessReachCm = 0;
 };
 
 /// The chart the station's configuration names when it names none ([pipeline] size_chart).
