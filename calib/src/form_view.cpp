@@ -423,6 +423,9 @@ void FormView::findArms() {
     ArmAxis arm;
     arm.dir = dir;
     arm.shoulderTipPx = *tip;
+    if (atArmpit)
+      arm.underarmPx = Eigen::Vector2d(side == 0 ? atArmpit->leftPx : atArmpit->rightPx,
+                                       rowOfHeight(atArmpit->heightCm));
     arm.originPx = mean + dir * (*tip - mean).dot(dir);
     arm.binPx = std::max(1.0, pose_.pxPerCm);
     double tMax = 0;
@@ -467,10 +470,8 @@ void FormView::findArms() {
     // Above the armpit the torso's edge clips the arm's inner side, so those bins read too
     // narrow and off-centre: give them the arm's section just below the armpit, where it
     // leaves the torso.
-    if (atArmpit) {
-      const Eigen::Vector2d armpitPt(side == 0 ? atArmpit->leftPx : atArmpit->rightPx,
-                                     rowOfHeight(atArmpit->heightCm));
-      const double tArmpit = arm.t(armpitPt);
+    if (arm.underarmPx) {
+      const double tArmpit = arm.t(*arm.underarmPx);
       if (tArmpit > 0) {
         const auto bArmpit =
             std::min(bins - 1, static_cast<std::size_t>(std::ceil(tArmpit / arm.binPx)));

@@ -11,12 +11,12 @@
 
 #include "commands.h"
 #include "garmcap/calib/camera.h"
-#include "garmcap/calib/form_generator.h"
 #include "garmcap/calib/form_model.h"
 #include "garmcap/calib/registration.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/measurements.h"
 #include "garmcap/drafts/size_charts.h"
+#include "garmcap/sim/form_generator.h"
 
 namespace garmcap::cli {
 
@@ -101,7 +101,7 @@ void addCalibCommands(CLI::App& app) {
       } else {
         throw std::invalid_argument("make-form: give --measurements or --chart and --size");
       }
-      const calib::ParametricForm pf(body);
+      const sim::ParametricForm pf(body);
       const fs::path meshPath(*out);
       fs::path sidecarPath = meshPath;
       sidecarPath.replace_extension(".json");

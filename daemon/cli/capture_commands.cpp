@@ -70,7 +70,7 @@ std::map<std::string, double> readGarmentMeasurements(const std::string& path,
   const auto& m = drafts::requireField(j, "measurements", path);
   if (!m.is_object())
     throw drafts::ParseError(path + ": field 'measurements' must be an object");
-  const auto& names = calib::garmentMeasurementNames(type);
+  const auto& names = sim::garmentMeasurementNames(type);
   std::map<std::string, double> out;
   for (const auto& [k, v] : m.items()) {
     if (std::find(names.begin(), names.end(), k) == names.end()) {
@@ -145,7 +145,7 @@ void runRender(const RenderArgs& a) {
     std::fprintf(stderr, "garmcap render: drafted with recipe '%s' for %s size %s\n",
                  recipe.c_str(), a.chart.c_str(), a.size.c_str());
   }
-  for (const auto& n : calib::garmentMeasurementNames(g.type)) {
+  for (const auto& n : sim::garmentMeasurementNames(g.type)) {
     if (!m.count(n))
       throw std::invalid_argument("no '" + n + "' for the " + g.type +
                                   " (give it in --measurements)");

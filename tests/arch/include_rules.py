@@ -23,28 +23,13 @@ ALLOWED = {
     "capture": {"capture"},
     "capture/sim": {"sim", "capture", "calib", "drafts"},
     # core never includes the simulator or the camera back ends ("core shares no code with any
-    # simulator"; "core does not do I/O on devices").
+    # simulator"; "core does not do I/O on devices"). Everything of the simulator, its garment
+    # model and form generator included, is under garmcap/sim/.
     "core/garmcap": {"pipeline", "dsw", "calib", "drafts"},
     "core/dsw": {"dsw", "drafts"},
     "daemon": None,  # the daemon and the CLI tools may use every library
     # The hub serves with the daemon's HTTP layer and never links the capture pipeline.
     "daemon/hub": {"hub", "daemon"},
-}
-
-# Headers outside capture/sim that belong to the simulator: core must not include them either.
-SIMULATOR_HEADERS = {
-    # The simulator's garment model (the garment widths it renders from the form's and the
-    # garment's circumferences). It still lives in calib/ (issue 15 moves it).
-    "garmcap/calib/garment_model.h",
-}
-SIMULATOR_FREE = ("core/garmcap", "core/dsw")
-
-# Known remaining violations, reported but not failed: (file, included header) -> why. Remove an
-# entry when its include goes; a stale entry is reported so that the list stays true.
-KNOWN_EXCEPTIONS = {
-    ("core/garmcap/src/capture_context.cpp", "garmcap/calib/garment_model.h"):
-        "the classifier's reference silhouettes are laid with the simulator's garment "
-        "(calib::layGarment); the pipeline needs a garment appearance of its own (issue 15)",
 }
 
 SOURCE_SUFFIXES = {".h", ".hpp", ".cpp", ".cc"}
@@ -62,8 +47,8 @@ def rule_folder(rel: str):
 
 
 def check(root: Path):
-    """Returns (violations, exceptions_seen), each a list of printable lines."""
-    violations, seen = [], set()
+    """Returns the violations, each a printable line."""
+    violations = []
     for path in sorted(root.rglob("*")):
         if path.suffix not in SOURCE_SUFFIXES or not path.is_file():
             continue
@@ -89,15 +74,7 @@ def check(root: Path):
                 violations.append(
                     f"{where}: {folder}/ may include only "
                     f"{', '.join('garmcap/' + a for a in sorted(allowed))} (docs/architecture.md)")
-                continue
-            if folder in SIMULATOR_FREE and header in SIMULATOR_HEADERS:
-                if (rel, header) in KNOWN_EXCEPTIONS:
-                    seen.add((rel, header))
-                    continue
-                violations.append(
-                    f"{where}: {folder}/ shares no code with any simulator, and {header} is the "
-                    "simulator's (docs/architecture.md)")
-    return violations, seen
+    return violations
 
 
 def main(argv):
@@ -108,13 +85,7 @@ def main(argv):
     if not args.root.is_dir():
         print(f"include_rules: {args.root}: not a directory", file=sys.stderr)
         return 2
-    violations, seen = check(args.root)
-    for (rel, header), why in sorted(KNOWN_EXCEPTIONS.items()):
-        if (rel, header) in seen:
-            print(f"include_rules: known exception: {rel} includes {header}: {why}")
-        elif (args.root / rel).exists():
-            print(f"include_rules: stale exception (no longer included, remove it): {rel} -> "
-                  f"{header}")
+    violations = check(args.root)
     for v in violations:
         print(v, file=sys.stderr)
     if violations:

@@ -105,7 +105,7 @@ CalibErrorKind kindOf(const std::function<void()>& f) {
 }
 
 TEST(FormModelBadInput, EachWithItsOwnError) {
-  const ParametricForm pf(test::table42("55"));
+  const sim::ParametricForm pf(test::table42("55"));
   const TriMesh mesh = pf.mesh(2.0, 32);
   auto none = [](nlohmann::json&) {};
   EXPECT_NO_THROW(loadWith(mesh, "cm", none));

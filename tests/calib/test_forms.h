@@ -6,8 +6,8 @@
 #include <map>
 #include <string>
 
-#include "garmcap/calib/form_generator.h"
 #include "garmcap/calib/form_model.h"
+#include "garmcap/sim/form_generator.h"
 
 namespace garmcap::calib::test {
 
@@ -53,7 +53,7 @@ inline drafts::Measurements table42(const std::string& size) {
 
 inline const FormModel& parametricForm55() {
   static const FormModel form = [] {
-    const ParametricForm pf(table42("55"));
+    const sim::ParametricForm pf(table42("55"));
     return FormModel(pf.mesh(), pf.sidecar("size55.obj"));
   }();
   return form;

@@ -14,13 +14,13 @@
 #include <opencv2/imgproc.hpp>
 #include <tuple>
 
-#include "garmcap/calib/garment_model.h"
+#include "garmcap/sim/garment_model.h"
 #include "garmcap/sim/scene.h"
 #include "garmcap/sim/sim.h"
 
 namespace garmcap::capture {
 
-using calib::garmentMeasurementNames;
+using sim::garmentMeasurementNames;
 // The rig cases here are rendered by the simulator (its own target, garmcap::sim).
 using sim::randomScene;
 using sim::RandomSceneOptions;

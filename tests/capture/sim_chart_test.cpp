@@ -7,9 +7,9 @@
 #include <utility>
 #include <vector>
 
-#include "garmcap/calib/form_generator.h"
 #include "garmcap/calib/form_model.h"
 #include "garmcap/drafts/size_charts.h"
+#include "garmcap/sim/form_generator.h"
 #include "garmcap/sim/scene.h"
 
 namespace garmcap::sim {
@@ -30,7 +30,7 @@ TEST(SimChart, EveryChartSizeGarmentFitsTheFormOfItsSize) {
   const cv::Size small(300, 400);
   for (const auto& chart : drafts::sizeCharts()) {
     for (std::size_t i = 0; i < chart.sizes.size(); ++i) {
-      const calib::ParametricForm pf(chart.bodies[i]);
+      const sim::ParametricForm pf(chart.bodies[i]);
       calib::FormSidecar sidecar = pf.sidecar("form.obj");
       const calib::FormModel form(pf.mesh(), sidecar);
       const calib::FormView view(form, fitPose(form, small, 0.05), small);
@@ -38,12 +38,12 @@ TEST(SimChart, EveryChartSizeGarmentFitsTheFormOfItsSize) {
         SCOPED_TRACE(chart.name + " " + chart.sizes[i] + " " + type + " " +
                      (attrs.count("sleeve") ? attrs.at("sleeve") : "") + " " +
                      (attrs.count("skirt") ? attrs.at("skirt") : ""));
-        calib::GarmentSpec g;
+        sim::GarmentSpec g;
         g.type = type;
         g.attributes = attrs;
         try {
           g.measurements = draftedGarment(g, chart.bodies[i], view);
-          calib::checkGarmentFits(g, view);
+          sim::checkGarmentFits(g, view);
         } catch (const std::exception& e) {
           ADD_FAILURE() << e.what();
         }

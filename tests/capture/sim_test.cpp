@@ -14,7 +14,7 @@
 
 namespace garmcap::sim {
 
-using calib::garmentMeasurementNames;
+using sim::garmentMeasurementNames;
 namespace {
 
 const std::string kForm =

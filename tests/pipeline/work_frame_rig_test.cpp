@@ -11,11 +11,11 @@
 
 #include "common/bundled_form.h"
 #include "garmcap/calib/form_model.h"
-#include "garmcap/calib/garment_model.h"
 #include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 #include "garmcap/pipeline/garment_measurer.h"
 #include "garmcap/pipeline/grabcut_refine.h"
+#include "garmcap/sim/garment_model.h"
 #include "garmcap/sim/scene.h"
 #include "garmcap/sim/sim.h"
 
@@ -160,9 +160,9 @@ TEST(WorkFrame, LegOpeningOnAFormWhoseLegsNearlyTouch) {
 
 // On a form with broad shoulder caps (the generated korean_women_55) a sleeveless bodice covers
 // about 7 cm of the arm from the calibrated shoulder tip, and read as a short sleeve: 3-7 cm on
-// seeds 12, 23 and 27 here (and 2 of 12 tops on a 4 MP holdout rig). The sleeveless reference
-// tops rendered on the form tell how far a bodice reaches there; short sleeves (8 cm and longer
-// in the simulator) stay short.
+// seeds 12, 23 and 27 here (and 2 of 12 tops on a 4 MP holdout rig). The edge that ends the
+// cover runs from the shoulder toward the underarm there, not across the arm as a sleeve's hem
+// (docs/measurement_model.md, "Sleeve or armhole"); short sleeves stay short.
 TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
   const std::string path = std::string(GARMCAP_TEST_DATA_DIR) + "/forms/korean_women_55.json";
   const calib::FormModel broad = calib::FormModel::load(path);
@@ -196,7 +196,7 @@ TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
 // from the simulator's. Scoring needs the two to agree name for name.
 TEST(Measure, NamesPerTypeAreTheRigsTruthNames) {
   for (const std::string type : {"top", "dress", "skirt", "pants"})
-    EXPECT_EQ(pipeline::measurementNamesFor(type), calib::garmentMeasurementNames(type)) << type;
+    EXPECT_EQ(pipeline::measurementNamesFor(type), sim::garmentMeasurementNames(type)) << type;
   EXPECT_THROW(pipeline::measurementNamesFor("coat"), std::invalid_argument);
 }
 

@@ -7,17 +7,16 @@
 #include <stdexcept>
 #include <utility>
 
-#include "garmcap/calib/form_generator.h"
-#include "garmcap/calib/garment_model.h"
 #include "garmcap/calib/mesh.h"
 #include "garmcap/drafts/file_io.h"
 #include "garmcap/drafts/size_charts.h"
+#include "garmcap/sim/form_generator.h"
+#include "garmcap/sim/garment_model.h"
 #include "garmcap/sim/scene.h"
 #include "garmcap/sim/sim.h"
 
 namespace garmcap::sim {
 
-using calib::garmentTypeNames;
 using capture::readRig;
 using capture::Rig;
 using capture::rigImageExtension;
@@ -42,7 +41,7 @@ Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
     auto it = sizeForms.find(size);
     if (it == sizeForms.end()) {
       const auto& chart = drafts::sizeChart(options.chart);
-      const calib::ParametricForm pf(chart.body(size));
+      const ParametricForm pf(chart.body(size));
       const auto dir = outDir / "forms" / (chart.name + "_" + size);
       std::filesystem::create_directories(dir);
       calib::FormSidecar sidecar = pf.sidecar("form.obj");

@@ -12,10 +12,6 @@
 namespace garmcap::sim {
 
 using calib::FormView;
-using calib::garmentMeasurementNames;
-using calib::GarmentSpec;
-using calib::garmentTypeNames;
-using calib::kMinEaseCm;
 
 namespace {
 
@@ -221,7 +217,7 @@ void draftFromChart(Scene& s, const RandomSceneOptions& options, std::uint64_t s
     GarmentSpec g = s.garment;
     try {
       g.measurements = draftedGarment(g, chart.bodies[i], view);
-      calib::checkGarmentFits(g, view);
+      checkGarmentFits(g, view);
     } catch (const std::exception& e) {
       refused += "; size " + chart.sizes[i] + ": " + e.what();
       continue;

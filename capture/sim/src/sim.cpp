@@ -10,14 +10,6 @@
 
 namespace garmcap::sim {
 
-using calib::checkGarmentFits;
-using calib::GarmentHeights;
-using calib::garmentHeights;
-using calib::GarmentLayer;
-using calib::garmentMeasurementNames;
-using calib::GarmentSpec;
-using calib::layGarment;
-
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;

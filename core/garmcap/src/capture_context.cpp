@@ -5,9 +5,8 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
-#include "garmcap/calib/garment_model.h"
-#include "garmcap/drafts/recipes.h"
 #include "garmcap/drafts/size_charts.h"
+#include "garmcap/pipeline/reference_garment.h"
 
 namespace garmcap::pipeline {
 namespace {
@@ -38,107 +37,6 @@ std::vector<Variant> variants() {
   return v;
 }
 
-double designDefault(const std::string& recipe, const std::string& name) {
-  for (const auto& p : drafts::garmentType(recipe).design)
-    if (p.name == name)
-      return p.defaultValue;
-  throw std::invalid_argument("recipe '" + recipe + "' has no design parameter '" + name + "'");
-}
-
-// The garment a recipe drafts for `body` with its default ease and design, in the measurement
-// names of the pipeline: circumference = body + the recipe's ease, lengths from its length
-// parameters (scaled by the variant), made wearable on this form in the simulator's model (a
-// little ease over the form wherever it is measured, hems on the form).
-calib::GarmentSpec referenceGarment(const Variant& v, const drafts::Measurements& body,
-                                    const FormView& view) {
-  const bool skirted = v.attributes.count("skirt") != 0;
-  const std::string recipe = v.type == "top"     ? "blouse"
-                             : v.type == "pants" ? "pants"
-                             : v.type == "dress"
-                                 ? "dress"
-                                 : (v.attributes.at("skirt") == "a_line" ? "skirt_a" : "skirt_h");
-  auto formCirc = [&](double h) {
-    const auto sec = view.torsoAtHeight(std::max(h, view.hipCm()));
-    return sec ? sec->circCm : 0.0;
-  };
-  auto eased = [&](const char* name, const char* ease, double h) {
-    return std::max(body.get(name) + designDefault(recipe, ease),
-                    formCirc(h) + calib::kMinEaseCm + 1.0);
-  };
-  const double floorCm = view.form().minYCm();
-  std::map<std::string, double> m;
-  if (v.type == "top" || v.type == "dress")
-    m["bust_circ"] = eased("bust_circ", "ease_bust", view.bustCm());
-  m["waist_circ"] = eased("waist_circ", "ease_waist", view.waistCm());
-  if (v.type != "top")
-    m["hip_circ"] = eased("hip_circ", "ease_hip", view.hipCm());
-  if (skirted) {
-    const double len = std::clamp(designDefault(recipe, "skirt_length") * v.lengthFactor,
-                                  view.waistCm() - view.hipCm() + 8, view.waistCm() - floorCm - 10);
-    m["skirt_length"] = len;
-    const double flare = v.attributes.at("skirt") == "a_line"
-                             ? std::max(8.0, designDefault(recipe, "hem_flare"))
-                             : 0.0;
-    m["hem_circ"] =
-        std::max(m["hip_circ"] + 4 * flare * v.lengthFactor, formCirc(view.hipCm()) + 3);
-    if (v.type == "dress")
-      m["garment_length"] = view.neckSideCm() - view.waistCm() + len;
-  }
-  if (v.type == "top") {
-    const double below = designDefault(recipe, "blouse_length") * v.lengthFactor;
-    // A top ends above the crotch (below it, it is a dress): on a form whose crotch is within
-    // 12 cm of the hip the long reference tops were refused for that.
-    const double lowest = std::max(view.hipCm() - 12, view.crotchCm().value_or(-1e9) + 3);
-    const double hem = std::clamp(view.waistCm() - below, lowest, view.waistCm() - 4);
-    m["garment_length"] = view.neckSideCm() - hem;
-    m["hem_circ"] =
-        std::max(body.get("hip_circ") + designDefault(recipe, "ease_hip"), formCirc(hem) + 4);
-  }
-  if (v.attributes.count("sleeve")) {
-    const std::string& sl = v.attributes.at("sleeve");
-    const double arm = body.get("arm_shoulder_tip_to_wrist");
-    double sleeve =
-        sl == "none"
-            ? 0.0
-            : (sl == "short" ? 0.3 * arm : std::min(1.0, 0.9 + 0.1 * v.lengthFactor) * arm);
-    // No longer than the form's arm as this view sees it (to 10 cm past the wrist, the garment
-    // model's bound): the body chart's arm can be longer than the scanned form's.
-    for (int side = 0; side < 2 && sleeve > 0; ++side)
-      if (const auto& a = view.arm(side))
-        sleeve = std::min(sleeve, a->tWristPx / view.pose().pxPerCm + 10.0 - 0.5);
-    m["sleeve_length"] = sleeve;
-  }
-  if (v.type == "pants") {
-    const double crotch = view.crotchCm().value_or(view.hipCm() - 10) - 2;
-    const double outseam = designDefault(recipe, "pants_length") *
-                           body.get("leg_waist_side_to_floor") * std::min(1.0, v.lengthFactor);
-    const double hem = std::clamp(view.waistCm() - outseam, floorCm + 6, crotch - 20);
-    m["outseam"] = view.waistCm() - hem;
-    m["inseam"] = crotch - hem;
-    m["leg_opening_circ"] = 2 * designDefault(recipe, "hem_width") + 2;
-  }
-  calib::GarmentSpec spec;
-  spec.type = v.type;
-  spec.attributes = v.attributes;
-  spec.measurements = m;
-  return spec;
-}
-
-// How far along the arm, from the shoulder tip, the sleeveless reference tops reach on this form
-// (the largest of them): a bodice covers the shoulder's edge, and on a form with broad shoulder
-// caps that reads as several centimetres of "sleeve".
-double sleevelessReachCm(const std::vector<ReferenceSilhouette>& refs, const FormView& view) {
-  double reach = 0;
-  for (const auto& r : refs) {
-    if (r.type != "top" || !r.attributes.count("sleeve") || r.attributes.at("sleeve") != "none")
-      continue;
-    const auto m = measureGarment(r.mask, view, "top").measurements;
-    if (const auto it = m.find("sleeve_length"); it != m.end())
-      reach = std::max(reach, it->second);
-  }
-  return reach;
-}
-
 }  // namespace
 
 drafts::Measurements bodyForForm(const calib::FormModel& form, const drafts::SizeChart& chart) {
@@ -165,11 +63,9 @@ std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view
         !view.arm(1))
       continue;
     try {
-      const calib::GarmentSpec spec = referenceGarment(v, body, view);
-      calib::checkGarmentFits(spec, view);
-      const calib::GarmentLayer layer = calib::layGarment(spec, view);
-      cv::Mat mask = layer.coverage > 0.5f;
-      refs.push_back({v.type, v.attributes, mask});
+      const ReferenceGarment garment =
+          referenceGarment(v.type, v.attributes, v.lengthFactor, body, view);
+      refs.push_back({v.type, v.attributes, drawReferenceGarment(garment, view)});
     } catch (const std::exception& e) {
       // A reference that cannot be drawn would silently take its type or cut out of the
       // classifier (three long tops did, on every bundled form): the calibration is refused.
@@ -241,7 +137,6 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
       refView = &tallView.emplace(*ctx->form, p, cv::Size(refView->size().width, rows));
   }
   std::vector<ReferenceSilhouette> refs = renderReferenceSilhouettes(*refView, ctx->body);
-  ctx->sleevelessReachCm = sleevelessReachCm(refs, *refView);
   if (tallView) {
     for (auto& r : refs)
       r.mask = r.mask(cv::Rect(0, 0, r.mask.cols, refRows)).clone();

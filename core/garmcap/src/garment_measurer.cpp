@@ -315,6 +315,79 @@ struct SleeveEnd {
   cv::Point2d endPx;
 };
 
+// Smaller angle (0..pi/2) between two undirected lines with directions a and b.
+double lineAngle(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return std::acos(std::min(1.0, std::abs(a.dot(b)) / (a.norm() * b.norm())));
+}
+
+// Whether the garment's cover of the arm ends in a bodice's armhole rather than in a sleeve's
+// hem (docs/measurement_model.md, "Sleeve or armhole"). A sleeve is a tube round the arm: its hem
+// runs across the arm. A sleeveless bodice's armhole runs from the shoulder down to the
+// underarm, and so does the edge of an extended shoulder that hangs from beyond the shoulder tip
+// (a boxy top on a form with broad shoulder caps covers several cm of the arm's root that way).
+// The edge is located where the cover ends along lines parallel to the arm's axis, from its
+// centre line to three quarters of the way to its outer edge (the inner half lies on the bodice
+// near the shoulder), and compared, as a direction in the arm's frame, with the two: across the
+// arm, or along the line from the shoulder tip to the underarm. Cover of the arm's outer edge
+// down to the underarm's row is a sleeve whatever its hem looks like: a bodice's armhole has
+// reached the body above that row.
+bool endsInArmhole(const Context& c, const calib::ArmAxis& arm, double outerSign,
+                   const Eigen::Vector2d& normal, double lastCoveredPx) {
+  if (!arm.underarmPx)
+    return false;
+  const double step = std::max(1.0, 0.25 * c.s);
+  auto outerEdge = [&](double t) {
+    return Eigen::Vector2d(arm.originPx + arm.dir * t +
+                           normal * (arm.centreAt(t) + outerSign * arm.halfWidthAt(t)));
+  };
+  for (double t = 0; t <= lastCoveredPx; t += step)
+    if (outerEdge(t).y() >= arm.underarmPx->y())
+      return false;
+  // (d, t) in cm of the cover's end on each line; d outward from the arm's centre.
+  std::vector<Eigen::Vector2d> ends;
+  const double tMax = arm.tWristPx + 10.0 * c.s;
+  for (const double f : {0.0, 0.25, 0.5, 0.75}) {
+    double last = -1;
+    for (double t = 0, gap = 0; t <= tMax && gap <= c.s; t += step) {
+      const Eigen::Vector2d p = arm.originPx + arm.dir * t +
+                                normal * (arm.centreAt(t) + outerSign * f * arm.halfWidthAt(t));
+      if (on(c.mask, static_cast<int>(std::lround(p.y())), static_cast<int>(std::lround(p.x())))) {
+        last = t;
+        gap = 0;
+      } else {
+        gap += step;
+      }
+    }
+    if (last >= 0)
+      ends.emplace_back(f * arm.halfWidthAt(last) / c.s, last / c.s);
+  }
+  if (ends.size() < 3)
+    return false;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& e : ends)
+    mean += e;
+  mean /= static_cast<double>(ends.size());
+  double sdd = 0, sdt = 0;
+  for (const auto& e : ends) {
+    sdd += (e.x() - mean.x()) * (e.x() - mean.x());
+    sdt += (e.x() - mean.x()) * (e.y() - mean.y());
+  }
+  if (sdd <= 0)
+    return false;
+  // Directions as (d, t) in the arm's frame: the fitted edge, a hem across the arm, and the
+  // armhole line from the shoulder tip to the underarm.
+  const Eigen::Vector2d edge(1.0, sdt / sdd);
+  const Eigen::Vector2d hem(1.0, 0.0);
+  auto frame = [&](const Eigen::Vector2d& p) {
+    const double t = arm.t(p);
+    return Eigen::Vector2d(outerSign * (arm.d(p) - arm.centreAt(t)), t);
+  };
+  const Eigen::Vector2d armhole = frame(*arm.underarmPx) - frame(arm.shoulderTipPx);
+  if (armhole.norm() <= 0)
+    return false;
+  return lineAngle(edge, armhole) < lineAngle(edge, hem);
+}
+
 // Sleeve length on one arm: along the arm axis from the shoulder tip, as far as the garment
 // covers the outer half of the arm (the side away from the body, which a bodice never reaches).
 std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
@@ -357,6 +430,8 @@ std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
   }
   // The bodice's shoulder covers the arm's root for a few cm; a sleeve (8 cm and more) goes on.
   if (lastCovered < 5.0 * c.s)
+    return SleeveEnd{0.0, {}};
+  if (endsInArmhole(c, *arm, outerSign, normal, lastCovered))
     return SleeveEnd{0.0, {}};
   // Refine the end: the farthest garment pixel along the axis within the arm's tube near the
   // coarse end.

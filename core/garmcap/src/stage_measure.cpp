@@ -4,14 +4,6 @@
 #include <string>
 
 namespace garmcap::pipeline {
-namespace {
-
-// A "sleeve" no longer than a sleeveless reference top reaches down this form's arm plus this is
-// the bodice's shoulder.
-constexpr double kSleevelessMarginCm = 0.75;
-
-}  // namespace
-
 GarmentMeasurement measureCapturedGarment(const CaptureContext& ctx, const cv::Mat& garment,
                                           const CaptureOptions& options, CaptureResult& result) {
   const GarmentMeasurement gm = measureGarment(garment, *ctx.view, result.type);
@@ -19,10 +11,10 @@ GarmentMeasurement measureCapturedGarment(const CaptureContext& ctx, const cv::M
   for (const auto& w : gm.warnings)
     result.warnings.push_back(w);
   if (gm.measurements.count("sleeve_length")) {
-    // Shorter than a sleeveless bodice reaches down the arm on this form (plus the reading's
-    // scatter) is no sleeve.
+    // The measurer reads 0 where the garment's cover of the arm is the bodice's shoulder or
+    // armhole, not a sleeve (garment_measurer.cpp, endsInArmhole).
     const double sl = gm.measurements.at("sleeve_length");
-    const bool sleeveless = sl < std::max(2.0, ctx.sleevelessReachCm + kSleevelessMarginCm);
+    const bool sleeveless = sl < 2.0;
     result.attributes["sleeve"] = sleeveless ? "none" : (sl < 35.0 ? "short" : "long");
     if (sleeveless)
       result.measurements["sleeve_length"] = 0.0;

@@ -32,6 +32,10 @@ struct ArmAxis {
   Eigen::Vector2d originPx;  // shoulder tip projected onto the axis: t = 0 here
   Eigen::Vector2d dir;       // unit, down the arm
   Eigen::Vector2d shoulderTipPx;
+  // The underarm: the torso's edge on this side at the first row below the armpit, where the
+  // arm's inner edge leaves the body (a bodice's armhole runs from the shoulder down to here).
+  // nullopt when no torso row is found below the armpit.
+  std::optional<Eigen::Vector2d> underarmPx;
   double tWristPx = 0;                 // t of the wrist (narrowest part of the forearm)
   double binPx = 1;                    // bin size of the tables below
   std::vector<double> halfWidthPx;     // per t bin from 0; extrapolated near the shoulder

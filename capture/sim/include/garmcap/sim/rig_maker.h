@@ -29,7 +29,7 @@ struct RigMakeOptions {
 /// Renders a rig: `count` scenes with a balanced mix of types (cycling top, dress, skirt,
 /// pants), the rest drawn from the seed; writes the case folders and rig.json. Returns the rig
 /// as capture::readRig would. With `options.chart`, each case is a size of the chart drawn from its
-/// seed: it is rendered on the parametric form of that size's body (calib::ParametricForm,
+/// seed: it is rendered on the parametric form of that size's body (sim::ParametricForm,
 /// written once per size to `outDir`/forms/<chart>_<size>/form.{obj,json}; `form` is not used)
 /// wearing the garment drafted for the same body (randomScene with chartSize).
 capture::Rig makeRig(const calib::FormModel& form, const std::string& formPath,

@@ -14,10 +14,10 @@
 #include <string>
 
 #include "garmcap/calib/form_model.h"
-#include "garmcap/calib/garment_model.h"
 #include "garmcap/calib/projection.h"
 #include "garmcap/drafts/measurements.h"
 #include "garmcap/sim/fabric.h"
+#include "garmcap/sim/garment_model.h"
 
 namespace garmcap::sim {
 
@@ -56,7 +56,7 @@ struct Scene {
   cv::Size size{0, 0};   // image size, px
   calib::FormPose pose;  // orthographic or perspective; roll applied to both frames
   Lighting lighting;
-  calib::GarmentSpec garment;
+  GarmentSpec garment;
   Fabric fabric;
   Shake shake;
   std::uint64_t seed = 1;  // sensor noise (each frame its own stream)
@@ -113,7 +113,7 @@ std::map<std::string, double> simDraftDesign(const std::string& recipe,
 /// skirt_length (dress) or + the blouse's length below the waist (top); sleeve_length 0 for a
 /// sleeveless garment. Throws drafts::DraftError (the recipe refuses the body) or
 /// std::invalid_argument for an unknown type.
-std::map<std::string, double> draftedGarment(const calib::GarmentSpec& garment,
+std::map<std::string, double> draftedGarment(const GarmentSpec& garment,
                                              const drafts::Measurements& body,
                                              const calib::FormView& view,
                                              std::string* recipeUsed = nullptr);

@@ -32,9 +32,6 @@ struct CaptureContext {
   std::shared_ptr<const GarmentClassifier> classifier;
   // The size chart whose nearest size completes the form's body (bodyForForm).
   std::string sizeChart;
-  // How far a sleeveless reference top covers the arm from the shoulder tip, in cm (0 on most
-  // forms; several cm on a form with broad shoulder caps): a shorter "sleeve" is the bodice.
-  double sleevelessReachCm = 0;
 };
 
 /// The chart the station's configuration names when it names none ([pipeline] size_chart).
@@ -47,8 +44,9 @@ inline constexpr const char* kDefaultSizeChart = "korean_women";
 std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& calibration,
                                                           const std::string& sizeChart);
 
-/// Reference silhouettes of every type and attribute combination, drafted for `body` by the
-/// project's recipes and laid on the form by the garment model of the scene simulator. Throws
+/// Reference silhouettes of every type and attribute combination at three lengths, drafted for
+/// `body` by the project's recipes and drawn on the form by the pipeline's own reference garment
+/// (reference_garment.h; it shares no model with the scene simulator). Throws
 /// std::runtime_error naming the reference when one cannot be drawn on this form.
 std::vector<ReferenceSilhouette> renderReferenceSilhouettes(const FormView& view,
                                                             const drafts::Measurements& body);

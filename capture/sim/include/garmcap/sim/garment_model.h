@@ -15,7 +15,7 @@
 #include "garmcap/calib/form_view.h"
 #include "garmcap/drafts/measurements.h"
 
-namespace garmcap::calib {
+namespace garmcap::sim {
 
 /// Measurement names of truth.json, and which apply to a type ("top", "dress", "skirt",
 /// "pants"). Throws std::invalid_argument for an unknown type.
@@ -54,7 +54,7 @@ struct GarmentSpec {
 /// pants crotch no higher than the form's and at most 8 cm below it, sleeve within the arm.
 /// Throws std::invalid_argument with a sentence naming the measurement, its value and the
 /// limit.
-void checkGarmentFits(const GarmentSpec& spec, const FormView& view);
+void checkGarmentFits(const GarmentSpec& spec, const calib::FormView& view);
 
 /// Derived heights (cm) of a garment on this form: hem, top edge, pants crotch.
 struct GarmentHeights {
@@ -62,7 +62,7 @@ struct GarmentHeights {
   double hemCm = 0;     // centre-front hem
   double crotchCm = 0;  // pants only
 };
-GarmentHeights garmentHeights(const GarmentSpec& spec, const FormView& view);
+GarmentHeights garmentHeights(const GarmentSpec& spec, const calib::FormView& view);
 
 /// The garment drawn into the view's image: coverage 0..1, a shading factor (folds and the
 /// garment's own roundness) and fabric surface coordinates (cm) for every covered pixel.
@@ -72,9 +72,9 @@ struct GarmentLayer {
   cv::Mat1f foldShade;  // multiplicative, about 1
   cv::Mat2f uvCm;       // fabric coordinates (across, down)
 };
-GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view);
+GarmentLayer layGarment(const GarmentSpec& spec, const calib::FormView& view);
 
 /// Garment circumference (cm) at form height h under the model (knots with plateaus).
-double garmentCircAt(const GarmentSpec& spec, const FormView& view, double heightCm);
+double garmentCircAt(const GarmentSpec& spec, const calib::FormView& view, double heightCm);
 
-}  // namespace garmcap::calib
+}  // namespace garmcap::sim

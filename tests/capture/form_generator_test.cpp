@@ -1,16 +1,19 @@
-#include "garmcap/calib/form_generator.h"
+#include "garmcap/sim/form_generator.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <random>
 
+#include "calib/test_forms.h"
 #include "garmcap/calib/form_model.h"
 #include "garmcap/drafts/size_charts.h"
-#include "test_forms.h"
 
 namespace garmcap::calib {
 namespace {
+
+// The generator is the simulator's (garmcap::sim); what it is checked with is calib's.
+using sim::ParametricForm;
 
 namespace fs = std::filesystem;
 

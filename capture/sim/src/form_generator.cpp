@@ -1,4 +1,4 @@
-#include "garmcap/calib/form_generator.h"
+#include "garmcap/sim/form_generator.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,11 @@
 
 #include "garmcap/calib/slicer.h"
 
-namespace garmcap::calib {
+namespace garmcap::sim {
+
+using calib::FormSidecar;
+using calib::polygonPerimeter;
+using calib::TriMesh;
 
 double ellipsePerimeter(double a, double b) {
   const double h = (a - b) * (a - b) / ((a + b) * (a + b));
@@ -305,4 +309,4 @@ FormSidecar ParametricForm::sidecar(const std::string& meshFileName) const {
   return s;
 }
 
-}  // namespace garmcap::calib
+}  // namespace garmcap::sim

@@ -1,4 +1,4 @@
-#include "garmcap/calib/garment_model.h"
+#include "garmcap/sim/garment_model.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,10 @@
 
 #include "garmcap/drafts/file_io.h"
 
-namespace garmcap::calib {
+namespace garmcap::sim {
+
+using calib::FormView;
+using calib::RowSection;
 
 namespace {
 
@@ -559,4 +562,4 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
   return g;
 }
 
-}  // namespace garmcap::calib
+}  // namespace garmcap::sim

@@ -20,7 +20,7 @@
 #include "garmcap/calib/mesh.h"
 #include "garmcap/drafts/measurements.h"
 
-namespace garmcap::calib {
+namespace garmcap::sim {
 
 class ParametricForm {
  public:
@@ -36,7 +36,7 @@ class ParametricForm {
   /// The mesh in cm: y up, floor at y = 0, facing +z, body axis at x = z = 0.
   /// `ringStepCm` is the vertical spacing of torso rings (limbs use 1.5x), `segments` the
   /// vertices per torso ring (limbs use half).
-  TriMesh mesh(double ringStepCm = 1.0, int segments = 64) const;
+  calib::TriMesh mesh(double ringStepCm = 1.0, int segments = 64) const;
 
   /// The exact torso girth C(y) in cm (the interpolant the rings are built from); 0 outside the
   /// torso. Valid away from the shoulders, where the arm tubes join.
@@ -48,7 +48,7 @@ class ParametricForm {
 
   /// Sidecar for the generated mesh: the input measurements that the form realises and the
   /// landmark heights of bust, waist, hip and crotch.
-  FormSidecar sidecar(const std::string& meshFileName) const;
+  calib::FormSidecar sidecar(const std::string& meshFileName) const;
 
  private:
   double girthAt(double y) const;
@@ -66,4 +66,4 @@ class ParametricForm {
 /// b/a in 0.5..1, enough here).
 double ellipsePerimeter(double a, double b);
 
-}  // namespace garmcap::calib
+}  // namespace garmcap::sim
