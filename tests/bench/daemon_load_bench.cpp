@@ -163,6 +163,11 @@ void print(const char* name, const Phase& p) {
     std::printf("  captures     %zu, mean %.0f ms, max %.0f ms, failed %d\n", p.captureMs.size(),
                 sum / static_cast<double>(p.captureMs.size()),
                 *std::max_element(p.captureMs.begin(), p.captureMs.end()), p.capturesFailed);
+    // Each one as well: runs of different builds are compared by their medians.
+    std::printf("  capture ms  ");
+    for (double v : p.captureMs)
+      std::printf(" %.0f", v);
+    std::printf("\n");
   }
 }
 
