@@ -164,17 +164,10 @@ class PipelineProcessor : public CaptureProcessor {
                           ProcessedCapture& out) {
     GarmentColours colours;
     try {
-      if (!r.cutout.empty() && r.cutout.type() == CV_8UC4) {
-        cv::Mat bgr, alpha;
-        cv::cvtColor(r.cutout, bgr, cv::COLOR_BGRA2BGR);
-        cv::extractChannel(r.cutout, alpha, 3);
-        colours = garmentColours(bgr, alpha > 200);
-      } else if (!r.silhouette.empty() && dressedBgr.type() == CV_8UC3 &&
-                 r.silhouette.size() == dressedBgr.size()) {
-        colours = garmentColours(dressedBgr, r.silhouette);
-      } else {
+      auto named = captureColours(r, dressedBgr);
+      if (!named)
         return;
-      }
+      colours = std::move(*named);
     } catch (const std::exception& e) {
       out.warnings.push_back(std::string("colour not named: ") + e.what());
       return;
