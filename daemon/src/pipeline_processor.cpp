@@ -184,6 +184,11 @@ class PipelineProcessor : public CaptureProcessor {
     if (!colours.colours.empty())
       out.attributes["color"] = colours.label();
     out.attributes["pattern"] = colours.printed ? "print" : "solid";
+    // The texture stage ("fabric") finds straight repeats (stripes, checks) and calls anything
+    // else solid; a print it cannot straighten is still a print, so the item says one thing.
+    if (const auto f = out.attributes.find("fabric");
+        colours.printed && f != out.attributes.end() && f->second == "solid")
+      f->second = "print";
     out.result["attributes"] = out.attributes;
   }
 

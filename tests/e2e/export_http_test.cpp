@@ -136,6 +136,10 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   const auto& item = cap.item;
   const std::string at = itemPath(cap.id);
   ASSERT_EQ(item["type"], "skirt") << item.dump();
+  // case_002's skirt is navy with light-blue dots: a print, in every attribute that says so.
+  EXPECT_EQ(item["attributes"].value("pattern", ""), "print") << item["attributes"].dump();
+  EXPECT_EQ(item["attributes"].value("fabric", ""), "print") << item["attributes"].dump();
+  EXPECT_EQ(item["attributes"].value("color", "").substr(0, 4), "Navy") << item["attributes"];
 
   // --- the graded run in the catalog: "base" (as measured) + every chart size, with a guide.
   const auto sizesJ = item["sizes"];
@@ -374,6 +378,7 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   EXPECT_EQ(mrows[0].at("size"), baseSize);
   EXPECT_EQ(mrows[0].at("brand"), "Atelier E2E");
   EXPECT_EQ(mrows[0].at("link"), "https://shop.example/products/exp-7");
+  EXPECT_EQ(mrows[0].at("pattern"), "print");
   EXPECT_NE(mrows[0].at("product_detail").find("Measurements:"), std::string::npos);
 
   // --- catalog ZIP: valid (CRCs), and every file the item promises.
