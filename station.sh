@@ -42,6 +42,8 @@ PACKAGES=(
   clang libclang-rt-14-dev
   # web UI browser test (headless chromium), Valentina .vit interop test, ZIP check
   chromium valentina unzip
+  # the WebP product photo decoded by libwebp's own dwebp (tests/e2e/export_http_test.cpp)
+  webp
 )
 
 # Only for `physrig`: Blender 3.4 (cloth solver and Cycles) with numpy for its Python.

@@ -396,7 +396,9 @@ void addApiRoutes(Router& router, Station& station) {
                                         {"type", it->type},
                                         {"size", it->baseSize},
                                         {"date", it->createdAt.substr(0, 10)}}) +
-                  (im->mediaType == "image/jpeg" ? ".jpg" : ".png");
+                  (im->mediaType == "image/jpeg"   ? ".jpg"
+                   : im->mediaType == "image/webp" ? ".webp"
+                                                   : ".png");
               const ImageRef ref = *im;
               // Reading the blob happens off the strand: the catalog owner must not wait for disks.
               st->offload(

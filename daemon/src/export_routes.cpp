@@ -53,12 +53,17 @@ constexpr int kMaxExportItems = 2000;
 // Image kinds that go to shops, in the order shops show them: the square JPEG on white. The
 // cut-out is the same photo again (shops composite nothing), the 4:5 crop the same again.
 const std::vector<std::string> kShopImageKinds = {"product"};
+// The images catalog.zip holds: the shop photo, and the same photo as WebP for shops that take
+// it (the CSVs keep linking the JPEG, which every shop imports).
+const std::vector<std::string> kZipImageKinds = {"product", "product_webp"};
 
 std::string extensionOf(const std::string& mediaType) {
   if (mediaType == "image/jpeg")
     return "jpg";
   if (mediaType == "image/png")
     return "png";
+  if (mediaType == "image/webp")
+    return "webp";
   return "";
 }
 
@@ -426,9 +431,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                             it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
                         for (const auto& im : it.images) {
                           const std::string ext = extensionOf(im.mediaType);
-                          if (ext.empty() ||
-                              std::find(kShopImageKinds.begin(), kShopImageKinds.end(), im.kind) ==
-                                  kShopImageKinds.end())
+                          if (ext.empty() || std::find(kZipImageKinds.begin(), kZipImageKinds.end(),
+                                                       im.kind) == kZipImageKinds.end())
                             continue;
                           auto bytes = c->store().read(im.sha256);
                           if (!bytes)
@@ -550,6 +554,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
   };
   router.add(V::get, "/api/export/files/images/{name}.jpg", imageFile("jpg"));
   router.add(V::get, "/api/export/files/images/{name}.png", imageFile("png"));
+  router.add(V::get, "/api/export/files/images/{name}.webp", imageFile("webp"));
 
   // Pattern files of one item. `build` gets the item, its patterns and the size asked for.
   using PatternBuild =

@@ -164,17 +164,10 @@ class PipelineProcessor : public CaptureProcessor {
                           ProcessedCapture& out) {
     GarmentColours colours;
     try {
-      if (!r.cutout.empty() && r.cutout.type() == CV_8UC4) {
-        cv::Mat bgr, alpha;
-        cv::cvtColor(r.cutout, bgr, cv::COLOR_BGRA2BGR);
-        cv::extractChannel(r.cutout, alpha, 3);
-        colours = garmentColours(bgr, alpha > 200);
-      } else if (!r.silhouette.empty() && dressedBgr.type() == CV_8UC3 &&
-                 r.silhouette.size() == dressedBgr.size()) {
-        colours = garmentColours(dressedBgr, r.silhouette);
-      } else {
+      auto named = captureColours(r, dressedBgr);
+      if (!named)
         return;
-      }
+      colours = std::move(*named);
     } catch (const std::exception& e) {
       out.warnings.push_back(std::string("colour not named: ") + e.what());
       return;
@@ -191,6 +184,11 @@ class PipelineProcessor : public CaptureProcessor {
     if (!colours.colours.empty())
       out.attributes["color"] = colours.label();
     out.attributes["pattern"] = colours.printed ? "print" : "solid";
+    // The texture stage ("fabric") finds straight repeats (stripes, checks) and calls anything
+    // else solid; a print it cannot straighten is still a print, so the item says one thing.
+    if (const auto f = out.attributes.find("fabric");
+        colours.printed && f != out.attributes.end() && f->second == "solid")
+      f->second = "print";
     out.result["attributes"] = out.attributes;
   }
 

@@ -94,6 +94,31 @@ std::string encodeJpeg(const cv::Mat& image) {
   return std::string(buf.begin(), buf.end());
 }
 
+// The same photos as WebP too, stored beside the JPEG as "<kind>_webp": shops that take WebP
+// serve them a quarter to a third smaller. Quality 88 looks as the JPEG at 90 does (SSIM of the
+// luma within 0.003 of it, PSNR higher; tests/bench/product_photo_bench's second table).
+constexpr int kWebpQuality = 88;
+constexpr const char* kWebpKindSuffix = "_webp";
+
+// Whether this OpenCV can write WebP (Debian's links libwebp); asked once, said once if not.
+bool webpAvailable() {
+  static const bool available = [] {
+    const bool yes = cv::haveImageWriter(".webp");
+    if (!yes)
+      spdlog::warn(
+          "station: this OpenCV cannot write WebP; product photos are stored as JPEG only");
+    return yes;
+  }();
+  return available;
+}
+
+std::string encodeWebp(const cv::Mat& image) {
+  std::vector<unsigned char> buf;
+  if (!cv::imencode(".webp", image, buf, {cv::IMWRITE_WEBP_QUALITY, kWebpQuality}))
+    throw std::runtime_error("cannot encode a WebP image");
+  return std::string(buf.begin(), buf.end());
+}
+
 cv::Mat decodeImage(const std::string& bytes, const std::string& what) {
   cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data()));
   cv::Mat img = cv::imdecode(raw, cv::IMREAD_COLOR);
@@ -847,6 +872,11 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<Stored
         const std::string bytes = jpeg ? encodeJpeg(image) : encodePng(image);
         item->images.push_back({kind, store_->put(bytes), jpeg ? "image/jpeg" : "image/png",
                                 static_cast<std::int64_t>(bytes.size())});
+        if (jpeg && webpAvailable()) {
+          const std::string webp = encodeWebp(image);
+          item->images.push_back({kind + kWebpKindSuffix, store_->put(webp), "image/webp",
+                                  static_cast<std::int64_t>(webp.size())});
+        }
       }
       const StoredFrame frame = stored.get();  // throws what storing the still threw
       item->images.push_back({"dressed", frame.sha256, "image/png", 0});

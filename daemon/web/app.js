@@ -799,13 +799,22 @@ function route() {
   if (view === 'export') { updateExportLinks(); loadExportCounts(); loadShopSettings(); }
 }
 
+// The preview box takes the camera frame's aspect (app.css, --preview-aspect), so a portrait
+// camera fills it instead of sitting between black bars.
+function fitPreview() {
+  const img = $('#preview');
+  if (img.naturalWidth > 0 && img.naturalHeight > 0) {
+    $('.capture-grid').style.setProperty('--preview-aspect', (img.naturalWidth / img.naturalHeight).toFixed(4));
+  }
+}
+
 function init() {
   $('#btn-capture').addEventListener('click', captureGarment);
   $('#btn-empty').addEventListener('click', captureEmpty);
   // A USB barcode scanner types the SKU and Enter: that is a capture.
   $('#sku').addEventListener('keydown', (e) => { if (e.key === 'Enter') { e.preventDefault(); if (!$('#btn-capture').disabled) captureGarment(); } });
   $('#preview').addEventListener('error', () => { $('#preview-off').hidden = false; $('#preview').style.visibility = 'hidden'; setTimeout(() => { if (currentView() === 'capture') { $('#preview').src = '/stream.mjpg?t=' + Date.now(); } }, 3000); });
-  $('#preview').addEventListener('load', () => { $('#preview-off').hidden = true; $('#preview').style.visibility = ''; });
+  $('#preview').addEventListener('load', () => { $('#preview-off').hidden = true; $('#preview').style.visibility = ''; fitPreview(); });
   $('#search').addEventListener('input', () => {
     clearTimeout(searchTimer);
     searchTimer = setTimeout(() => { ui.catalog.q = $('#search').value.trim(); loadCatalog(true); }, 250);

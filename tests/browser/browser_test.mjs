@@ -11,7 +11,8 @@
 // the SKU kept, the catalog, the item page: edit the title and price, correct a measurement (the
 // measured value kept in result.json), the review gate of the export, approve, export the Shopify
 // CSV and read it back. Then on a 1024x1366 tablet: capture again, Approve in view, approve from
-// the catalog with the bulk action.
+// the catalog with the bulk action. At 768x1024, 1024x1366 and 1366x1024 the live preview's frame
+// must fill its box (at most 10 % black bars).
 // Prints one line per step and "N passed, N failed"; exits 1 on the first failure.
 import { spawn } from 'node:child_process';
 import { copyFileSync, existsSync, mkdtempSync, readFileSync, rmSync, mkdirSync, writeFileSync } from 'node:fs';
@@ -112,6 +113,22 @@ async function main() {
     const r = document.querySelector(q).getBoundingClientRect();
     return r.width > 0 && r.top >= 0 && r.bottom <= window.innerHeight && r.left >= 0 && r.right <= window.innerWidth;
   }, sel);
+  // The live preview's black bars: the share of the preview box (the dark card) that the camera
+  // frame, drawn with object-fit: contain, leaves uncovered. A portrait camera in the old fixed
+  // 4:3 box left 44 % of it black.
+  const checkPreviewFills = async (what) => {
+    await waitFor(() => page.evaluate(() => document.querySelector('#preview').naturalWidth > 0), 15000, 'the live preview to show a frame');
+    await page.waitForTimeout(300);
+    const m = await page.evaluate(() => {
+      const box = document.querySelector('.preview'), img = document.querySelector('#preview');
+      const nw = img.naturalWidth, nh = img.naturalHeight;
+      const s = Math.min(img.clientWidth / nw, img.clientHeight / nh);
+      return { bars: 1 - (nw * s * nh * s) / (box.clientWidth * box.clientHeight), frame: `${nw}x${nh}`, box: `${box.clientWidth}x${box.clientHeight}` };
+    });
+    const vp = page.viewportSize();
+    if (!(m.bars <= 0.10)) throw new Error(`${what}: the ${m.frame} preview frame leaves ${(100 * m.bars).toFixed(1)} % of its ${m.box} box black at ${vp.width}x${vp.height} (at most 10 %)`);
+    step(`${what}: the ${m.frame} preview frame fills its ${m.box} box at ${vp.width}x${vp.height} (${(100 * m.bars).toFixed(1)} % bars)`);
+  };
   const captureAndSeeResult = async (sku, what) => {
     await page.fill('#sku', sku);
     await page.dblclick('#btn-capture');  // a double tap must make one job
@@ -146,6 +163,7 @@ async function main() {
     step('uncalibrated: banner "Form not calibrated", capture disabled');
   }
   await shot('capture-uncalibrated');
+  await checkPreviewFills('live preview');
 
   await page.click('#btn-empty');
   await waitFor(async () => !(await page.isDisabled('#btn-capture')), JOB_TIMEOUT_MS, 'calibration (bare-form job)');
@@ -323,10 +341,16 @@ async function main() {
   }
 
   // The taller tablet, portrait 1024x1366: capture again; then approve from the catalog at once.
+  // The preview fills its box here and in landscape (no side bars) before and after a capture.
   await page.setViewportSize({ width: 1024, height: 1366 });
   await page.evaluate(() => { location.hash = '#/capture'; });
   await page.waitForSelector('#view-capture:not([hidden])');
+  await checkPreviewFills('live preview');
+  await page.setViewportSize({ width: 1366, height: 1024 });
+  await checkPreviewFills('live preview, landscape');
+  await page.setViewportSize({ width: 1024, height: 1366 });
   await captureAndSeeResult('BRW-002', 'second capture');
+  await checkPreviewFills('live preview beside the result');
   await shot('capture-result');
   await page.click('a[data-tab="catalog"]');
   await page.waitForSelector('.tile');

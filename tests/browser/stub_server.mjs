@@ -21,6 +21,9 @@ function send(res, code, body, type = 'application/json') {
 }
 function event(name, data) { for (const s of sinks) s.write(`event: ${name}\ndata: ${JSON.stringify(data)}\n\n`); }
 function csv(v) { v = String(v ?? ''); return /[",\r\n]/.test(v) ? '"' + v.replace(/"/g, '""') + '"' : v; }
+// The live preview: one still "frame" of a portrait camera (864x1152, as the bundled rig's), a
+// form on a green screen; enough for the UI to size the preview box by the frame's aspect.
+const PREVIEW_SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="864" height="1152" viewBox="0 0 864 1152"><rect width="864" height="1152" fill="#3a9a3a"/><ellipse cx="432" cy="150" rx="48" ry="60" fill="#d8c8b0"/><path d="M352 230h160l40 300-30 520h-60l-30-400-30 400h-60l-30-520z" fill="#d8c8b0"/></svg>';
 const PRODUCT_SVG = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 160 200"><path d="M50 10l30 12 30-12 30 40-20 10v130H40V60L20 50z" fill="#4a7fb5"/></svg>';
 
 function runJob(kind, sku) {
@@ -92,7 +95,7 @@ createServer((req, res) => {
       req.on('close', () => sinks.delete(res));
       return;
     }
-    if (p === '/stream.mjpg') return send(res, 503, { error: 'no preview in the stub' });
+    if (p === '/stream.mjpg') return send(res, 200, PREVIEW_SVG, 'image/svg+xml');
     if (p === '/stub/product.svg') return send(res, 200, PRODUCT_SVG, 'image/svg+xml');
     if (p === '/api/capture/empty' && req.method === 'POST') return send(res, 202, { job: runJob('empty').id });
     if (p === '/api/capture' && req.method === 'POST') {

@@ -79,6 +79,44 @@ TEST(GarmentColours, DotsAndStripesArePrints) {
   EXPECT_EQ(st.label(), "Navy/White");
 }
 
+// Rig case_002's fabric as the simulator paints it: navy with light-blue dots of a few pixels,
+// about 23 ΔE from the ground (20-35 on the rig) and covering a tenth of it. The old rule (pixel
+// pairs 4 px apart more than 30 ΔE apart) read it as solid.
+TEST(GarmentColours, SparseLowContrastDotsAreAPrint) {
+  Scene s = painted(cv::Vec3b(89, 31, 20), 0.1);
+  cv::RNG rng(17);
+  for (int y = 36; y < 330; y += 14)
+    for (int x = 50; x < 260; x += 14) {
+      const cv::Point c(x + rng.uniform(-4, 5), y + rng.uniform(-4, 5));
+      if (s.mask(c.y, c.x))
+        cv::circle(s.bgr, c, rng.uniform(2, 4), cv::Scalar(120, 75, 50), cv::FILLED, cv::LINE_AA);
+    }
+  blur(s);
+  const GarmentColours c = garmentColours(s.bgr, s.mask);
+  EXPECT_TRUE(c.printed) << c.printShare;
+  ASSERT_FALSE(c.colours.empty());
+  EXPECT_EQ(c.colours[0].name, "Navy");
+}
+
+// Deep folds and a few sharp creases (thin dark lines) on plain cloth are shading, not a print.
+TEST(GarmentColours, DeepFoldsAndCreasesStaySolid) {
+  for (const cv::Vec3b& base : {cv::Vec3b(84, 36, 26), cv::Vec3b(160, 198, 220),
+                                cv::Vec3b(240, 242, 242), cv::Vec3b(30, 30, 190)}) {
+    Scene s = painted(base, 0.3);
+    for (int x : {100, 140, 175, 205}) {
+      const cv::Vec3b dark(static_cast<uchar>(base[0] * 0.55), static_cast<uchar>(base[1] * 0.55),
+                           static_cast<uchar>(base[2] * 0.55));
+      for (int y = 0; y < s.bgr.rows; ++y)
+        for (int dx = 0; dx < 2; ++dx)
+          if (s.mask(y, x + dx))
+            s.bgr(y, x + dx) = dark;
+    }
+    blur(s);
+    const GarmentColours c = garmentColours(s.bgr, s.mask);
+    EXPECT_FALSE(c.printed) << base << " print share " << c.printShare;
+  }
+}
+
 TEST(GarmentColours, TwoColourBlocksAreNotAPrint) {
   Scene s = painted(cv::Vec3b(84, 36, 26), 0.05);
   for (int y = 180; y < s.bgr.rows; ++y)

@@ -212,12 +212,19 @@ TEST(DaemonE2E, CaptureBareFormAndFiveGarments) {
     auto item = d.get("/api/items/" + std::to_string(id)).json();
     EXPECT_FALSE(item["measurements"].empty()) << item.dump();
     EXPECT_TRUE(item["images"].contains("dressed"));
+    EXPECT_TRUE(item["images"].contains("product_webp")) << item["images"].dump();
+    EXPECT_TRUE(item["images"].contains("product_4x5_webp")) << item["images"].dump();
     for (const auto& [kind, im] : item["images"].items()) {
       auto img = d.get(im["url"].get<std::string>());
       EXPECT_EQ(img.status, 200) << kind;
-      // Shop photos are JPEG, the frames, cutout and review images PNG; served as stored.
+      // Shop photos are JPEG and, as "<kind>_webp", WebP; the frames, cutout and review images
+      // PNG; served as stored.
       const bool shopPhoto = kind == "product" || kind == "product_4x5";
-      EXPECT_EQ(img.contentType, shopPhoto ? "image/jpeg" : "image/png") << kind;
+      const bool webp = kind == "product_webp" || kind == "product_4x5_webp";
+      EXPECT_EQ(img.contentType, shopPhoto ? "image/jpeg"
+                                 : webp    ? "image/webp"
+                                           : "image/png")
+          << kind;
       EXPECT_EQ(img.contentType, im.value("media_type", "")) << kind;
     }
     EXPECT_EQ(d.get("/api/items/" + std::to_string(id) + "/pattern.json").status, 200);

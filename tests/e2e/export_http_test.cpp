@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <string>
 #include <tuple>
@@ -134,6 +136,10 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   const auto& item = cap.item;
   const std::string at = itemPath(cap.id);
   ASSERT_EQ(item["type"], "skirt") << item.dump();
+  // case_002's skirt is navy with light-blue dots: a print, in every attribute that says so.
+  EXPECT_EQ(item["attributes"].value("pattern", ""), "print") << item["attributes"].dump();
+  EXPECT_EQ(item["attributes"].value("fabric", ""), "print") << item["attributes"].dump();
+  EXPECT_EQ(item["attributes"].value("color", "").substr(0, 4), "Navy") << item["attributes"];
 
   // --- the graded run in the catalog: "base" (as measured) + every chart size, with a guide.
   const auto sizesJ = item["sizes"];
@@ -372,6 +378,7 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   EXPECT_EQ(mrows[0].at("size"), baseSize);
   EXPECT_EQ(mrows[0].at("brand"), "Atelier E2E");
   EXPECT_EQ(mrows[0].at("link"), "https://shop.example/products/exp-7");
+  EXPECT_EQ(mrows[0].at("pattern"), "print");
   EXPECT_NE(mrows[0].at("product_detail").find("Measurements:"), std::string::npos);
 
   // --- catalog ZIP: valid (CRCs), and every file the item promises.
@@ -420,6 +427,34 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   const std::string jpeg = entry("images/" + std::to_string(cap.id) + "-product.jpg");
   EXPECT_EQ(jpeg.substr(0, 3), "\xff\xd8\xff");
   EXPECT_FALSE(entries.count("images/" + std::to_string(cap.id) + "-cutout.png"));
+  // The same photo as WebP beside it, read by libwebp's own `dwebp` (not OpenCV, which wrote
+  // it): the JPEG's size, and the same picture (mean difference a few levels of 255).
+  const std::string webpName = "images/" + std::to_string(cap.id) + "-product_webp.webp";
+  ASSERT_TRUE(entries.count(webpName)) << "catalog.zip lacks " << webpName;
+  const std::string webp = entry(webpName);
+  EXPECT_EQ(webp.substr(0, 4), "RIFF");
+  EXPECT_EQ(webp.substr(8, 4), "WEBP");
+  EXPECT_EQ(
+      webp,
+      d.get("/api/export/files/images/" + std::to_string(cap.id) + "-product_webp.webp").body);
+  std::ofstream(dir.path() / "product.webp", std::ios::binary) << webp;
+  std::ofstream(dir.path() / "product.jpg", std::ios::binary) << jpeg;
+  const std::string dw = run("dwebp -ppm " + quoted(dir.path() / "product.webp") + " -o " +
+                                 quoted(dir.path() / "product.ppm") + " 2>&1",
+                             st);
+  ASSERT_EQ(st, 0) << "dwebp: " << dw;
+  const cv::Mat fromWebp = cv::imread((dir.path() / "product.ppm").string(), cv::IMREAD_COLOR);
+  const cv::Mat fromJpeg = cv::imread((dir.path() / "product.jpg").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(fromWebp.empty());
+  ASSERT_FALSE(fromJpeg.empty());
+  ASSERT_EQ(fromWebp.size(), fromJpeg.size());
+  cv::Mat diff;
+  cv::absdiff(fromWebp, fromJpeg, diff);
+  const cv::Scalar meanDiff = cv::mean(diff);
+  EXPECT_LT((meanDiff[0] + meanDiff[1] + meanDiff[2]) / 3, 3.0) << "WebP and JPEG differ";
+  // The shop files keep linking the JPEG only (every shop imports it).
+  EXPECT_EQ(shopify.body.find(".webp"), std::string::npos);
+  EXPECT_EQ(woo.body.find(".webp"), std::string::npos);
   EXPECT_EQ(d.terminate(), 0);
 }
 

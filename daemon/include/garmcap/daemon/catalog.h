@@ -39,9 +39,9 @@ inline constexpr const char* kStatusRejected = "rejected";
 
 struct ImageRef {
   std::string kind;       // "dressed", "empty", "cutout", "product", "product_4x5", "silhouette",
-                          // "overlay", "texture"
+                          // "overlay", "texture"; "product_webp", "product_4x5_webp" (WebP)
   std::string sha256;     // ContentStore name
-  std::string mediaType;  // "image/png", "image/jpeg"
+  std::string mediaType;  // "image/png", "image/jpeg", "image/webp"
   std::int64_t bytes = 0;
 };
 

@@ -1,14 +1,18 @@
 #pragma once
 // The colours a shop lists for a garment: its pixels named by the nearest colour of a small
 // palette of the names shops and Google Merchant Center use ("Navy", "Beige", ...), the
-// dominant ones first, and whether the garment is a print (dots, stripes, florals: many sharp
-// colour changes over short distances) rather than a plain colour with folds and shading.
+// dominant ones first, and whether the garment is a print (dots, stripes, checks, florals: a
+// good share of it departs from the colour of the cloth around it) rather than a plain colour
+// with folds and shading, or a few large colour blocks.
 //
 // Pure function of an image and a mask; no I/O. Thread-safe.
 
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "garmcap/pipeline/capture_pipeline.h"
 
 namespace garmcap::daemon {
 
@@ -21,6 +25,9 @@ struct NamedColour {
 struct GarmentColours {
   std::vector<NamedColour> colours;  // dominant first; each at least kMinShare of the garment
   bool printed = false;
+  /// Share of the garment's inside (about 1.3 cm in from the outline) whose colour is more than
+  /// 12 ΔE (CIE76) from the median colour of the 4-5 cm around it; a print above 0.05.
+  double printShare = 0;
   /// "Navy" or "Navy/White" (up to three names), the form Merchant's `color` takes.
   std::string label() const;
 };
@@ -32,5 +39,11 @@ const std::vector<std::string>& colourPaletteNames();
 /// (3 px) is left out, where the garment's colour mixes with what is behind it. Throws
 /// std::invalid_argument on mismatched inputs or a mask with fewer than 100 garment pixels.
 GarmentColours garmentColours(const cv::Mat& bgr, const cv::Mat& mask);
+
+/// The colours of a capture's garment as the station names them: from the cut-out's opaque
+/// pixels (alpha > 200: the garment alone, despilled), else from `dressedBgr` under the
+/// silhouette; nullopt when the capture has neither. Throws as garmentColours does.
+std::optional<GarmentColours> captureColours(const pipeline::CaptureResult& capture,
+                                             const cv::Mat& dressedBgr);
 
 }  // namespace garmcap::daemon
