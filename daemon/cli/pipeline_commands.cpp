@@ -20,6 +20,7 @@
 #include "garmcap/drafts/svg.h"
 #include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
+#include "garmcap/pipeline/image_files.h"
 
 namespace garmcap::cli {
 namespace {
@@ -58,12 +59,13 @@ void writeCaptureOutputs(const fs::path& out, const pipeline::CaptureResult& r) 
     drafts::writePatternJson(out / "pattern.json", r.pattern);
     drafts::writePatternSvg(out / "pattern.svg", r.pattern);
   }
-  writeImage(out / "cutout.png", r.cutout);
-  writeImage(out / "product.jpg", r.product);
-  writeImage(out / "product_4x5.jpg", r.productPortrait);
-  writeImage(out / "silhouette.png", r.silhouette);
-  writeImage(out / "overlay.png", r.overlay);
-  writeImage(out / "texture.png", r.texture);
+  // Encoded as the station stores them (image_files.h): the shop photos as JPEG and WebP.
+  const std::pair<const char*, const cv::Mat&> images[] = {
+      {"cutout", r.cutout},         {"product", r.product}, {"product_4x5", r.productPortrait},
+      {"silhouette", r.silhouette}, {"overlay", r.overlay}, {"texture", r.texture}};
+  for (const auto& [kind, image] : images)
+    for (const pipeline::EncodedImage& e : pipeline::encodeImageFiles(kind, image))
+      drafts::writeFileAtomic(out / e.fileName, e.bytes);
 }
 
 // Per measurement: the absolute errors of the readings taken and the readings missing (a truth

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -209,3 +210,40 @@ TEST(RigMakeCli, UnknownChartIsRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+// The first bytes of a file (its format's signature).
+std::string head(const std::string& path, std::size_t n) {
+  return readText(path).substr(0, n);
+}
+
+}  // namespace
+
+// `garmcap capture --out` writes a capture's images as the station stores them
+// (pipeline/image_files.h): the shop photos as JPEG and as WebP, the rest as PNG. The WebP is
+// read back by libwebp's own `dwebp`, not by OpenCV, which wrote it.
+TEST(CaptureCli, WritesThePhotosAsTheStationStoresThem) {
+  const TempDir d("capture_cli_photos");
+  const std::string scene = d / "scene";
+  const CliResult made = runGarmcap("render --type skirt --size 46 --chart french_women --form " +
+                                    kForm + " --seed 5 --width 480 --height 640 --out " + scene);
+  ASSERT_EQ(made.status, 0) << made.err;
+  const std::string out = d / "out";
+  const CliResult r =
+      runGarmcap("capture --empty " + scene + "/empty.png --dressed " + scene +
+                 "/dressed.png --calibration " + scene + "/calibration.json --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(head(out + "/product.jpg", 3), "\xff\xd8\xff");
+  EXPECT_EQ(head(out + "/product_4x5.jpg", 3), "\xff\xd8\xff");
+  for (const char* png : {"cutout.png", "silhouette.png", "overlay.png"})
+    EXPECT_EQ(head(out + "/" + png, 8), "\x89PNG\r\n\x1a\n") << png;
+  for (const char* webp : {"product.webp", "product_4x5.webp"}) {
+    const std::string path = out + "/" + webp;
+    ASSERT_TRUE(std::filesystem::is_regular_file(path)) << webp << " missing";
+    EXPECT_EQ(head(path, 4), "RIFF") << webp;
+    const int st = std::system(("dwebp -quiet '" + path + "' -o '" + path + ".ppm'").c_str());
+    EXPECT_EQ(st, 0) << "dwebp cannot read " << webp;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out + "/product_webp.webp"));
+}
