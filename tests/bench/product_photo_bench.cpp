@@ -14,7 +14,9 @@
 // and of encoding, the photo's side and the stored bytes. Wall-clock: compare the two rows of one
 // run, not times between machines. A second table compares the square photo stored as JPEG
 // (quality 90) and as WebP at qualities 80-95: encoding time, bytes, SSIM and PSNR against the
-// lossless photo.
+// lossless photo. A third compares the PNGs the station stores (the camera frame, the cut-out,
+// the review overlay, the silhouette) at level 1 with every row filter, as it stored them until
+// now, against pipeline::encodePng (image_files.h): median encoding time, bytes, time ratio.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,6 +31,7 @@
 #include "garmcap/calib/chroma_key.h"
 #include "garmcap/calib/form_model.h"
 #include "garmcap/pipeline/capture_pipeline.h"
+#include "garmcap/pipeline/image_files.h"
 #include "garmcap/pipeline/product_images.h"
 #include "garmcap/sim/scene.h"
 #include "garmcap/sim/sim.h"
@@ -139,6 +142,23 @@ void compareFormats(const cv::Mat& photo, int w, int h) {
 
 }  // namespace
 
+// A stored PNG at level 1 with every row filter against pipeline::encodePng, medians of `reps`.
+void comparePng(const char* what, const cv::Mat& img, int w, int h, int reps) {
+  std::vector<double> old, now;
+  std::size_t oldBytes = 0, nowBytes = 0;
+  for (int r = 0; r < reps; ++r) {
+    auto t0 = Clock::now();
+    oldBytes = encoded(img, ".png", {cv::IMWRITE_PNG_COMPRESSION, 1});
+    old.push_back(msSince(t0));
+    t0 = Clock::now();
+    nowBytes = garmcap::pipeline::encodePng(img).size();
+    now.push_back(msSince(t0));
+  }
+  std::printf("%4dx%-5d %-10s %9.0f %9.0f %10zu %10zu %6.2f %6.2f\n", w, h, what, median(old),
+              median(now), oldBytes, nowBytes, median(now) / median(old),
+              static_cast<double>(nowBytes) / static_cast<double>(oldBytes));
+}
+
 int main(int argc, char** argv) {
   using namespace garmcap;
   std::string sizesArg = "864x1152,3000x4000";
@@ -166,6 +186,12 @@ int main(int argc, char** argv) {
       cv::Mat photo;
     };
     std::vector<Square> squares;
+    struct StoredPng {
+      int w, h;
+      const char* what;
+      cv::Mat image;
+    };
+    std::vector<StoredPng> pngs;
     std::stringstream ss(sizesArg);
     std::string item;
     while (std::getline(ss, item, ',')) {
@@ -230,11 +256,21 @@ int main(int argc, char** argv) {
       std::printf("%4dx%-5d %-6s %9.0f %9.0f %9.0f %7d %10zu\n", w, h, "after", median(aMake),
                   median(aEnc), median(aMake) + median(aEnc), aSide, aBytes);
       squares.push_back({w, h, lastSquare});
+      const pipeline::CaptureResult full =
+          pipeline::runCapture(empty, dressed, renderer.calibration(), pipeline::CaptureOptions{});
+      pngs.push_back({w, h, "frame", cv::Mat(dressed)});
+      pngs.push_back({w, h, "cutout", full.cutout});
+      pngs.push_back({w, h, "overlay", full.overlay});
+      pngs.push_back({w, h, "silhouette", full.silhouette});
     }
     std::printf("\n%-10s %-5s %3s %9s %7s %10s %8s %7s\n", "size", "file", "q", "encode_ms", "side",
                 "bytes", "ssim", "psnr");
     for (const auto& sq : squares)
       compareFormats(sq.photo, sq.w, sq.h);
+    std::printf("\n%-10s %-10s %9s %9s %10s %10s %6s %6s\n", "size", "png", "level1_ms", "fast_ms",
+                "level1_b", "fast_b", "t", "bytes");
+    for (const auto& p : pngs)
+      comparePng(p.what, p.image, p.w, p.h, reps);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "product_photo_bench: error: %s\n", e.what());
     return 1;

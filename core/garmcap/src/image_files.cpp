@@ -29,11 +29,7 @@ constexpr int kWebpQuality = 88;
 }  // namespace
 
 std::string encodePng(const cv::Mat& image) {
-  return encode(".png", image, {cv::IMWRITE_PNG_COMPRESSION, 1}, "PNG");
-}
-
-std::string encodeStillPng(const cv::Mat& image) {
-  return encode(".png", image, {}, "PNG");  // no level: OpenCV's fast path (Sub filter, level 1)
+  return encode(".png", image, {}, "PNG");  // no level: OpenCV's fast path (image_files.h)
 }
 
 bool canWriteWebp() {
