@@ -50,7 +50,20 @@ constexpr double kPrintWindowFraction = 1.0 / 12;
 constexpr double kPrintEdgeFraction = 1.0 / 40;
 constexpr double kPrintDeltaE = 12.0;  // a colour change a shopper sees as another colour
 constexpr double kPrintShare = 0.05;   // more than this share of the garment is the print
-constexpr int kMixLagPx = 1;           // where two colours meet, pixels are a blend of both...
+// Shading: the same cloth lit and in a fold or turned from the light has nearly proportional
+// colours (a diffuse surface reflects a share of the light in every channel alike; sRGB's power
+// law keeps proportion), so the palette splits one cloth into a lit and a shaded name (Blue and
+// Navy, Purple and Navy, Cream and Beige on the physical rig's solids). Two names are one cloth
+// when they touch and their mean colours point the same way within this angle and differ in
+// brightness by at most this factor (lit and shaded sides of the physical rig's solids differ by
+// 1.1-1.4; black beside grey, 3 and more, is two cloths).
+constexpr double kShadingMaxAngleDeg = 7.0;
+constexpr double kShadingMaxRatio = 1.8;
+// The name of one cloth: of its names holding at least this share of its pixels, the most
+// saturated (highlights clip towards white, shadows towards black; the cloth's colour is
+// between).
+constexpr double kClothNameMinShare = 0.15;
+constexpr int kMixLagPx = 1;         // where two colours meet, pixels are a blend of both...
 constexpr double kMixDeltaE = 15.0;  // ...and would be named as a third colour (red + white: pink)
 
 cv::Vec3f toLab(const cv::Vec3b& bgr) {
@@ -93,6 +106,108 @@ int nearestPalette(const cv::Vec3f& lab) {
 double deltaE(const cv::Vec3f& a, const cv::Vec3f& b) {
   const cv::Vec3f d = a - b;
   return std::sqrt(d.dot(d));
+}
+
+// One cloth: palette names merged as shading of each other (kShadingMaxAngleDeg).
+struct Cloth {
+  int name = -1;  // the palette name it is listed by
+  long count = 0;
+  cv::Vec3d sum{0, 0, 0};  // BGR sum of its pixels
+};
+
+double chroma(const cv::Vec3d& meanBgr) {
+  const cv::Vec3f lab =
+      toLab(cv::Vec3b(cv::saturate_cast<uchar>(meanBgr[0]), cv::saturate_cast<uchar>(meanBgr[1]),
+                      cv::saturate_cast<uchar>(meanBgr[2])));
+  return std::hypot(lab[1], lab[2]);
+}
+
+// Whether mean colours `a` and `b` are one cloth's lit and shaded sides (see kShadingMaxAngleDeg).
+bool shadingOfEachOther(const cv::Vec3d& a, const cv::Vec3d& b) {
+  const double na = cv::norm(a), nb = cv::norm(b);
+  if (na < 1e-6 || nb < 1e-6)
+    return false;
+  const double cosAngle = std::clamp(a.dot(b) / (na * nb), -1.0, 1.0);
+  const double angleDeg = std::acos(cosAngle) * 180.0 / CV_PI;
+  return angleDeg <= kShadingMaxAngleDeg && std::max(na, nb) <= kShadingMaxRatio * std::min(na, nb);
+}
+
+// The palette names found, merged into cloths: the largest name not yet taken leads a cloth, which
+// takes every smaller name that touches one of its names (sampled neighbours) and is its shading;
+// each cloth is then listed by its most saturated name among those holding kClothNameMinShare of
+// it.
+std::vector<Cloth> clothsOf(const std::vector<long>& count, const std::vector<cv::Vec3d>& sum,
+                            const cv::Mat1i& nameOf) {
+  const std::size_t n = count.size();
+  std::vector<std::vector<bool>> touch(n, std::vector<bool>(n, false));
+  for (int y = 0; y < nameOf.rows; y += kStepPx)
+    for (int x = 0; x < nameOf.cols; x += kStepPx) {
+      const int a = nameOf(y, x);
+      if (a < 0)
+        continue;
+      for (const auto& [nx, ny] : {std::pair{x + kStepPx, y}, std::pair{x, y + kStepPx}}) {
+        if (nx >= nameOf.cols || ny >= nameOf.rows)
+          continue;
+        const int b = nameOf(ny, nx);
+        if (b >= 0 && b != a)
+          touch[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)] =
+              touch[static_cast<std::size_t>(b)][static_cast<std::size_t>(a)] = true;
+      }
+    }
+  std::vector<std::size_t> bySize;
+  for (std::size_t k = 0; k < n; ++k)
+    if (count[k] > 0)
+      bySize.push_back(k);
+  std::sort(bySize.begin(), bySize.end(),
+            [&](std::size_t a, std::size_t b) { return count[a] > count[b]; });
+  std::vector<bool> taken(n, false);
+  std::vector<Cloth> cloths;
+  for (std::size_t i = 0; i < bySize.size(); ++i) {
+    const std::size_t lead = bySize[i];
+    if (taken[lead])
+      continue;
+    // A name joins when it touches a member and is its shading, and is within the shading
+    // range of the lead too (so that no chain of small steps runs from white to black).
+    const auto meanOf = [&](std::size_t k) { return sum[k] / static_cast<double>(count[k]); };
+    const double leadNorm = cv::norm(meanOf(lead));
+    std::vector<std::size_t> members{lead};
+    taken[lead] = true;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (std::size_t j = i + 1; j < bySize.size(); ++j) {
+        const std::size_t k = bySize[j];
+        if (taken[k])
+          continue;
+        const double ratio = cv::norm(meanOf(k)) / std::max(leadNorm, 1e-6);
+        if (ratio > kShadingMaxRatio || ratio < 1.0 / kShadingMaxRatio)
+          continue;
+        for (std::size_t m : members)
+          if (touch[m][k] && shadingOfEachOther(meanOf(m), meanOf(k))) {
+            members.push_back(k);
+            taken[k] = true;
+            grew = true;
+            break;
+          }
+      }
+    }
+    Cloth cloth;
+    for (std::size_t k : members) {
+      cloth.count += count[k];
+      cloth.sum += sum[k];
+    }
+    double bestChroma = -1;
+    for (std::size_t k : members) {
+      if (static_cast<double>(count[k]) < kClothNameMinShare * static_cast<double>(cloth.count))
+        continue;
+      const double c = chroma(sum[k] / static_cast<double>(count[k]));
+      if (c > bestChroma) {
+        bestChroma = c;
+        cloth.name = static_cast<int>(k);
+      }
+    }
+    cloths.push_back(cloth);
+  }
+  return cloths;
 }
 
 // Every pixel outside `mask` takes the colour of the nearest garment pixel, so that a median
@@ -179,6 +294,14 @@ const std::vector<std::string>& colourPaletteNames() {
   return kNames;
 }
 
+cv::Vec3b paletteColourBgr(const std::string& name) {
+  for (const auto& p : kPalette)
+    if (name == p.name)
+      return cv::Vec3b(static_cast<uchar>(p.rgb[2]), static_cast<uchar>(p.rgb[1]),
+                       static_cast<uchar>(p.rgb[0]));
+  throw std::invalid_argument("no colour named '" + name + "' in the palette");
+}
+
 GarmentColours garmentColours(const cv::Mat& bgr, const cv::Mat& mask) {
   if (bgr.type() != CV_8UC3 || mask.type() != CV_8UC1 || bgr.size() != mask.size())
     throw std::invalid_argument(
@@ -194,6 +317,7 @@ GarmentColours garmentColours(const cv::Mat& bgr, const cv::Mat& mask) {
   std::vector<long> count(kPalette.size(), 0);
   std::vector<cv::Vec3d> sum(kPalette.size(), cv::Vec3d(0, 0, 0));
   long total = 0, named = 0;
+  cv::Mat1i nameOf(inner.size(), -1);  // palette index of each sampled, unmixed pixel
   for (int y = 0; y < inner.rows; y += kStepPx) {
     const uchar* m = inner.ptr<uchar>(y);
     for (int x = 0; x < inner.cols; x += kStepPx) {
@@ -211,6 +335,7 @@ GarmentColours garmentColours(const cv::Mat& bgr, const cv::Mat& mask) {
       ++total;
       if (!mixed) {
         const int k = nearestPalette(here);
+        nameOf(y, x) = k;
         ++count[static_cast<std::size_t>(k)];
         const cv::Vec3b& c = bgr.at<cv::Vec3b>(y, x);
         sum[static_cast<std::size_t>(k)] += cv::Vec3d(c[0], c[1], c[2]);
@@ -222,13 +347,13 @@ GarmentColours garmentColours(const cv::Mat& bgr, const cv::Mat& mask) {
     throw std::invalid_argument("garment colours: the garment mask has fewer than 100 pixels");
 
   GarmentColours out;
-  for (std::size_t k = 0; k < kPalette.size() && named > 0; ++k) {
-    const double share = static_cast<double>(count[k]) / static_cast<double>(named);
+  for (const Cloth& cloth : clothsOf(count, sum, nameOf)) {
+    const double share = static_cast<double>(cloth.count) / static_cast<double>(named);
     if (share < kMinShare)
       continue;
-    const cv::Vec3d mean = sum[k] / static_cast<double>(count[k]);
+    const cv::Vec3d mean = cloth.sum / static_cast<double>(cloth.count);
     out.colours.push_back(
-        {kPalette[k].name, share,
+        {kPalette[static_cast<std::size_t>(cloth.name)].name, share,
          cv::Vec3b(cv::saturate_cast<uchar>(mean[0]), cv::saturate_cast<uchar>(mean[1]),
                    cv::saturate_cast<uchar>(mean[2]))});
   }

@@ -129,6 +129,46 @@ TEST(GarmentColours, TwoColourBlocksAreNotAPrint) {
   EXPECT_EQ(c.colours.size(), 2u);
 }
 
+// Deeper shading than PlainColoursUnderShadingKeepOneName's: lit from above, the cloth darkens
+// smoothly to 0.6 of its colour at the hem, so its lower half falls to the palette's darker name
+// (Blue to Navy, Purple to Navy, Cream to Beige). It is one cloth and keeps its lit name.
+TEST(GarmentColours, OneClothShadedAcrossTwoNamesKeepsOne) {
+  const std::vector<std::pair<cv::Vec3b, std::string>> cases = {
+      {cv::Vec3b(196, 104, 74), "Blue"},
+      {cv::Vec3b(146, 90, 146), "Purple"},
+      {cv::Vec3b(214, 248, 250), "Cream"}};
+  for (const auto& [bgr, name] : cases) {
+    Scene s = painted(bgr, 0.0);
+    for (int y = 0; y < s.bgr.rows; ++y)
+      for (int x = 0; x < s.bgr.cols; ++x)
+        if (s.mask(y, x))
+          for (int c = 0; c < 3; ++c)
+            s.bgr(y, x)[c] = cv::saturate_cast<uchar>(bgr[c] * (1.0 - 0.4 * y / s.bgr.rows));
+    blur(s);
+    const GarmentColours c = garmentColours(s.bgr, s.mask);
+    EXPECT_EQ(c.label(), name);
+    EXPECT_FALSE(c.printed) << name;
+  }
+}
+
+// Two cloths of one hue, one much darker than shading makes (navy beside blue, 2.3 times as
+// bright; grey beside black) stay two colours.
+TEST(GarmentColours, TwoShadesOfOneHueAsBlocksStayTwo) {
+  const std::vector<std::pair<cv::Vec3b, cv::Vec3b>> cases = {
+      {cv::Vec3b(84, 36, 26), cv::Vec3b(200, 90, 40)},
+      {cv::Vec3b(24, 22, 22), cv::Vec3b(130, 130, 132)}};
+  for (const auto& [top, bottom] : cases) {
+    Scene s = painted(top, 0.0);
+    for (int y = 180; y < s.bgr.rows; ++y)
+      for (int x = 0; x < s.bgr.cols; ++x)
+        if (s.mask(y, x))
+          s.bgr(y, x) = bottom;
+    blur(s);
+    const GarmentColours c = garmentColours(s.bgr, s.mask);
+    EXPECT_EQ(c.colours.size(), 2u) << c.label();
+  }
+}
+
 TEST(GarmentColours, RefusesBadInput) {
   EXPECT_THROW(garmentColours(cv::Mat3b(10, 10), cv::Mat1b::zeros(10, 11)), std::invalid_argument);
   EXPECT_THROW(garmentColours(cv::Mat3b(50, 50, cv::Vec3b(1, 2, 3)), cv::Mat1b::zeros(50, 50)),

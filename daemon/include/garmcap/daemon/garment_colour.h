@@ -35,6 +35,9 @@ struct GarmentColours {
 /// Palette names, in no particular order (for documentation and the UI's colour picker).
 const std::vector<std::string>& colourPaletteNames();
 
+/// The typical colour (BGR) of a palette name; std::invalid_argument for a name not in it.
+cv::Vec3b paletteColourBgr(const std::string& name);
+
 /// `bgr`: CV_8UC3 frame; `mask`: CV_8UC1 of the same size, non-zero on the garment. The edge
 /// (3 px) is left out, where the garment's colour mixes with what is behind it. Throws
 /// std::invalid_argument on mismatched inputs or a mask with fewer than 100 garment pixels.
