@@ -106,11 +106,11 @@ void runSizeRun(const GradeCliOptions& o) {
     gd::writePatternSvg(dir / (base + ".svg"), run->patterns[i]);
   }
   // The source pattern is the item: its own measurements are the guide's row for the chart size
-  // nearest to the body it was drafted for.
-  const auto nearest = dsw::nearestChartSize(chart, source.measurements.values());
+  // nearest to the body it was drafted for (dsw::sampleSizeOf).
+  const auto nearest = dsw::sampleSizeOf(source, chart);
   if (!nearest)
     throw std::runtime_error("sizerun: " + o.pattern +
-                             ": the pattern's body shares no measurement with chart " + chart.name);
+                             ": the pattern's body has no bust, waist or hip to size it by");
   const std::string type = dsw::garmentTypeOfRecipe(source.type).value_or(source.type);
   auto guide = dsw::buildSizeGuide(
       *run, chart, type, dsw::shopperMeasurements(type, gd::measurePattern(source)), *nearest);

@@ -19,6 +19,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <memory>
@@ -363,6 +364,54 @@ MarkerQuery markerQuery(const RouteMatch& m) {
   return q;
 }
 
+// Markers laid at once per station. Nesting keeps a core busy for seconds (a dress in five
+// sizes: about 4 s on the station's 2 cores) and runs on the 2 threads that serve every export;
+// 20 marker requests at once would hold both cores for a minute while captures wait for CPU.
+// One runs, the others are answered 503 with Retry-After at once (nothing queues behind it).
+constexpr int kMaxMarkersAtOnce = 1;
+constexpr int kMarkerRetryAfterS = 5;
+
+// The marker slots of one station: a token holds one until it is released or destroyed.
+class MarkerSlots : public std::enable_shared_from_this<MarkerSlots> {
+ public:
+  class Token {
+   public:
+    explicit Token(std::shared_ptr<MarkerSlots> slots) : slots_(std::move(slots)) {}
+    Token(const Token&) = delete;
+    Token& operator=(const Token&) = delete;
+    ~Token() { release(); }
+    void release() {
+      if (!released_.exchange(true))
+        slots_->busy_.fetch_sub(1);
+    }
+
+   private:
+    std::shared_ptr<MarkerSlots> slots_;
+    std::atomic<bool> released_{false};
+  };
+
+  /// A token when fewer than kMaxMarkersAtOnce markers are being laid, else nullptr.
+  std::shared_ptr<Token> tryAcquire() {
+    int n = busy_.load();
+    while (n < kMaxMarkersAtOnce)
+      if (busy_.compare_exchange_weak(n, n + 1))
+        return std::make_shared<Token>(shared_from_this());
+    return nullptr;
+  }
+
+ private:
+  std::atomic<int> busy_{0};
+};
+
+Response markerBusy() {
+  Response r = jsonError(http::status::service_unavailable,
+                         "a marker is being laid on this station already (one at a time, so "
+                         "that captures keep their CPU); retry in " +
+                             std::to_string(kMarkerRetryAfterS) + " s");
+  r.set(http::field::retry_after, std::to_string(kMarkerRetryAfterS));
+  return r;
+}
+
 // A width as it goes into a file name: 150, 137.5.
 std::string widthTag(double cm) {
   std::ostringstream os;
@@ -686,10 +735,21 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
 
   // Markers: every piece of the sizes asked for (default: the item's own) laid on the fabric
   // width. A marker that cannot be laid (a piece wider than the fabric) is a 422 naming why.
+  // One marker at a time per station (kMaxMarkersAtOnce): a request that finds the slot taken
+  // gets 503 with Retry-After; the slot is freed as the answer is sent (or the request is
+  // dropped).
   enum class MarkerFile { kSvg, kPdf, kDxf, kJson };
+  const auto markerSlots = std::make_shared<MarkerSlots>();
   auto marker = [=](MarkerFile format) {
     return [=](const Request& req, const RouteMatch& m, Reply reply) {
       const MarkerQuery q = markerQuery(m);
+      const auto slot = markerSlots->tryAcquire();
+      if (!slot)
+        return reply(markerBusy());
+      Reply answer = [slot, reply](Response r) {
+        slot->release();
+        reply(std::move(r));
+      };
       patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
                        const std::map<std::string, nlohmann::json>& pats, const std::string&) {
         if (pats.empty())
@@ -735,7 +795,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
             break;
         }
         return jsonResponse(http::status::ok, drafts::markerSummaryJson(laid, title));
-      })(req, m, std::move(reply));
+      })(req, m, std::move(answer));
     };
   };
   router.add(V::get, "/api/items/{id}/marker.svg", marker(MarkerFile::kSvg));

@@ -193,9 +193,11 @@ class PipelineProcessor : public CaptureProcessor {
   }
 
   // The size run: the measured pattern graded by DSW to every body of the configured chart, and
-  // the shopper's size guide (core/dsw). The item's size is the chart body the garment fits
-  // (its circumferences minus the recipe's ease), not the garment's own circumference. A size
-  // that cannot be graded is left out with a warning naming it; nothing is made up.
+  // the shopper's size guide (core/dsw). The item's size (the sample size of the graded files)
+  // is the chart size of the body the pattern was drafted for (the form's, dsw::sampleSizeOf),
+  // not the garment's own circumference nor the garment less a default ease (a design's ease
+  // is its own). A size that cannot be graded is left out with a warning naming it; nothing is
+  // made up.
   void grade(const pipeline::CaptureResult& r, ProcessedCapture& out, const ProgressFn& progress) {
     if (r.pattern.panels.empty())
       return;  // runCapture has said why there is no pattern
@@ -206,8 +208,11 @@ class PipelineProcessor : public CaptureProcessor {
       out.warnings.push_back(std::string("size run not graded: ") + e.what());
       return;
     }
-    const auto body = dsw::bodyFittedBy(r.pattern.type, r.measurements);
-    const auto nearest = body ? dsw::nearestChartSize(*chart, *body) : std::nullopt;
+    auto nearest = dsw::sampleSizeOf(r.pattern, *chart);
+    if (!nearest) {  // a draft without its body's girths: the garment less the recipe's ease
+      const auto body = dsw::bodyFittedBy(r.pattern.type, r.measurements);
+      nearest = body ? dsw::nearestChartSize(*chart, *body) : std::nullopt;
+    }
     if (!nearest) {
       out.warnings.push_back("no size guide: the garment has no bust, waist or hip to size it by");
       return;

@@ -7,10 +7,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <stdexcept>
 
 #include "garmcap/drafts/geometry.h"
 #include "garmcap/drafts/recipes.h"
+#include "garmcap/drafts/seam_allowance.h"
 
 namespace garmcap::drafts {
 namespace {
@@ -100,6 +102,20 @@ class Measurer {
                     sewnEdgeLength(panel, EdgeRef{panel.name, b, a}));
   }
   double pieceCount(const std::string& panelName) const { return pieces(needPanel(panelName)); }
+  // Hem of the named panels, each along its own hem edge times its pieces (or once, `timesPieces`
+  // false: a trouser leg opening is one front and one back).
+  double hem(std::initializer_list<const char*> panels, bool timesPieces) const {
+    double h = 0;
+    for (const char* name : panels) {
+      const Panel& panel = needPanel(name);
+      const double len = hemEdgeLength(panel, p_);
+      if (len <= 0)
+        throw DraftError("measure: panel '" + panel.name + "' of type '" + p_.type +
+                         "' has no hem edge");
+      h += len * (timesPieces ? pieces(panel) : 1.0);
+    }
+    return h;
+  }
   double design(const std::string& name, double dflt) const {
     auto it = p_.design.find(name);
     return it == p_.design.end() ? dflt : it->second;
@@ -154,6 +170,16 @@ double sewnEdgeLength(const Panel& panel, const EdgeRef& edge) {
     len += (at(k + 1) - at(k)).norm();
     ++k;
   }
+  return len;
+}
+
+double hemEdgeLength(const Panel& panel, const Pattern& pattern) {
+  const std::vector<EdgeRole> roles = edgeRoles(panel, pattern);
+  const std::size_t n = panel.outline.size();
+  double len = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (roles[i] == EdgeRole::Hem)
+      len += (panel.outline[(i + 1) % n] - panel.outline[i]).norm();
   return len;
 }
 
@@ -247,7 +273,10 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
     if (reaches)
       out["hip_circ"] = m.girth("level_hip", true);
   }
-  // Skirt length and hem.
+  // Skirt length and hem. Hems are measured along each panel's own hem edge (the free edge at
+  // its bottom, seam_allowance.h), not between the draft's hem corners: a design that flares or
+  // reshapes the hem moves the panel's vertices away from the draft points (issue 18: a dress
+  // flared to 126 cm read 94.5 at the un-flared corners).
   if (t == "skirt_h" || t == "skirt_a" || t == "skirt_high_waist" || t == "dress") {
     const Panel& f = m.needPanel("skirt_front");
     out["skirt_length"] =
@@ -255,17 +284,12 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
                  (t == "skirt_high_waist"
                       ? m.point("level_waist").y()
                       : f.outline[static_cast<std::size_t>(m.vertex(f, "skirt_waist_cf"))].y()));
-    out["hem_circ"] =
-        m.along("skirt_back", "skirt_hem_cb", "skirt_hem_side_back") * m.pieceCount("skirt_back") +
-        m.along("skirt_front", "skirt_hem_side_front", "skirt_hem_cf") *
-            m.pieceCount("skirt_front");
+    out["hem_circ"] = m.hem({"skirt_back", "skirt_front"}, true);
   }
   // A blouse ends below the waist: its hem, measured like a skirt's (the simulator dresses the
   // form in a blouse when it draws a top from a size chart).
   if (t == "blouse") {
-    out["hem_circ"] =
-        m.along("bodice_back", "hem_cb", "hem_side_back") * m.pieceCount("bodice_back") +
-        m.along("bodice_front", "hem_side_front", "hem_cf") * m.pieceCount("bodice_front");
+    out["hem_circ"] = m.hem({"bodice_back", "bodice_front"}, true);
   }
   if (t == "pants") {
     const Panel& f = m.needPanel("pants_front");
@@ -276,8 +300,7 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
     out["outseam_length"] = m.along("pants_front", "waist_side_front", "hem_out_front");
     out["crotch_length"] = m.along("pants_front", "waist_cf", "crotch_point_front") +
                            m.along("pants_back", "waist_cb", "crotch_point_back");
-    out["hem_circ"] = m.along("pants_front", "hem_in_front", "hem_out_front") +
-                      m.along("pants_back", "hem_in_back", "hem_out_back");
+    out["hem_circ"] = m.hem({"pants_front", "pants_back"}, false);
   }
   // Sleeve.
   if (const Panel* s = m.panel("sleeve")) {

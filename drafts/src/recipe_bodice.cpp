@@ -308,8 +308,11 @@ void addBodicePanels(DraftBuilder& b, const BodiceDraft& d) {
     pb.darts.push_back(x);
   pb.grainline =
       grainline(Point2(d.cbBust.x() + 4, d.cbNeck.y() + 4), Point2(d.cbBust.x() + 4, d.wbl - 3));
-  pb.cutCount = 1;
-  pb.cutOnFold = true;
+  // Bunka's dart f takes 7 % of the waist suppression at the centre back, which leaves the
+  // fold line (x 0 -> f at the waist): the back cannot be cut on the fold. It is cut twice
+  // and its halves are sewn at the centre back (issue 18), like the skirt back under it.
+  pb.cutCount = 2;
+  pb.cutOnFold = false;
   pb.notches.push_back(
       Notch{"armhole_back", pointAlong(d.backArmhole, polylineLength(d.backArmhole) - 8)});
   b.contour("waist_back", backWaist.points);
@@ -340,6 +343,9 @@ void addBodicePanels(DraftBuilder& b, const BodiceDraft& d) {
 
   addPanelWithRegion(p, pb);
   addPanelWithRegion(p, pf);
+  const Panel& backPanel = p.panel("bodice_back");
+  p.seams.push_back(SeamPair{"bodice_centre_back", shortEdge(backPanel, d.cbWaist, d.cbNeck),
+                             shortEdge(backPanel, d.cbWaist, d.cbNeck), 0});
   addSeam(p, "shoulder", "bodice_back", d.snpB, d.spB, "bodice_front", d.snpF, d.spF);
   addSeam(p, "side", "bodice_back", d.side, d.sideWaistBack, "bodice_front", d.side,
           d.sideWaistFront);

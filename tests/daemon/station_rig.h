@@ -13,6 +13,9 @@
 #include "garmcap/capture/gpio.h"
 #include "garmcap/daemon/api_routes.h"
 #include "garmcap/daemon/station.h"
+#include "garmcap/drafts/pattern_io.h"
+#include "garmcap/drafts/recipes.h"
+#include "garmcap/drafts/size_charts.h"
 #include "test_util.h"
 
 namespace garmcap::daemon::test {
@@ -91,6 +94,9 @@ class FakeProcessor : public CaptureProcessor {
         r.patterns["base"] = empty;
       else
         storeBasePattern(r, empty);
+    } else if (draftedPattern) {
+      r.patterns["base"] = drafts::patternToJsonValue(
+          drafts::draftGarment("skirt_h", drafts::sizeChart("korean_women").body("55")));
     } else {
       r.patterns["base"] = {{"type", "skirt"},
                             {"panels", nlohmann::json::array({{{"name", "skirt_front"}}})}};
@@ -101,7 +107,8 @@ class FakeProcessor : public CaptureProcessor {
     return r;
   }
   std::atomic<bool> fail{false};
-  std::atomic<bool> undraftable{false};  // measured, but no pattern could be drafted
+  std::atomic<bool> undraftable{false};     // measured, but no pattern could be drafted
+  std::atomic<bool> draftedPattern{false};  // a real skirt pattern (markers can be laid)
   std::atomic<bool> legacyEmptyPattern{
       false};  // ... and an empty pattern row stored (old catalogs)
   double confidence = 0.95;

@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <optional>
 #include <set>
+#include <vector>
 
 #include "garmcap/daemon/api_routes.h"
 #include "garmcap/daemon/station_routes.h"
@@ -69,6 +72,52 @@ TEST(Station, CalibrateThenCaptureFilesAnItem) {
   EXPECT_EQ(rig.json(pj)["type"], "skirt");
   auto list = rig.json(rig.call(http::verb::get, "/api/items?type=skirt"));
   EXPECT_EQ(list["total"], 1);
+}
+
+// Issue 18: nesting a marker keeps a core busy for seconds; 20 marker requests at once must not
+// take the station's CPU from captures. One is laid, the others are answered 503 with
+// Retry-After straight away, and the slot is free again once the marker is sent.
+TEST(Station, MarkersAreLaidOneAtATime) {
+  Rig rig;
+  addExportRoutes(rig.router, *rig.station);
+  rig.processor->draftedPattern = true;
+  ASSERT_EQ(rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"])["state"],
+            "done");
+  const auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  const std::string marker =
+      "/api/items/" + std::to_string(job["item_id"].get<std::int64_t>()) + "/marker.json";
+  std::vector<std::optional<Response>> replies(20);
+  for (std::size_t i = 0; i < replies.size(); ++i) {
+    Request req{http::verb::get, marker + (i % 2 ? "?width=140" : ""), 11};
+    req.prepare_payload();
+    rig.router.dispatch(req, [&replies, i](Response r) { replies[i] = std::move(r); });
+  }
+  ASSERT_TRUE(rig.runUntil(
+      [&] {
+        return std::all_of(replies.begin(), replies.end(),
+                           [](const auto& r) { return r.has_value(); });
+      },
+      60s));
+  int laid = 0, busy = 0;
+  for (const auto& r : replies) {
+    if (r->result() == http::status::ok) {
+      ++laid;
+      EXPECT_GT(rig.json(*r)["efficiency"].get<double>(), 0) << r->body();
+    } else {
+      ASSERT_EQ(r->result(), http::status::service_unavailable) << r->body();
+      EXPECT_EQ((*r)[http::field::retry_after], "5");
+      EXPECT_NE(rig.json(*r)["error"].get<std::string>().find("one at a time"), std::string::npos);
+      ++busy;
+    }
+  }
+  EXPECT_EQ(laid, 1);
+  EXPECT_EQ(busy, 19);
+  // The slot was given back with the answer: the next request is laid.
+  EXPECT_EQ(rig.call(http::verb::get, marker).result(), http::status::ok);
+  // And a request refused for its query takes no slot.
+  EXPECT_EQ(rig.call(http::verb::get, marker + "?width=20").result(), http::status::bad_request);
+  EXPECT_EQ(rig.call(http::verb::get, marker).result(), http::status::ok);
 }
 
 TEST(StoreBasePattern, AFailedDraftStoresNoPatternAndSaysWhy) {

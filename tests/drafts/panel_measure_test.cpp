@@ -2,6 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "garmcap/drafts/recipes.h"
+#include "garmcap/drafts/size_charts.h"
+
 using namespace garmcap::drafts;
 
 namespace {
@@ -73,5 +81,112 @@ TEST(PanelMeasure, MissingLandmarkIsNamed) {
     FAIL();
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("skirt_h"), std::string::npos) << e.what();
+  }
+}
+
+namespace {
+
+// The hem of a panel by geometry alone (no seams, no draft points, no edge roles): the flatter
+// edge at the lowest vertex, continued through every vertex it passes straight on (turn under
+// 45 degrees); a hem meets the side and the centre line at corners.
+double geometricHem(const Panel& p) {
+  const auto& o = p.outline;
+  const int n = static_cast<int>(o.size());
+  auto at = [&](int i) { return o[static_cast<std::size_t>(((i % n) + n) % n)]; };
+  auto straightOn = [&](int v) {
+    const Point2 u = at(v) - at(v - 1), w = at(v + 1) - at(v);
+    return u.dot(w) > std::cos(M_PI / 4) * u.norm() * w.norm();
+  };
+  auto slope = [&](int a) {
+    const Point2 d = at(a + 1) - at(a);
+    return std::abs(d.y()) / std::max(d.norm(), 1e-12);
+  };
+  int low = 0;
+  for (int i = 1; i < n; ++i)
+    if (at(i).y() > at(low).y())
+      low = i;
+  const int first = slope(low) <= slope(low - 1) ? low : low - 1;
+  double len = (at(first + 1) - at(first)).norm();
+  int edges = 1;
+  for (int v = first + 1; edges < n && straightOn(v); ++v, ++edges)
+    len += (at(v + 1) - at(v)).norm();
+  for (int v = first; edges < n && straightOn(v); --v, ++edges)
+    len += (at(v) - at(v - 1)).norm();
+  return len;
+}
+
+// Widens every panel below `yFrom` away from x = centre, by up to `cm` at the lowest vertex:
+// a designer's flare that moves the panel's hem off the draft's hem corners.
+void flareBelow(Pattern& pat, const std::string& panelName, double yFrom, double centre,
+                double cm) {
+  for (auto& panel : pat.panels) {
+    if (panel.name != panelName)
+      continue;
+    double yLow = yFrom, xFar = centre;
+    for (const auto& v : panel.outline) {
+      yLow = std::max(yLow, v.y());
+      if (std::abs(v.x() - centre) > std::abs(xFar - centre))
+        xFar = v.x();
+    }
+    for (auto& v : panel.outline)
+      if (v.y() > yFrom)
+        v.x() += cm * (v.y() - yFrom) / (yLow - yFrom) * (v.x() - centre) / (xFar - centre);
+  }
+}
+
+}  // namespace
+
+// Issue 18: the hem is measured along the panels' own hem edges, so a design that flares the
+// panels after drafting is measured as flared (the draft's hem corners are left behind).
+TEST(PanelMeasure, HemIsThePanelsHemEdgeForEveryTypeWithAHem) {
+  struct Case {
+    std::string recipe;
+    std::map<std::string, double> design;
+    std::vector<std::string> panels;
+    bool timesPieces;  // trousers: one leg opening, front + back
+  };
+  const std::vector<Case> cases = {
+      {"skirt_h", {}, {"skirt_back", "skirt_front"}, true},
+      {"skirt_a", {{"hem_flare", 12}}, {"skirt_back", "skirt_front"}, true},
+      {"skirt_high_waist", {{"hem_flare", 5}}, {"skirt_back", "skirt_front"}, true},
+      {"dress", {{"hem_flare", 8}}, {"skirt_back", "skirt_front"}, true},
+      {"blouse", {}, {"bodice_back", "bodice_front"}, true},
+      {"pants", {}, {"pants_back", "pants_front"}, false},
+  };
+  for (const std::string size : {"44", "66", "88"}) {
+    const Measurements body = sizeChart("korean_women").body(size);
+    for (const auto& c : cases) {
+      for (const bool redesigned : {false, true}) {
+        // Trousers are not redesigned here: their lengths are read at the hem's draft corners.
+        if (redesigned && c.recipe == "pants")
+          continue;
+        Pattern pat = draftGarment(c.recipe, body, c.design);
+        if (redesigned) {
+          // Flare below the hip (the blouse below its waist), away from the centre line; the
+          // draft points stay where the draft put them.
+          const double yFrom = c.recipe == "blouse" ? pat.points.at("level_waist").y()
+                                                    : pat.points.at("level_hip").y();
+          for (const auto& name : c.panels) {
+            const Panel& panel = pat.panel(name);
+            double xMin = 1e9, xMax = -1e9;
+            for (const auto& v : panel.outline) {
+              xMin = std::min(xMin, v.x());
+              xMax = std::max(xMax, v.x());
+            }
+            const bool frontHalf = name.find("front") != std::string::npos;
+            flareBelow(pat, name, yFrom, frontHalf ? xMax : xMin, 6.0);
+          }
+        }
+        double expected = 0;
+        for (const auto& name : c.panels) {
+          const Panel& panel = pat.panel(name);
+          expected += geometricHem(panel) *
+                      (c.timesPieces ? panel.cutCount * (panel.cutOnFold ? 2.0 : 1.0) : 1.0);
+        }
+        const std::string what = c.recipe + " size " + size + (redesigned ? " flared" : "");
+        ASSERT_GT(expected, 20) << what;
+        EXPECT_NEAR(measurePattern(pat).at("hem_circ"), expected, 0.01) << what;
+      }
+    }
   }
 }

@@ -72,6 +72,38 @@ TEST(SizeGuide, BaseSizeIsTheBodyTheGarmentFitsNotItsOwnCircumference) {
   }
 }
 
+// Issue 18: the sample size is the size of the body the draft was made for. A design with more
+// ease than the recipe's default (a loose dress, a relaxed skirt) is still that body's size;
+// the garment less the default ease reads it a size or two up (every capture on the station's
+// form had been the largest size).
+TEST(SizeGuide, SampleSizeIsTheDraftsBodyWhateverTheEase) {
+  const std::map<std::string, std::map<std::string, double>> loose = {
+      {"dress", {{"ease_bust", 24}, {"ease_waist", 22}, {"ease_hip", 18}}},
+      {"blouse", {{"ease_bust", 22}, {"ease_waist", 24}, {"ease_hip", 16}}},
+      {"skirt_a", {{"ease_waist", 8}, {"ease_hip", 16}}},
+      {"pants", {{"ease_waist", 8}, {"ease_hip", 18}}}};
+  int readUp = 0;
+  for (const auto& [recipe, design] : loose) {
+    for (std::size_t i = 0; i < chart().sizes.size(); ++i) {
+      const Case c = drafted(recipe, chart().sizes[i], design);
+      EXPECT_EQ(sampleSizeOf(c.pattern, chart()), i) << recipe << " " << chart().sizes[i];
+      const auto fitted = bodyFittedBy(recipe, c.item);
+      ASSERT_TRUE(fitted);
+      if (nearestChartSize(chart(), *fitted) != i)
+        ++readUp;
+    }
+  }
+  EXPECT_GT(readUp, 8) << "the garment less the default ease misreads loose designs";
+  // Between two chart bodies: the nearer one (root mean square over bust, waist and hip).
+  drafts::Measurements between = chart().body("66");
+  for (const auto& n : {"bust_circ", "waist_circ", "hip_circ"})
+    between.set(n, 0.35 * chart().body("66").get(n) + 0.65 * chart().body("77").get(n));
+  drafts::Pattern p = drafts::draftGarment("dress", between);
+  EXPECT_EQ(sampleSizeOf(p, chart()), indexOf("77"));
+  p.measurements = drafts::Measurements({{"height", 160.0}});
+  EXPECT_FALSE(sampleSizeOf(p, chart()).has_value()) << "a body without girths has no size";
+}
+
 TEST(SizeGuide, ItemRowIsTheItemAndOtherRowsFollowTheDraftOfThatSize) {
   for (const std::string recipe : {"skirt_a", "dress", "blouse", "pants"}) {
     Case c = drafted(recipe, "55");

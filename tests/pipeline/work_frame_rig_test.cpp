@@ -4,13 +4,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "common/bundled_form.h"
 #include "garmcap/calib/form_model.h"
+#include "garmcap/drafts/size_charts.h"
+#include "garmcap/dsw/size_guide.h"
 #include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 #include "garmcap/pipeline/garment_measurer.h"
@@ -227,4 +232,55 @@ TEST(Measure, ACircumferenceFarBelowTheFormsIsLeftOutNotInvented) {
   EXPECT_TRUE(warned);
   for (const std::string name : {"bust_circ", "waist_circ", "garment_length"})
     EXPECT_NEAR(cut.measurements.at(name), intact.measurements.at(name), 0.3) << name;
+}
+
+// Issue 18: the sample size of a captured item (the graded files' sample, the size guide's own
+// row) is the chart size of the body the pattern was drafted for, the form's. On the bundled
+// form (bust 97.4, waist 80.3, hip 104.1 in its sidecar) that is 88 for every garment; on the
+// generated korean_women_55 form it is 55: items are not all 88. The expected size is worked
+// out here from the form's sidecar file and the chart's rows by hand.
+TEST(WorkFrame, SampleSizeIsTheChartSizeOfTheFormsBody) {
+  const drafts::SizeChart& chart = drafts::sizeChart(pipeline::kDefaultSizeChart);
+  auto nearestBySidecar = [&](const std::string& path) {
+    std::ifstream in(path);
+    const auto m = nlohmann::json::parse(in).at("measurements");
+    std::string best;
+    double bestSq = 1e300;
+    for (std::size_t i = 0; i < chart.sizes.size(); ++i) {
+      double sq = 0;
+      for (const char* n : {"bust_circ", "waist_circ", "hip_circ"}) {
+        const double d = m.at(n).get<double>() - chart.bodies[i].get(n);
+        sq += d * d;
+      }
+      if (sq < bestSq) {
+        bestSq = sq;
+        best = chart.sizes[i];
+      }
+    }
+    return best;
+  };
+  const std::string narrowPath = std::string(GARMCAP_TEST_DATA_DIR) + "/forms/korean_women_55.json";
+  const calib::FormModel narrow = calib::FormModel::load(narrowPath);
+  std::set<std::string> seen;
+  struct Case {
+    const calib::FormModel* model;
+    std::string path;
+    std::string type;  // a top on the bundled form, a skirt on the other
+  };
+  for (const Case& c : {Case{&form(), kFormPath, "top"}, Case{&narrow, narrowPath, "skirt"}}) {
+    const std::string expected = nearestBySidecar(c.path);
+    sim::RandomSceneOptions o;
+    o.size = {600, 800};
+    o.hardFraction = 0;
+    o.type = c.type;
+    const sim::SceneRenderer r(*c.model, sim::randomScene(*c.model, c.path, 5, o));
+    const auto res =
+        pipeline::runCapture(r.renderEmpty(), r.renderDressed(), r.calibration(), measureOnly(2.0));
+    ASSERT_FALSE(res.pattern.panels.empty()) << c.path << " " << c.type;
+    const auto size = dsw::sampleSizeOf(res.pattern, chart);
+    ASSERT_TRUE(size) << c.path << " " << c.type;
+    EXPECT_EQ(chart.sizes[*size], expected) << c.path << " " << c.type;
+    seen.insert(chart.sizes[*size]);
+  }
+  EXPECT_EQ(seen, (std::set<std::string>{"55", "88"}));
 }

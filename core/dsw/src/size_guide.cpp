@@ -171,6 +171,17 @@ std::optional<std::size_t> nearestChartSize(const drafts::SizeChart& chart,
   return best;
 }
 
+std::optional<std::size_t> sampleSizeOf(const drafts::Pattern& draft,
+                                        const drafts::SizeChart& chart) {
+  std::map<std::string, double> body;
+  for (const auto& name : kBodyNames)
+    if (const auto v = draft.measurements.find(name))
+      body[name] = *v;
+  if (body.empty())
+    return std::nullopt;
+  return nearestChartSize(chart, body);
+}
+
 std::map<std::string, double> shopperMeasurements(const std::string& type,
                                                   const std::map<std::string, double>& patternCm) {
   std::map<std::string, double> out;

@@ -23,6 +23,10 @@ double sewnEdgeLength(const Panel& panel, const EdgeRef& edge);
 /// intervals of the line inside the outline (dart openings fall outside and so are excluded).
 double panelWidthAtLevel(const Panel& panel, double levelCm);
 
+/// Length of the panel's hem: the outline edges seam_allowance.h's edgeRoles calls Hem (the run
+/// of free edges holding the lowest vertex), whatever the draft points say. 0 without a hem.
+double hemEdgeLength(const Panel& panel, const Pattern& pattern);
+
 /// Index of the outline vertex nearest to `p`; std::nullopt when none is within `toleranceCm`.
 std::optional<int> nearestOutlineVertex(const Panel& panel, const Point2& p,
                                         double toleranceCm = 0.5);

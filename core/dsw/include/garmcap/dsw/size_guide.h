@@ -60,6 +60,13 @@ std::optional<std::map<std::string, double>> bodyFittedBy(
 std::optional<std::size_t> nearestChartSize(const drafts::SizeChart& chart,
                                             const std::map<std::string, double>& bodyCm);
 
+/// The sample size of a draft: the chart size whose body is nearest (nearestChartSize) to the
+/// body the draft was made for (the pattern's own measurements: the form's body for a capture),
+/// by the circumferences bust, waist and hip it carries. Not the garment: its ease (whatever
+/// the design chose) is not the body's. std::nullopt when the draft's body has none of the three.
+std::optional<std::size_t> sampleSizeOf(const drafts::Pattern& draft,
+                                        const drafts::SizeChart& chart);
+
 /// The shopper measurements a pattern shows (drafts::measurePattern output translated to the
 /// garment vocabulary: outseam_length -> outseam, a trouser's hem_circ -> leg_opening_circ, a
 /// dress's length from neck to hem). Pattern-maker values are dropped.
