@@ -107,6 +107,34 @@ nlohmann::json jsonOrThrow(const http::response<http::string_body>& res) {
   return j;
 }
 
+// A GET that waits out a busy station: a 503 with Retry-After (one marker is laid at a time)
+// is tried again after the seconds it names (at most 30), up to kBusyAttempts times, saying so on
+// stderr; any other answer, or the last 503, is returned as it is.
+constexpr int kBusyAttempts = 12;
+
+http::response<http::string_body> getWaitingOutBusy(const Target& t, const std::string& path) {
+  for (int attempt = 1;; ++attempt) {
+    auto res = request(t, http::verb::get, path);
+    const auto retryAfter = res.find(http::field::retry_after);
+    if (res.result() != http::status::service_unavailable || retryAfter == res.end() ||
+        attempt == kBusyAttempts)
+      return res;
+    int seconds = 0;
+    try {
+      seconds = std::clamp(std::stoi(std::string(retryAfter->value())), 0, 30);
+    } catch (const std::exception&) {
+      return res;  // not delta-seconds (an HTTP date): leave the answer to the caller
+    }
+    const auto j = nlohmann::json::parse(res.body(), nullptr, false);
+    const std::string why = j.is_object() && j.contains("error") && j["error"].is_string()
+                                ? j["error"].get<std::string>()
+                                : std::string("busy");
+    std::cerr << "garmcapctl: the station is busy (" << why << "); trying again in " << seconds
+              << " s (" << attempt << " of " << kBusyAttempts - 1 << ")\n";
+    std::this_thread::sleep_for(std::chrono::seconds(seconds));
+  }
+}
+
 nlohmann::json waitForJob(const Target& t, std::int64_t id, int timeoutS) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeoutS);
   while (true) {
@@ -315,7 +343,7 @@ int main(int argc, char** argv) {
         query.push_back("sizes=" + urlEncode(sizes));
       for (std::size_t i = 0; i < query.size(); ++i)
         path += (i == 0 ? "?" : "&") + query[i];
-      auto res = request(t, http::verb::get, path);
+      auto res = getWaitingOutBusy(t, path);
       if (res.result_int() >= 400)
         jsonOrThrow(res);
       if (out.empty()) {
