@@ -763,6 +763,14 @@ async function download(ev) {
     const sentAt = loginCount;
     let res = await fetch(a.href);
     if (res.status === 401 && await logIn(sentAt)) res = await fetch(a.href);
+    // A busy station (one marker is laid at a time) says when to come back: wait that long,
+    // telling staff, as garmcapctl does.
+    for (let attempt = 1; res.status === 503 && res.headers.get('Retry-After') && attempt < 12; ++attempt) {
+      const wait = Math.min(30, Math.max(0, Number(res.headers.get('Retry-After')) || 0));
+      toast('The station is busy with another marker; trying again in ' + wait + ' s', false);
+      await new Promise((r) => setTimeout(r, wait * 1000));
+      res = await fetch(a.href);
+    }
     if (!res.ok) {
       let msg = res.statusText;
       try { msg = (await res.json()).error || msg; } catch (e) { /* not JSON */ }

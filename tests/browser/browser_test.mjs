@@ -258,6 +258,17 @@ async function main() {
     await page.evaluate(() => document.querySelector('#tape-form').scrollIntoView());
     await shot('item-tape');
     step(`${tapeName} taped at 88.5 cm; the corrections panel waits for 2 more garments`);
+  } else {
+    // A busy station (503 + Retry-After while another marker is laid): the download says so,
+    // waits and arrives.
+    const marker = page.locator('#pattern-links a', { hasText: 'Marker 150 cm PDF' });
+    const [download] = await Promise.all([page.waitForEvent('download', { timeout: 15000 }),
+      (async () => {
+        await marker.click();
+        await waitFor(async () => /busy with another marker; trying again in 1 s/.test(await page.textContent('#toast') || ''), 5000, 'the busy notice');
+      })()]);
+    if (download.suggestedFilename() !== 'stub_marker.pdf') throw new Error('the marker downloaded as ' + download.suggestedFilename());
+    step('marker download waited out a busy station (503, Retry-After: 1) and arrived');
   }
 
   // The review gate: an item waiting for review says so and stays out of the shop files.

@@ -125,6 +125,19 @@ createServer((req, res) => {
       return send(res, 200, item);
     }
     if (m && m[2] === '/pattern.svg') return send(res, 200, PRODUCT_SVG, 'image/svg+xml');
+    if (m && m[2] === '/marker.pdf') {
+      // As the station answers while another marker is laid: 503 with Retry-After, then the file.
+      if (!state.markerBusyGiven) {
+        state.markerBusyGiven = true;
+        const data = JSON.stringify({ error: 'another marker is being laid on this station; try again in a few seconds' });
+        res.writeHead(503, { 'Content-Type': 'application/json', 'Retry-After': '1', 'Content-Length': Buffer.byteLength(data) });
+        return res.end(data);
+      }
+      const pdf = '%PDF-1.4\n%stub marker\n%%EOF\n';
+      res.writeHead(200, { 'Content-Type': 'application/pdf', 'Content-Length': Buffer.byteLength(pdf),
+        'Content-Disposition': 'attachment; filename="stub_marker.pdf"' });
+      return res.end(pdf);
+    }
     if (m && m[2] === '/result.json') return send(res, 200, { type: item.type, measurements: item.original });
     if (m && m[2] === '/sizeguide.json') {
       // The shape of docs/formats.md: the base row is the item's own measurements.
