@@ -33,6 +33,9 @@ PACKAGES=(
   libboost-dev libsqlite3-dev sqlite3 libtoml11-dev libsystemd-dev systemd nettle-dev libzbar-dev
   # hub (daemon/hub): the chain's catalog on PostgreSQL; its tests run a throwaway server
   postgresql-15 libpqxx-dev
+  # hub and station pusher: TLS (Boost.Asio's SSL stream on OpenSSL 3); tests make throwaway
+  # certificates with the openssl command
+  libssl-dev openssl
   # tests: unit tests, benchmarks, CGAL peer check, SVG and PDF rendering checks, XML 1.0
   # well-formedness check of escaped text
   libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev librsvg2-bin poppler-utils libxml2-utils

@@ -3,6 +3,7 @@
 //   garmcap-hub --config /etc/garmcap/hub.toml
 //   garmcap-hub --db "host=/run/postgresql dbname=garmcap_hub" --listen 127.0.0.1:8090
 //               --station shop1=<sha256 of its token> --admin-token-sha256 <sha256>
+//   garmcap-hub --config ... --listen 0.0.0.0:8443 --tls-cert cert.pem --tls-key key.pem
 //   garmcap-hub hash-token TOKEN      prints the hash to put in the config
 #include <signal.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -18,11 +19,14 @@
 int main(int argc, char** argv) {
   using namespace garmcap;
   CLI::App app{"garmcap-hub: the chain's catalog for several GarmCap stations"};
-  std::string configFile, db, listen, adminHash, logLevel = "info", token;
+  std::string configFile, db, listen, adminHash, logLevel = "info", token, tlsCert, tlsKey;
   std::vector<std::string> stations;
   app.add_option("-c,--config", configFile, "TOML configuration file")->check(CLI::ExistingFile);
   app.add_option("--db", db, "libpq connection string (overrides [database] url)");
-  app.add_option("--listen", listen, "HTTP address HOST:PORT (loopback; default 127.0.0.1:8090)");
+  app.add_option("--listen", listen,
+                 "address HOST:PORT (default 127.0.0.1:8090; not loopback only with TLS)");
+  app.add_option("--tls-cert", tlsCert, "PEM certificate chain: serve HTTPS ([tls] cert_file)");
+  app.add_option("--tls-key", tlsKey, "PEM private key of --tls-cert ([tls] key_file)");
   app.add_option("--station", stations, "NAME=TOKEN_SHA256 of a station (repeatable)");
   app.add_option("--admin-token-sha256", adminHash, "sha256 of the admin token");
   app.add_option("--log-level", logLevel, "trace, debug, info, warn, error");
@@ -54,6 +58,10 @@ int main(int argc, char** argv) {
       if (adminHash.size() != 64)
         throw hub::HubConfigError("--admin-token-sha256: must be 64 lower-case hex digits");
     }
+    if (!tlsCert.empty())
+      config.tlsCertFile = tlsCert;
+    if (!tlsKey.empty())
+      config.tlsKeyFile = tlsKey;
     for (const auto& s : stations)
       hub::addStation(config, s, "--station");
     config.validate();
@@ -79,6 +87,7 @@ int main(int argc, char** argv) {
   }
   spdlog::info("garmcap-hub: {} station(s), schema {}", config.stationTokenSha256.size(),
                service->store().schemaVersion());
+  spdlog::info("garmcap-hub: {}", config.tls() ? "HTTPS (TLS 1.2 and later)" : "plain HTTP");
   std::cout << "garmcap-hub listening on " << config.listenAddress << ":" << service->port()
             << std::endl;
   int sig = 0;

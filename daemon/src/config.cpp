@@ -231,11 +231,14 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
          [](const toml::value& v, Config& c, const std::string& key) {
            const std::string s = v.is_string() ? v.as_string().str : "";
            if (!s.empty() && !parseHubUrl(s))
-             bad(key, "must be http://HOST:PORT with an IP address or name, got '" + quoteInput(s) +
-                          "' (https is not supported yet: docs/hub.md)");
+             bad(key,
+                 "must be https://HOST:PORT or http://HOST:PORT with an IP address or name, "
+                 "got '" +
+                     quoteInput(s) + "'");
            c.hubUrl = s;
          }},
         {"token", stringKey(&Config::hubToken)},
+        {"ca_file", stringKey(&Config::hubCaFile)},
         {"poll_ms", intKey(&Config::hubPollMs, 50, 600000)}}},
   };
   return kSchema;
@@ -297,19 +300,29 @@ void Config::validate() const {
     throw ConfigError("[naming] template: must not be empty");
   if (!hubUrl.empty() && hubToken.empty())
     throw ConfigError("[hub] token: required with [hub] url (this station's token at the hub)");
+  if (!hubCaFile.empty()) {
+    const auto hub = parseHubUrl(hubUrl);
+    if (!hub || !hub->tls)
+      throw ConfigError("[hub] ca_file: only with an https:// [hub] url");
+    if (!std::ifstream(hubCaFile, std::ios::binary))
+      throw ConfigError(
+          "[hub] ca_file: " + hubCaFile + ": " +
+          (std::filesystem::exists(hubCaFile) ? "cannot be read (permissions?)" : "no such file"));
+  }
 }
 
 std::optional<HubAddress> parseHubUrl(const std::string& url) {
-  constexpr std::string_view kScheme = "http://";
-  if (url.rfind(kScheme, 0) != 0)
+  const bool tls = url.rfind("https://", 0) == 0;
+  if (!tls && url.rfind("http://", 0) != 0)
     return std::nullopt;
-  std::string rest = url.substr(kScheme.size());
+  std::string rest = url.substr(tls ? 8 : 7);
   while (!rest.empty() && rest.back() == '/')
     rest.pop_back();
   const std::size_t colon = rest.rfind(':');
   if (colon == std::string::npos || colon == 0 || rest.find('/') != std::string::npos)
     return std::nullopt;
   HubAddress a;
+  a.tls = tls;
   a.host = rest.substr(0, colon);
   const std::string port = rest.substr(colon + 1);
   if (port.empty() || port.size() > 5 ||

@@ -6,6 +6,7 @@
 #include <boost/asio/strand.hpp>
 #include <boost/asio/write.hpp>
 #include <boost/beast/core.hpp>
+#include <boost/beast/ssl.hpp>
 
 #include "garmcap/daemon/http_session.h"
 
@@ -125,7 +126,11 @@ class Listener : public std::enable_shared_from_this<Listener> {
       refuse(socket, "too many connections");
       return;
     }
-    serveConnection(beast::tcp_stream(std::move(socket)), shared_, std::move(slot));
+    if (shared_->tls)
+      serveConnection(beast::ssl_stream<beast::tcp_stream>(std::move(socket), *shared_->tls),
+                      shared_, std::move(slot));
+    else
+      serveConnection(beast::tcp_stream(std::move(socket)), shared_, std::move(slot));
   }
 
   // A short answer instead of silently queueing the client.
@@ -148,8 +153,8 @@ class Listener : public std::enable_shared_from_this<Listener> {
 }  // namespace
 
 HttpServer::HttpServer(asio::io_context& io, const Config& config, const Router& router,
-                       const StaticFiles& files)
-    : io_(io), shared_(new ServerShared{config, router, files}) {}
+                       const StaticFiles& files, std::shared_ptr<boost::asio::ssl::context> tls)
+    : io_(io), shared_(new ServerShared{config, router, files, std::move(tls)}) {}
 
 HttpServer::~HttpServer() {
   stop();

@@ -5,13 +5,16 @@
 #include <boost/asio/connect.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <future>
 #include <stdexcept>
 
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/tls_context.h"
 
 namespace garmcap::daemon {
 
@@ -19,6 +22,7 @@ namespace {
 
 namespace asio = boost::asio;
 namespace beast = boost::beast;
+namespace ssl = boost::asio::ssl;
 
 constexpr auto kHttpTimeout = std::chrono::seconds(5);
 constexpr int kBatch = 20;
@@ -36,24 +40,87 @@ class HubTokenRefused : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The hub's certificate was not accepted, or the TLS handshake failed: retried with the
+// backoff, reported in status() until a handshake succeeds.
+class HubTlsFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct HubReply {
   int status = 0;
   std::string body;
 };
 
-// One request on a fresh connection (the hub may restart between any two).
-HubReply call(const HubAddress& hub, const std::string& token, http::verb verb,
+// Runs one asynchronous operation on `io` to completion: the tcp_stream's timer (expires_after)
+// bounds only asynchronous operations, so every step of a call goes through here.
+template <typename Start>
+beast::error_code runOne(asio::io_context& io, Start&& start) {
+  beast::error_code result = asio::error::operation_aborted;
+  start([&result](beast::error_code ec, auto&&...) { result = ec; });
+  io.restart();
+  io.run();
+  return result;
+}
+
+bool isIpAddress(const std::string& host) {
+  beast::error_code ec;
+  asio::ip::make_address(host, ec);
+  return !ec;
+}
+
+// The TLS handshake as a client of `hub`: SNI with its name (not for an IP literal, RFC 6066),
+// the chain verified against the context's CA, and the name or IP checked against the
+// certificate. A failure says why: the certificate error OpenSSL found, or the name mismatch.
+void handshake(asio::io_context& io, beast::ssl_stream<beast::tcp_stream>& stream,
+               const HubAddress& hub) {
+  if (!isIpAddress(hub.host) && !SSL_set_tlsext_host_name(stream.native_handle(), hub.host.c_str()))
+    throw HubTlsFailed("cannot set the TLS server name " + hub.host + ": " + takeOpensslError());
+  auto why = std::make_shared<std::string>();
+  stream.set_verify_callback([why, check = ssl::host_name_verification(hub.host), host = hub.host](
+                                 bool preverified, ssl::verify_context& ctx) mutable {
+    X509_STORE_CTX* store = ctx.native_handle();
+    if (!preverified) {
+      if (why->empty()) {
+        char subject[256] = "";
+        if (X509* cert = X509_STORE_CTX_get_current_cert(store))
+          X509_NAME_oneline(X509_get_subject_name(cert), subject, sizeof subject);
+        *why = std::string(X509_verify_cert_error_string(X509_STORE_CTX_get_error(store))) +
+               " (certificate " + subject +
+               "; is [hub] ca_file, or the system's store, the CA that signed it?)";
+      }
+      return false;
+    }
+    const bool ok = check(preverified, ctx);
+    if (!ok && why->empty())
+      *why = "the hub's certificate is not for " + host;
+    return ok;
+  });
+  const auto ec = runOne(io, [&](auto&& done) {
+    stream.async_handshake(ssl::stream_base::client, std::forward<decltype(done)>(done));
+  });
+  if (ec) {
+    const std::string what = why->empty() ? ec.message() : *why;
+    throw HubTlsFailed("TLS with " + hub.url() + " failed: " + what);
+  }
+}
+
+// One request on a fresh connection (the hub may restart between any two); each step within
+// kHttpTimeout.
+HubReply call(const HubAddress& hub, ssl::context* tls, const std::string& token, http::verb verb,
               const std::string& target, std::string body = {},
               const std::string& contentType = {}) {
   asio::io_context io;
   asio::ip::tcp::resolver resolver(io);
-  beast::tcp_stream stream(io);
   beast::error_code ec;
   const auto endpoints = resolver.resolve(hub.host, std::to_string(hub.port), ec);
   if (ec)
     throw HubUnreachable("cannot resolve " + hub.host + ": " + ec.message());
-  stream.expires_after(kHttpTimeout);
-  stream.connect(endpoints, ec);
+  beast::tcp_stream tcp(io);
+  tcp.expires_after(kHttpTimeout);
+  ec = runOne(io, [&](auto&& done) {
+    tcp.async_connect(endpoints, [done](beast::error_code e, const auto&) mutable { done(e); });
+  });
   if (ec)
     throw HubUnreachable("cannot connect to " + hub.host + ":" + std::to_string(hub.port) + ": " +
                          ec.message());
@@ -64,18 +131,38 @@ HubReply call(const HubAddress& hub, const std::string& token, http::verb verb,
     req.set(http::field::content_type, contentType);
   req.body() = std::move(body);
   req.prepare_payload();
-  http::write(stream, req, ec);
-  if (ec)
-    throw HubUnreachable(target + ": " + ec.message());
-  beast::flat_buffer buffer;
   http::response_parser<http::string_body> parser;
   parser.body_limit(16u << 20);
   if (verb == http::verb::head)
     parser.skip(true);
-  http::read(stream, buffer, parser, ec);
-  if (ec)
-    throw HubUnreachable(target + ": " + ec.message());
-  stream.socket().shutdown(asio::ip::tcp::socket::shutdown_both, ec);
+
+  auto exchange = [&](auto& stream) {
+    beast::get_lowest_layer(stream).expires_after(kHttpTimeout);
+    auto e = runOne(io, [&](auto&& done) {
+      http::async_write(stream, req, std::forward<decltype(done)>(done));
+    });
+    if (e)
+      throw HubUnreachable(target + ": " + e.message());
+    beast::flat_buffer buffer;
+    beast::get_lowest_layer(stream).expires_after(kHttpTimeout);
+    e = runOne(io, [&](auto&& done) {
+      http::async_read(stream, buffer, parser, std::forward<decltype(done)>(done));
+    });
+    if (e)
+      throw HubUnreachable(target + ": " + e.message());
+  };
+  if (tls) {
+    beast::ssl_stream<beast::tcp_stream> stream(std::move(tcp), *tls);
+    beast::get_lowest_layer(stream).expires_after(kHttpTimeout);
+    handshake(io, stream, hub);
+    exchange(stream);
+    // close_notify; the answer is complete already, so a hub that does not reply costs 1 s.
+    beast::get_lowest_layer(stream).expires_after(std::chrono::seconds(1));
+    runOne(io, [&](auto&& done) { stream.async_shutdown(std::forward<decltype(done)>(done)); });
+  } else {
+    exchange(tcp);
+    tcp.socket().shutdown(asio::ip::tcp::socket::shutdown_both, ec);
+  }
   return {static_cast<int>(parser.get().result_int()), parser.get().body()};
 }
 
@@ -125,8 +212,11 @@ HubPusher::HubPusher(RouteContext& station, const Config& config)
     : station_(station), token_(config.hubToken), poll_(config.hubPollMs) {
   auto hub = parseHubUrl(config.hubUrl);
   if (!hub)
-    throw ConfigError("[hub] url: not http://HOST:PORT: '" + config.hubUrl + "'");
+    throw ConfigError("[hub] url: not https://HOST:PORT or http://HOST:PORT: '" + config.hubUrl +
+                      "'");
   hub_ = *hub;
+  if (hub_.tls)
+    tls_ = makeClientTlsContext(config.hubCaFile);
 }
 
 HubPusher::~HubPusher() {
@@ -182,7 +272,7 @@ T onCatalog(RouteContext& station, const std::atomic<bool>& stopping,
 }  // namespace
 
 void HubPusher::run() {
-  spdlog::info("hub: pushing to http://{}:{}", hub_.host, hub_.port);
+  spdlog::info("hub: pushing to {}", hub_.url());
   int failures = 0;
   while (!stopping_) {
     bool busy = false;
@@ -191,6 +281,7 @@ void HubPusher::run() {
       {
         std::lock_guard lock(statusMutex_);
         tokenRefused_.clear();
+        tlsFailed_.clear();
       }
       if (failures > 0)
         spdlog::info("hub: reachable again after {} failure(s)", failures);
@@ -206,6 +297,21 @@ void HubPusher::run() {
       }
       ++counters_.failures;
       failures = 1000;  // the longest backoff: a wrong token does not fix itself quickly
+    } catch (const HubTlsFailed& e) {
+      if (stopping_)
+        break;
+      // Logged when it starts or changes, and then every 10th time like other failures.
+      ++failures;
+      ++counters_.failures;
+      bool changed = false;
+      {
+        std::lock_guard lock(statusMutex_);
+        changed = tlsFailed_ != e.what();
+        tlsFailed_ = e.what();
+      }
+      if (changed || failures % 10 == 0)
+        spdlog::error("hub: {} (failure {}, next try in {} ms)", e.what(), failures,
+                      hubBackoff(failures).count());
     } catch (const std::exception& e) {
       if (stopping_)
         break;
@@ -232,6 +338,11 @@ void HubPusher::park(const OutboxEntry& row, const std::pair<int, std::string>& 
   ++counters_.refused;
 }
 
+std::string HubPusher::tlsFailed() const {
+  std::lock_guard lock(statusMutex_);
+  return tlsFailed_;
+}
+
 std::string HubPusher::tokenRefused() const {
   std::lock_guard lock(statusMutex_);
   return tokenRefused_;
@@ -239,13 +350,15 @@ std::string HubPusher::tokenRefused() const {
 
 nlohmann::json HubPusher::status() const {
   const std::string token = tokenRefused();
-  return {{"url", "http://" + hub_.host + ":" + std::to_string(hub_.port)},
+  const std::string tls = tlsFailed();
+  return {{"url", hub_.url()},
           {"pushed", counters_.pushed.load()},
           {"blobs_sent", counters_.blobsSent.load()},
           {"changes_applied", counters_.changesApplied.load()},
           {"failures", counters_.failures.load()},
           {"refused_this_run", counters_.refused.load()},
-          {"token_refused", token.empty() ? nlohmann::json(nullptr) : nlohmann::json(token)}};
+          {"token_refused", token.empty() ? nlohmann::json(nullptr) : nlohmann::json(token)},
+          {"tls_error", tls.empty() ? nlohmann::json(nullptr) : nlohmann::json(tls)}};
 }
 
 bool HubPusher::pass() {
@@ -263,7 +376,7 @@ bool HubPusher::pass() {
       nlohmann::json images = nlohmann::json::object();
       for (const auto& im : item->images) {
         const std::string target = "/api/hub/blobs/" + im.sha256;
-        const auto head = call(hub_, token_, http::verb::head, target);
+        const auto head = call(hub_, tls_.get(), token_, http::verb::head, target);
         if (head.status == 404) {
           auto bytes = station_.store().read(im.sha256);
           if (!bytes) {
@@ -274,8 +387,8 @@ bool HubPusher::pass() {
                 item->id, im.kind, im.sha256);
             continue;
           }
-          const auto put = call(hub_, token_, http::verb::put, target, std::move(*bytes),
-                                "application/octet-stream");
+          const auto put = call(hub_, tls_.get(), token_, http::verb::put, target,
+                                std::move(*bytes), "application/octet-stream");
           if (!ok(put)) {
             refusal = checkRefusal("PUT " + target, put);
             break;
@@ -295,8 +408,8 @@ bool HubPusher::pass() {
       doc["images"] = images;
       const nlohmann::json body{
           {"local_id", item->id}, {"item", doc}, {"deleted", item->deletedAt.has_value()}};
-      const auto res =
-          call(hub_, token_, http::verb::post, "/api/hub/push", body.dump(), "application/json");
+      const auto res = call(hub_, tls_.get(), token_, http::verb::post, "/api/hub/push",
+                            body.dump(), "application/json");
       if (!ok(res)) {
         refusal = checkRefusal("push of item " + std::to_string(item->id), res);
         park(row, *refusal);
@@ -311,7 +424,8 @@ bool HubPusher::pass() {
   // The hub's edits of this station's items, after the cursor kept in the catalog.
   const auto cursor = onCatalog<std::string>(
       station_, stopping_, [](Catalog& c) { return c.hubState("changes_cursor").value_or("0"); });
-  const auto res = call(hub_, token_, http::verb::get, "/api/hub/changes?since=" + cursor);
+  const auto res =
+      call(hub_, tls_.get(), token_, http::verb::get, "/api/hub/changes?since=" + cursor);
   if (hubRefusesToken(res.status))
     throw HubTokenRefused(describe("changes", res));
   if (!ok(res))

@@ -9,10 +9,12 @@
 #include <map>
 #include <thread>
 
+#include "../common/test_certs.h"
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/config.h"
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/daemon/http_server.h"
+#include "garmcap/daemon/tls_context.h"
 #include "test_util.h"
 
 namespace garmcap::daemon {
@@ -29,14 +31,22 @@ TEST(HubPusher, BackoffDoublesFromHalfASecondToThirtySeconds) {
   EXPECT_EQ(hubBackoff(1000), milliseconds(30000));
 }
 
-TEST(HubConfig, UrlIsHttpHostPortAndNeedsAToken) {
+TEST(HubConfig, UrlIsHttpsOrHttpHostPortAndNeedsAToken) {
   auto a = parseHubUrl("http://127.0.0.1:8090");
   ASSERT_TRUE(a);
   EXPECT_EQ(a->host, "127.0.0.1");
   EXPECT_EQ(a->port, 8090);
+  EXPECT_FALSE(a->tls);
   EXPECT_TRUE(parseHubUrl("http://hub.local:80/"));
-  for (const char* bad : {"https://127.0.0.1:8090", "http://127.0.0.1", "http://:80", "http://h:0",
-                          "http://h:70000", "http://h:80/api", "ftp://h:1", "http://h h:80"})
+  auto s = parseHubUrl("https://hub.example-chain.net:8443/");
+  ASSERT_TRUE(s);
+  EXPECT_TRUE(s->tls);
+  EXPECT_EQ(s->host, "hub.example-chain.net");
+  EXPECT_EQ(s->port, 8443);
+  EXPECT_EQ(s->url(), "https://hub.example-chain.net:8443");
+  for (const char* bad :
+       {"https://127.0.0.1", "http://127.0.0.1", "http://:80", "http://h:0", "http://h:70000",
+        "http://h:80/api", "ftp://h:1", "http://h h:80", "https//h:1", "httpx://h:1"})
     EXPECT_FALSE(parseHubUrl(bad)) << bad;
   test::TempDir dir;
   const auto file = dir.path() / "c.toml";
@@ -48,13 +58,37 @@ TEST(HubConfig, UrlIsHttpHostPortAndNeedsAToken) {
   EXPECT_NO_THROW(c.validate());
   c.hubToken.clear();
   EXPECT_THROW(c.validate(), ConfigError);
-  std::ofstream(file) << "[hub]\nurl = \"https://hub:443\"\n";
+  std::ofstream(file) << "[hub]\nurl = \"ftp://hub:443\"\n";
   try {
     loadConfig(file);
-    FAIL() << "https must be refused until TLS is in";
+    FAIL() << "ftp:// must be refused";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("[hub] url"), std::string::npos) << e.what();
   }
+}
+
+TEST(HubConfig, CaFileGoesWithAnHttpsUrlAndMustExist) {
+  test::TempDir dir;
+  const auto file = dir.path() / "c.toml";
+  const auto ca = dir.path() / "ca.pem";
+  std::ofstream(ca) << "not checked here\n";
+  std::ofstream(file) << "[hub]\nurl = \"https://127.0.0.1:8443\"\ntoken = \"t\"\nca_file = \""
+                      << ca.string() << "\"\n";
+  Config c = loadConfig(file);
+  EXPECT_EQ(c.hubCaFile, ca.string());
+  EXPECT_NO_THROW(c.validate());
+  c.hubCaFile = (dir.path() / "missing.pem").string();
+  try {
+    c.validate();
+    FAIL() << "a missing CA file must be refused";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("[hub] ca_file: " + c.hubCaFile + ": no such file"),
+              std::string::npos)
+        << e.what();
+  }
+  c.hubCaFile = ca.string();
+  c.hubUrl = "http://127.0.0.1:8090";
+  EXPECT_THROW(c.validate(), ConfigError);  // a CA for a plain-HTTP hub is a mistake
 }
 
 }  // namespace
@@ -101,7 +135,9 @@ class ScriptedHub {
   std::atomic<int> tokenStatus{0};
   std::atomic<int> blobPuts{0};  // every PUT is answered 413
 
-  ScriptedHub() {
+  // With `tls`, the hub serves HTTPS only.
+  explicit ScriptedHub(std::shared_ptr<boost::asio::ssl::context> tls = nullptr)
+      : tls_(tls != nullptr) {
     config_.listenAddress = "127.0.0.1";
     config_.listenPort = 0;
     router_.add(http::verb::post, "/api/hub/push",
@@ -134,7 +170,7 @@ class ScriptedHub {
                   reply(jsonResponse(http::status::ok,
                                      {{"changes", nlohmann::json::array()}, {"next", 0}}));
                 });
-    server_ = std::make_unique<HttpServer>(io_, config_, router_, files_);
+    server_ = std::make_unique<HttpServer>(io_, config_, router_, files_, std::move(tls));
     server_->start();
     thread_ = std::thread([this] { io_.run(); });
   }
@@ -143,7 +179,9 @@ class ScriptedHub {
     io_.stop();
     thread_.join();
   }
-  std::string url() const { return "http://127.0.0.1:" + std::to_string(server_->port()); }
+  std::string url(const std::string& host = "127.0.0.1") const {
+    return (tls_ ? "https://" : "http://") + host + ":" + std::to_string(server_->port());
+  }
   std::vector<std::int64_t> accepted() {
     std::lock_guard lock(mutex_);
     return accepted_;
@@ -154,6 +192,7 @@ class ScriptedHub {
   }
 
  private:
+  bool tls_;
   boost::asio::io_context io_{1};
   Config config_;
   Router router_;
@@ -276,6 +315,111 @@ TEST(HubPusher, AWrongTokenParksNothingAndIsReported) {
   EXPECT_EQ(station.read<std::int64_t>([](Catalog& c) { return c.outboxSize(); }), 1);
   EXPECT_EQ(station.read<std::int64_t>([](Catalog& c) { return c.refusedOutboxSize(); }), 0);
   EXPECT_TRUE(hub.accepted().empty());
+}
+
+// --- over TLS: throwaway certificates (common/test_certs.h) -------------------------------------
+
+TEST(HubPusher, PushesOverTlsToAHubItsCaVouchesFor) {
+  test::TempDir dir;
+  const garmcap::test::TestCerts certs(dir.path() / "tls");
+  CatalogOnlyStation station(dir.path());
+  const auto id = station.read<std::int64_t>([](Catalog& c) { return c.addItem(plainItem("A")); });
+  ScriptedHub hub(makeServerTlsContext(certs.serverCert, certs.serverKey));
+  Config c = pusherConfig(hub);
+  ASSERT_EQ(c.hubUrl.rfind("https://", 0), 0u);
+  c.hubCaFile = certs.caCert;
+  HubPusher pusher(station, c);
+  pusher.start();
+  ASSERT_TRUE(waitFor([&] { return hub.accepted().size() == 1; }, std::chrono::seconds(5)))
+      << pusher.tlsFailed();
+  ASSERT_TRUE(waitFor(
+      [&] { return station.read<std::int64_t>([](Catalog& c) { return c.outboxSize(); }) == 0; },
+      std::chrono::seconds(5)));
+  pusher.stop();
+  EXPECT_EQ(hub.accepted(), std::vector<std::int64_t>{id});
+  EXPECT_TRUE(pusher.status()["tls_error"].is_null());
+  EXPECT_EQ(pusher.status()["url"], hub.url());
+}
+
+// The hub is reachable, but its certificate is not vouched for (another CA) or names another
+// host: nothing is sent, nothing is parked, the pusher retries with its backoff and says why.
+TEST(HubPusher, AHubCertificateFromAnotherCaIsRefusedRetriedAndReported) {
+  test::TempDir dir;
+  const garmcap::test::TestCerts certs(dir.path() / "tls");
+  CatalogOnlyStation station(dir.path());
+  station.read<std::int64_t>([](Catalog& c) { return c.addItem(plainItem("A")); });
+  ScriptedHub hub(makeServerTlsContext(certs.serverCert, certs.serverKey));
+  Config c = pusherConfig(hub);
+  c.hubCaFile = certs.otherCaCert;
+  HubPusher pusher(station, c);
+  pusher.start();
+  // The first try fails at once, the second 0.5 s later (hubBackoff).
+  ASSERT_TRUE(
+      waitFor([&] { return pusher.counters().failures.load() >= 2; }, std::chrono::seconds(5)));
+  pusher.stop();
+  const std::string why = pusher.tlsFailed();
+  EXPECT_NE(why.find("unable to get local issuer certificate"), std::string::npos) << why;
+  EXPECT_NE(why.find(hub.url()), std::string::npos) << why;
+  EXPECT_EQ(pusher.status()["tls_error"].get<std::string>(), why);
+  EXPECT_TRUE(hub.accepted().empty());
+  EXPECT_EQ(station.read<std::int64_t>([](Catalog& c) { return c.outboxSize(); }), 1);
+  EXPECT_EQ(station.read<std::int64_t>([](Catalog& c) { return c.refusedOutboxSize(); }), 0);
+  EXPECT_TRUE(pusher.tokenRefused().empty());
+}
+
+TEST(HubPusher, AHubCertificateForAnotherHostNameIsRefused) {
+  test::TempDir dir;
+  const garmcap::test::TestCerts certs(dir.path() / "tls");
+  CatalogOnlyStation station(dir.path());
+  station.read<std::int64_t>([](Catalog& c) { return c.addItem(plainItem("A")); });
+  ScriptedHub hub(makeServerTlsContext(certs.serverCert, certs.serverKey));
+  Config c = pusherConfig(hub);
+  c.hubUrl = hub.url("localhost");  // the certificate names 127.0.0.1 and hub.test only
+  c.hubCaFile = certs.caCert;
+  HubPusher pusher(station, c);
+  pusher.start();
+  ASSERT_TRUE(waitFor([&] { return !pusher.tlsFailed().empty(); }, std::chrono::seconds(5)));
+  pusher.stop();
+  EXPECT_NE(pusher.tlsFailed().find("certificate is not for localhost"), std::string::npos)
+      << pusher.tlsFailed();
+  EXPECT_TRUE(hub.accepted().empty());
+  EXPECT_EQ(station.read<std::int64_t>([](Catalog& c) { return c.outboxSize(); }), 1);
+}
+
+// A hub that speaks plain HTTP where the station expects TLS: a handshake failure, reported.
+TEST(HubPusher, APlainHttpHubAtAnHttpsUrlIsReportedAsATlsFailure) {
+  test::TempDir dir;
+  const garmcap::test::TestCerts certs(dir.path() / "tls");
+  CatalogOnlyStation station(dir.path());
+  station.read<std::int64_t>([](Catalog& c) { return c.addItem(plainItem("A")); });
+  ScriptedHub hub;
+  Config c = pusherConfig(hub);
+  c.hubUrl = "https://" + c.hubUrl.substr(7);
+  c.hubCaFile = certs.caCert;
+  HubPusher pusher(station, c);
+  pusher.start();
+  ASSERT_TRUE(waitFor([&] { return !pusher.tlsFailed().empty(); }, std::chrono::seconds(5)));
+  pusher.stop();
+  EXPECT_NE(pusher.tlsFailed().find("TLS with " + c.hubUrl + " failed"), std::string::npos)
+      << pusher.tlsFailed();
+  EXPECT_TRUE(hub.accepted().empty());
+}
+
+TEST(HubPusher, ACaFileWithoutACertificateStopsTheStart) {
+  test::TempDir dir;
+  CatalogOnlyStation station(dir.path());
+  const auto ca = dir.path() / "ca.pem";
+  std::ofstream(ca) << "this is not PEM\n";
+  Config c;
+  c.hubUrl = "https://127.0.0.1:1";
+  c.hubToken = "t";
+  c.hubCaFile = ca.string();
+  try {
+    HubPusher pusher(station, c);
+    FAIL() << "a CA file without a certificate must be refused";
+  } catch (const TlsError& e) {
+    EXPECT_NE(std::string(e.what()).find("CA file " + ca.string()), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // once with every blob's hash right; an edit made at the hub reaches the station.
 #include <gtest/gtest.h>
 
+#include "../common/test_certs.h"
 #include "../e2e/daemon_harness.h"
 #include "garmcap/daemon/content_store.h"
 #include "temp_postgres.h"
@@ -20,7 +21,7 @@ const std::string kAdmin = "admin-token-0123456789";
 class HubProcess {
  public:
   HubProcess(const std::string& db, int port, const std::vector<std::string>& stations,
-             const std::filesystem::path& log) {
+             const std::filesystem::path& log, const std::vector<std::string>& extra = {}) {
     std::vector<std::string> args = {kHubBin,
                                      "--db",
                                      db,
@@ -30,6 +31,7 @@ class HubProcess {
                                      daemon::sha256Hex(kAdmin)};
     for (const auto& s : stations)
       args.insert(args.end(), {"--station", s});
+    args.insert(args.end(), extra.begin(), extra.end());
     int out[2];
     if (pipe(out) != 0)
       throw std::runtime_error("pipe");
@@ -391,6 +393,75 @@ TEST(HubE2E, TwoStationsPushThroughHubDowntimeAndAKillEveryItemOnce) {
   EXPECT_EQ(hub->stop(), 0);
   std::printf("[hub e2e] %zu + %zu items, whole test %.1f s\n", itemsA.size(), itemsB.size(),
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+// Over TLS: garmcap-hub serving HTTPS with a certificate made at test time, a station that
+// trusts its CA pushes a capture; a station configured with another CA pushes nothing, keeps
+// its outbox and says why in its /api/status.
+TEST(HubE2E, AStationPushesOverTlsAndOneWithAnotherCaReportsWhy) {
+  if (!test::postgresBinDir())
+    GTEST_SKIP() << "PostgreSQL server binaries not found under /usr/lib/postgresql "
+                    "(apt install postgresql-15; ./station.sh deps installs it)";
+  TempDir dir;
+  const garmcap::test::TestCerts certs(dir.path() / "tls");
+  test::TempPostgres pg;
+  const std::string db = "hub_tls_e2e";
+  pg.createDatabase(db);
+  const int hubPort = test::freeLoopbackPort();
+  const auto rig = makeSimulatedRig(dir.path());
+  std::vector<StationSetup> setups = {{"shop1", "token-of-shop1-abcdef", dir.path() / "s1", {}},
+                                      {"shop2", "token-of-shop2-abcdef", dir.path() / "s2", {}}};
+  std::vector<std::string> stationArgs;
+  for (auto& s : setups) {
+    std::filesystem::create_directories(s.data);
+    s.config = dir.path() / (s.name + ".toml");
+    const auto& ca = s.name == "shop1" ? certs.caCert : certs.otherCaCert;
+    std::ofstream(s.config) << "[hub]\nurl = \"https://127.0.0.1:" << hubPort << "\"\ntoken = \""
+                            << s.token << "\"\nca_file = \"" << ca.string()
+                            << "\"\npoll_ms = 100\n";
+    stationArgs.push_back(s.name + "=" + daemon::sha256Hex(s.token));
+  }
+  const auto hubLog = dir.path() / "hub.log";
+  HubProcess hub(pg.url(db), hubPort, stationArgs, hubLog,
+                 {"--tls-cert", certs.serverCert.string(), "--tls-key", certs.serverKey.string()});
+  auto options = [&](const StationSetup& s) {
+    DaemonOptions o;
+    o.args = {"--config", s.config.string()};
+    o.rig = rig;
+    o.stderrFile = dir.path() / (s.name + ".log");
+    return o;
+  };
+  Daemon a(setups[0].data, options(setups[0]));
+  Daemon b(setups[1].data, options(setups[1]));
+  for (auto* d : {&a, &b})
+    ASSERT_EQ(d->waitJob(d->post("/api/capture/empty").json()["job"])["state"], "done");
+  const std::int64_t itemA = captureOne(a, "TLS-A");
+  captureOne(b, "TLS-B");
+  ASSERT_TRUE(waitFor(
+      [&] {
+        return pg.psql(db, "SELECT count(*) FROM items WHERE station_id = 'shop1' AND local_id = " +
+                               std::to_string(itemA)) == "1";
+      },
+      30s))
+      << "hub log: " << hubLog << ", station log: " << dir.path() / "shop1.log";
+  // Its image went too, byte-exact.
+  EXPECT_EQ(pg.psql(db, "SELECT count(*) FROM images WHERE encode(sha256(bytes), 'hex') <> sha256"),
+            "0");
+  EXPECT_NE(pg.psql(db, "SELECT count(*) FROM images"), "0");
+  Json statusB;
+  ASSERT_TRUE(waitFor(
+      [&] {
+        statusB = b.get("/api/status").json();
+        return statusB.contains("hub") && statusB["hub"].value("tls_error", Json()).is_string();
+      },
+      30s))
+      << statusB.dump();
+  const std::string why = statusB["hub"]["tls_error"].get<std::string>();
+  EXPECT_NE(why.find("unable to get local issuer certificate"), std::string::npos) << why;
+  EXPECT_GE(statusB["hub"]["outbox"].get<std::int64_t>(), 1) << statusB.dump();
+  EXPECT_EQ(statusB["hub"]["refused_count"].get<std::int64_t>(), 0) << statusB.dump();
+  EXPECT_EQ(pg.psql(db, "SELECT count(*) FROM items WHERE station_id = 'shop2'"), "0");
+  EXPECT_TRUE(a.get("/api/status").json()["hub"]["tls_error"].is_null());
 }
 
 }  // namespace

@@ -272,7 +272,7 @@ TEST(HubConfig, ReadsTomlStrictlyAndRefusesUnsafeListen) {
   EXPECT_EQ(c.stationTokenSha256.at("shop2"), h2);
   EXPECT_NO_THROW(c.validate());
   c.listenAddress = "0.0.0.0";
-  EXPECT_THROW(c.validate(), HubConfigError);  // no TLS yet: loopback only
+  EXPECT_THROW(c.validate(), HubConfigError);  // without [tls]: loopback only
   std::ofstream(file) << "[stations]\nshop1 = \"not-a-hash\"\n";
   try {
     loadHubConfig(file);

@@ -51,12 +51,24 @@ void addStation(HubConfig& config, const std::string& spec, const std::string& w
 void HubConfig::validate() const {
   if (databaseUrl.empty())
     throw HubConfigError("[database] url: required (a libpq connection string)");
+  if (tls()) {
+    if (tlsCertFile.empty())
+      throw HubConfigError("[tls] cert_file: required with [tls] key_file (--tls-cert)");
+    if (tlsKeyFile.empty())
+      throw HubConfigError("[tls] key_file: required with [tls] cert_file (--tls-key)");
+    using Entry = std::pair<std::string, std::string>;
+    for (const auto& [key, file] : {Entry{"cert_file", tlsCertFile}, Entry{"key_file", tlsKeyFile}})
+      if (!std::ifstream(file, std::ios::binary))
+        throw HubConfigError(
+            "[tls] " + key + ": " + file + ": " +
+            (std::filesystem::exists(file) ? "cannot be read (permissions?)" : "no such file"));
+  }
   daemon::Config probe;
   probe.listenAddress = listenAddress;
-  if (!probe.loopbackOnly())
+  if (!probe.loopbackOnly() && !tls())
     throw HubConfigError("[http] listen: " + listenAddress +
-                         " is not a loopback address, and this hub has no TLS yet: put it behind "
-                         "a TLS proxy on this machine and listen on 127.0.0.1 (docs/hub.md)");
+                         " is not a loopback address: set [tls] cert_file and key_file "
+                         "(--tls-cert, --tls-key) to serve HTTPS there (docs/hub.md, \"TLS\")");
   std::map<std::string, std::string> seen;
   for (const auto& [station, hash] : stationTokenSha256) {
     if (hash == adminTokenSha256)
@@ -121,11 +133,16 @@ HubConfig loadHubConfig(const std::filesystem::path& file, HubConfig c) {
         c.bodyLimitBytes = static_cast<std::size_t>(integer(1024, 1LL << 30));
       } else if (section == "http" && key == "threads") {
         c.threads = static_cast<int>(integer(1, 64));
+      } else if (section == "tls" && (key == "cert_file" || key == "key_file")) {
+        if (!v.is_string() || v.as_string().str.empty())
+          bad(name, "must be the path of a PEM file");
+        (key == "cert_file" ? c.tlsCertFile : c.tlsKeyFile) = v.as_string().str;
       } else if (section == "stations") {
         if (!validStationId(key))
           bad(name, "a station name is 1..64 of [A-Za-z0-9_-]");
         c.stationTokenSha256[key] = hashValue(v, name);
-      } else if (section != "database" && section != "http" && section != "stations") {
+      } else if (section != "database" && section != "http" && section != "stations" &&
+                 section != "tls") {
         bad(f + ": [" + section + "]", "unknown section");
       } else {
         bad(name, "unknown key");

@@ -8,6 +8,7 @@
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/daemon/http_server.h"
 #include "garmcap/daemon/login_sessions.h"
+#include "garmcap/daemon/tls_context.h"
 #include "garmcap/daemon/utf8.h"
 
 namespace garmcap::hub {
@@ -350,7 +351,10 @@ void HubService::start() {
   http.listenPort = config_.listenPort;
   http.bodyLimitBytes = config_.bodyLimitBytes;
   http.token = "";  // every route checks its caller itself (station or admin token)
-  server_ = std::make_unique<daemon::HttpServer>(io_, http, router_, *files_);
+  std::shared_ptr<boost::asio::ssl::context> tls;
+  if (config_.tls())
+    tls = daemon::makeServerTlsContext(config_.tlsCertFile, config_.tlsKeyFile);
+  server_ = std::make_unique<daemon::HttpServer>(io_, http, router_, *files_, std::move(tls));
   server_->start();
   for (int i = 0; i < config_.threads; ++i)
     threads_.emplace_back([this] {

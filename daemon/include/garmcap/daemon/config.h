@@ -89,9 +89,10 @@ struct Config {
   // [shop]
   ShopConfig shop;
   // [hub]: the chain's hub this station pushes its catalog to (docs/hub.md); "" = none.
-  std::string hubUrl;    // http://HOST:PORT (loopback or a TLS proxy on this machine)
-  std::string hubToken;  // this station's token at the hub
-  int hubPollMs = 2000;  // how often the outbox and the hub's edits are looked at
+  std::string hubUrl;     // https://HOST:PORT, or http:// to a hub on loopback
+  std::string hubToken;   // this station's token at the hub
+  std::string hubCaFile;  // PEM CA certificate(s) for the hub's; "" = the system's store
+  int hubPollMs = 2000;   // how often the outbox and the hub's edits are looked at
 
   /// Throws ConfigError if the combination is unsafe or incomplete (e.g. a non-loopback
   /// address without a token).
@@ -108,10 +109,14 @@ void applyShopSettings(const nlohmann::json& settings, ShopConfig& shop);
 /// The [shop] keys of `shop`, as applyShopSettings reads them.
 nlohmann::json shopSettingsJson(const ShopConfig& shop);
 
-/// Where [hub] url points: http://HOST:PORT (no path, no https yet).
+/// Where [hub] url points: http://HOST:PORT or https://HOST:PORT (no path).
 struct HubAddress {
   std::string host;
   std::uint16_t port = 0;
+  bool tls = false;  // https: the hub's certificate is verified, with its host name
+  std::string url() const {
+    return (tls ? "https://" : "http://") + host + ":" + std::to_string(port);
+  }
 };
 std::optional<HubAddress> parseHubUrl(const std::string& url);
 

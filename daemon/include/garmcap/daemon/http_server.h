@@ -1,12 +1,13 @@
 #pragma once
 // The HTTP server (Boost.Beast 1.74, after example/advanced/server): a listener, one session per
-// connection with its own strand, a request body limit, a read timeout, a connection limit, the
-// bearer-token check, and the split between API routes (Router), streams (StreamSink) and static
-// files (StaticFiles). Handlers never see the socket.
+// connection with its own strand, plain or TLS, a request body limit, a read timeout, a connection
+// limit, the bearer-token check, and the split between API routes (Router), streams (StreamSink)
+// and static files (StaticFiles). Handlers never see the socket.
 
 #include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl/context.hpp>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -32,8 +33,9 @@ bool needsToken(std::string_view path);
 
 class HttpServer {
  public:
+  /// With `tls` (tls_context.h), every connection is HTTPS; without, plain HTTP.
   HttpServer(boost::asio::io_context& io, const Config& config, const Router& router,
-             const StaticFiles& files);
+             const StaticFiles& files, std::shared_ptr<boost::asio::ssl::context> tls = nullptr);
   ~HttpServer();
   /// Binds and starts accepting. Throws std::runtime_error naming the address on failure.
   void start();

@@ -1,8 +1,11 @@
 #pragma once
 // Internal to the HTTP server: one connection (Beast 1.74 advanced-server session), a template
 // over the stream type so that unit tests drive the very same code over beast::test::stream, with
-// no socket (tests/daemon/http_session_test.cpp). garmcapd instantiates it for beast::tcp_stream
-// only (http_server.cpp); nothing else should include this header.
+// no socket (tests/daemon/http_session_test.cpp). The server instantiates it for beast::tcp_stream
+// and, with a TLS context (the hub), for beast::ssl_stream<beast::tcp_stream>: the TLS session
+// first does the server handshake within header_timeout_s, counted as waiting for a header (a
+// client that never finishes it holds no thread and can be evicted), and ends with close_notify.
+// Nothing but http_server.cpp and its tests should include this header.
 //
 // Per request: body limit and header limit (413/431 JSON), read timeout (tcp only), the bearer
 // token for API and stream paths, then the router (JSON API), a stream handler (SSE, MJPEG: the
@@ -18,6 +21,7 @@
 #include <boost/asio/write.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl/ssl_stream.hpp>
 #include <chrono>
 #include <deque>
 #include <map>
@@ -94,6 +98,8 @@ struct ServerShared {
   Config config;
   const Router& router;
   const StaticFiles& files;
+  // Set: every connection is TLS (beast::ssl_stream); the listener makes each stream from it.
+  std::shared_ptr<boost::asio::ssl::context> tls{};
   std::atomic<int> sessions{0};
   WaitingSessions waiting{};
   ClientConnections clients{};
@@ -140,8 +146,12 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   }
 
   void run() {
-    asio::dispatch(stream_.get_executor(),
-                   beast::bind_front_handler(&Session::doRead, this->shared_from_this()));
+    if constexpr (kTls)
+      asio::dispatch(stream_.get_executor(),
+                     beast::bind_front_handler(&Session::doHandshake, this->shared_from_this()));
+    else
+      asio::dispatch(stream_.get_executor(),
+                     beast::bind_front_handler(&Session::doRead, this->shared_from_this()));
   }
 
   // Stream mode ----------------------------------------------------------------------------
@@ -201,14 +211,41 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
     std::size_t maxQueued_;
   };
 
-  // Only the TCP stream has timeouts; the test stream has none (and needs none).
+  static constexpr bool kTls = requires(Stream & st) {
+    st.async_handshake(asio::ssl::stream_base::server, [](auto) {});
+  };
+  // The TCP stream, under TLS or not, has timeouts; the test stream has none (and needs none).
+  auto& lowest() { return beast::get_lowest_layer(stream_); }
+  static constexpr bool kTimed = requires(Stream & st) {
+    beast::get_lowest_layer(st).expires_after(std::chrono::seconds(1));
+  };
   void expiresAfter(std::chrono::seconds s) {
-    if constexpr (requires(Stream & st) { st.expires_after(std::chrono::seconds(1)); })
-      stream_.expires_after(s);
+    if constexpr (kTimed)
+      lowest().expires_after(s);
   }
   void expiresNever() {
-    if constexpr (requires(Stream & st) { st.expires_never(); })
-      stream_.expires_never();
+    if constexpr (kTimed)
+      lowest().expires_never();
+  }
+
+  // A client that connects and never completes the handshake (a plain-HTTP request, a port
+  // scan, a slow client) is dropped after header_timeout_s, or sooner when its slot is needed.
+  void doHandshake() {
+    expiresAfter(std::chrono::seconds(shared_->config.headerTimeoutS));
+    waitingHandle_ =
+        shared_->waiting.add(this->weak_from_this(), client_ ? client_->address() : std::string());
+    stream_.async_handshake(
+        asio::ssl::stream_base::server,
+        beast::bind_front_handler(&Session::onHandshake, this->shared_from_this()));
+  }
+  void onHandshake(beast::error_code ec) {
+    if (ec) {
+      // Not an error of the server: a client that speaks plain HTTP, trusts another CA, or left.
+      spdlog::debug("http: TLS handshake with {} failed: {}",
+                    client_ ? client_->address() : std::string("a client"), ec.message());
+      return;  // the stream closes with the session
+    }
+    doRead();
   }
 
   // A request is read in two steps: the header within header_timeout_s of the connection (or of
@@ -243,9 +280,9 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   }
 
   void closeNow() {
-    if constexpr (requires(Stream & st) { st.socket(); }) {
+    if constexpr (requires(Stream & st) { beast::get_lowest_layer(st).socket(); }) {
       beast::error_code ec;
-      stream_.socket().close(ec);
+      lowest().socket().close(ec);
     } else {
       stream_.close();
     }
@@ -254,6 +291,10 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   void onRead(beast::error_code ec, std::size_t) {
     if (ec == http::error::end_of_stream || ec == asio::error::eof)
       return shutdown();
+    // A TLS client that closed its socket without close_notify, between requests.
+    if constexpr (kTls)
+      if (ec == asio::ssl::error::stream_truncated)
+        return;
     if (ec == beast::error::timeout)
       return;  // stream closed by the timeout
     // After a framing error the rest of the connection cannot be trusted: answer and close.
@@ -463,7 +504,15 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   }
 
   void shutdown() {
-    if constexpr (requires(Stream & st) { st.socket(); }) {
+    if constexpr (kTls) {
+      // close_notify, then the socket is closed; a peer that does not send its own
+      // close_notify back is waited for one second.
+      expiresAfter(std::chrono::seconds(1));
+      stream_.async_shutdown([self = this->shared_from_this()](beast::error_code) {
+        beast::error_code ec;
+        self->lowest().socket().close(ec);
+      });
+    } else if constexpr (requires(Stream & st) { st.socket(); }) {
       beast::error_code ec;
       stream_.socket().shutdown(asio::socket_base::shutdown_send, ec);
     } else {

@@ -8,15 +8,18 @@
 // the catalog's refused rows with the hub's answer, and the next row goes; a 401/403 (a wrong
 // token) parks nothing and waits 30 s between tries, reported in status(). Any other failure
 // (hub down, network, a 5xx, 408, 429) waits 0.5 s, doubling up to 30 s, then the same row is
-// tried again: the outbox is durable, so a restart resumes where the
-// last run stopped, and a row sent twice is the same upsert twice. Between rows it pulls the
-// hub's edits (GET /api/hub/changes?since=cursor) and applies them with Catalog::applyHubEdit,
-// which queues nothing, so an edit from the hub never comes back as a push.
+// tried again. Over https:// the hub's certificate is verified against [hub] ca_file (or the
+// system's store) and must name the host of [hub] url; a failed verification is such a failure
+// too, retried with the backoff and reported in status() ("tls_error"). The outbox is durable, so a
+// restart resumes where the last run stopped, and a row sent twice is the same upsert twice.
+// Between rows it pulls the hub's edits (GET /api/hub/changes?since=cursor) and applies them with
+// Catalog::applyHubEdit, which queues nothing, so an edit from the hub never comes back as a push.
 //
 // The catalog is reached only through RouteContext::withCatalog (the station strand owns it);
 // blobs are read from the content store, which is thread-safe.
 
 #include <atomic>
+#include <boost/asio/ssl/context.hpp>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -48,7 +51,7 @@ class HubPusher {
   HubPusher& operator=(const HubPusher&) = delete;
 
   void start();
-  /// Stops the thread (at most one HTTP timeout, 5 s, later).
+  /// Stops the thread (at most one step of an HTTP call, 5 s, later).
   void stop();
 
   struct Counters {
@@ -57,6 +60,9 @@ class HubPusher {
   const Counters& counters() const { return counters_; }
   /// The hub's refusal of the token from the last try, empty while the token is taken.
   std::string tokenRefused() const;
+  /// Why the last TLS handshake with the hub failed (its certificate, its name), empty once a
+  /// pass succeeds.
+  std::string tlsFailed() const;
   /// For the station's /api/status (thread-safe): the counters and a refused token.
   nlohmann::json status() const;
 
@@ -69,6 +75,7 @@ class HubPusher {
 
   RouteContext& station_;
   HubAddress hub_;
+  std::shared_ptr<boost::asio::ssl::context> tls_;  // for https:// only
   std::string token_;
   std::chrono::milliseconds poll_;
   std::thread thread_;
@@ -78,6 +85,7 @@ class HubPusher {
   Counters counters_;
   mutable std::mutex statusMutex_;
   std::string tokenRefused_;
+  std::string tlsFailed_;
 };
 
 }  // namespace garmcap::daemon

@@ -5,9 +5,12 @@
 //   url = "host=/run/postgresql dbname=garmcap_hub"   # a libpq connection string
 //   connections = 4
 //   [http]
-//   listen = "127.0.0.1:8090"
+//   listen = "127.0.0.1:8090"        # any address with [tls]; loopback only without
 //   admin_token_sha256 = "<64 hex>"   # reads and edits at the hub (garmcap-hub hash-token T)
 //   body_limit_bytes = 67108864       # the largest blob a station may send
+//   [tls]                             # HTTPS (docs/hub.md, "TLS")
+//   cert_file = "/etc/garmcap-hub/tls/cert.pem"   # the certificate, then intermediates
+//   key_file = "/etc/garmcap-hub/tls/key.pem"     # its private key, unencrypted
 //   [stations]
 //   shop1 = "<64 hex: sha256 of shop1's token>"
 //
@@ -37,8 +40,13 @@ struct HubConfig {
   std::map<std::string, std::string> stationTokenSha256;  // station id -> token hash
   std::size_t bodyLimitBytes = 64u << 20;
   int threads = 4;
+  std::string tlsCertFile;  // both set: HTTPS; both empty: plain HTTP (loopback only)
+  std::string tlsKeyFile;
 
-  /// Throws HubConfigError when incomplete (no database) or unsafe.
+  bool tls() const { return !tlsCertFile.empty() || !tlsKeyFile.empty(); }
+  /// Throws HubConfigError when incomplete (no database, half a [tls] section, a TLS file that
+  /// cannot be read) or unsafe (a non-loopback address without TLS). Whether the key matches the
+  /// certificate is checked when the server starts (daemon::makeServerTlsContext).
   void validate() const;
 };
 

@@ -1,0 +1,233 @@
+// The hub over TLS: the [tls] configuration, the certificate and key checks at start, and the
+// hub serving HTTPS on loopback (a real PostgreSQL) to a client that verifies it, while a
+// plain-HTTP client, a TLS 1.1 client and a client that never starts its handshake are turned
+// away without stopping it. Certificates are made at test time (common/test_certs.h).
+#include <gtest/gtest.h>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "../common/test_certs.h"
+#include "garmcap/daemon/tls_context.h"
+#include "garmcap/hub/hub_config.h"
+#include "garmcap/hub/hub_service.h"
+#include "temp_postgres.h"
+
+namespace garmcap::hub {
+namespace {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace ssl = asio::ssl;
+namespace fs = std::filesystem;
+using tcp = asio::ip::tcp;
+
+class TempFolder {
+ public:
+  TempFolder()
+      : path_(fs::temp_directory_path() /
+              ("garmcap-hubtls-" + std::to_string(::getpid()) + "-" + std::to_string(counter_++))) {
+    fs::create_directories(path_);
+  }
+  ~TempFolder() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  static inline int counter_ = 0;
+  fs::path path_;
+};
+
+HubConfig minimalConfig() {
+  HubConfig c;
+  c.databaseUrl = "dbname=x";
+  return c;
+}
+
+std::string messageOf(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(HubTlsConfig, ANonLoopbackAddressNeedsTls) {
+  TempFolder dir;
+  const garmcap::test::TestCerts certs(dir.path());
+  HubConfig c = minimalConfig();
+  c.listenAddress = "0.0.0.0";
+  const std::string why = messageOf([&] { c.validate(); });
+  EXPECT_NE(why.find("[http] listen: 0.0.0.0 is not a loopback address"), std::string::npos) << why;
+  EXPECT_NE(why.find("[tls] cert_file"), std::string::npos) << why;
+  c.tlsCertFile = certs.serverCert.string();
+  c.tlsKeyFile = certs.serverKey.string();
+  EXPECT_NO_THROW(c.validate());
+  c.listenAddress = "::";
+  EXPECT_NO_THROW(c.validate());
+  // Loopback may stay plain HTTP.
+  EXPECT_NO_THROW(minimalConfig().validate());
+}
+
+TEST(HubTlsConfig, TheTlsSectionIsReadAndItsFilesAreNamedWhenMissing) {
+  TempFolder dir;
+  const garmcap::test::TestCerts certs(dir.path());
+  const auto file = dir.path() / "hub.toml";
+  std::ofstream(file) << "[database]\nurl = \"dbname=x\"\n[http]\nlisten = \"0.0.0.0:8443\"\n"
+                      << "[tls]\ncert_file = \"" << certs.serverCert.string() << "\"\n"
+                      << "key_file = \"" << (dir.path() / "nokey.pem").string() << "\"\n";
+  HubConfig c = loadHubConfig(file);
+  EXPECT_EQ(c.tlsCertFile, certs.serverCert.string());
+  EXPECT_TRUE(c.tls());
+  std::string why = messageOf([&] { c.validate(); });
+  EXPECT_NE(why.find("[tls] key_file: " + (dir.path() / "nokey.pem").string() + ": no such file"),
+            std::string::npos)
+      << why;
+  c.tlsKeyFile.clear();
+  why = messageOf([&] { c.validate(); });
+  EXPECT_NE(why.find("[tls] key_file: required with [tls] cert_file"), std::string::npos) << why;
+  std::ofstream(file) << "[tls]\ncert = \"x\"\n";
+  why = messageOf([&] { loadHubConfig(file); });
+  EXPECT_NE(why.find("[tls] cert: unknown key"), std::string::npos) << why;
+  std::ofstream(file) << "[tls]\nkey_file = 3\n";
+  EXPECT_THROW(loadHubConfig(file), HubConfigError);
+}
+
+TEST(HubTlsConfig, AKeyThatDoesNotMatchTheCertificateIsNamedAtStart) {
+  TempFolder dir;
+  const garmcap::test::TestCerts certs(dir.path());
+  const auto ctx = daemon::makeServerTlsContext(certs.serverCert, certs.serverKey);
+  EXPECT_EQ(SSL_CTX_get_min_proto_version(ctx->native_handle()), TLS1_2_VERSION);
+  std::string why = messageOf([&] { daemon::makeServerTlsContext(certs.serverCert, certs.caKey); });
+  EXPECT_NE(why.find("TLS key " + certs.caKey.string() + ": does not match the certificate in " +
+                     certs.serverCert.string()),
+            std::string::npos)
+      << why;
+  // The two swapped: the "certificate" is a key.
+  why = messageOf([&] { daemon::makeServerTlsContext(certs.serverKey, certs.serverCert); });
+  EXPECT_NE(why.find("TLS certificate " + certs.serverKey.string() + ": not a PEM certificate"),
+            std::string::npos)
+      << why;
+  why = messageOf(
+      [&] { daemon::makeServerTlsContext(dir.path() / "none.pem", certs.serverKey.string()); });
+  EXPECT_NE(why.find((dir.path() / "none.pem").string() + ": cannot be read"), std::string::npos)
+      << why;
+}
+
+// --- the hub serving HTTPS -------------------------------------------------------------------
+
+struct Answer {
+  int status = 0;
+  std::string body;
+};
+
+// GET over TLS with the given client context; throws beast::system_error on a failed handshake.
+Answer httpsGet(std::uint16_t port, ssl::context& ctx, const std::string& target) {
+  asio::io_context io;
+  beast::ssl_stream<beast::tcp_stream> stream(io, ctx);
+  stream.set_verify_callback(ssl::host_name_verification("127.0.0.1"));
+  beast::get_lowest_layer(stream).connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
+  stream.handshake(ssl::stream_base::client);
+  http::request<http::empty_body> req{http::verb::get, target, 11};
+  req.set(http::field::host, "127.0.0.1:" + std::to_string(port));
+  http::write(stream, req);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> res;
+  http::read(stream, buffer, res);
+  beast::error_code ec;
+  stream.shutdown(ec);
+  return {static_cast<int>(res.result_int()), res.body()};
+}
+
+// What a plain-HTTP client to the TLS port gets: the bytes the hub sends back before it closes
+// (no HTTP answer), or an empty string; fails the test if the connection stays open 5 s.
+std::string plainRequest(std::uint16_t port) {
+  asio::io_context io;
+  beast::tcp_stream stream(io);
+  stream.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
+  const std::string request = "GET /api/hub/health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+  asio::write(stream.socket(), asio::buffer(request));
+  std::string received;
+  std::array<char, 512> chunk{};
+  bool closed = false;
+  stream.expires_after(std::chrono::seconds(5));
+  std::function<void()> readMore = [&] {
+    stream.async_read_some(asio::buffer(chunk), [&](beast::error_code ec, std::size_t n) {
+      received.append(chunk.data(), n);
+      if (!ec)
+        return readMore();
+      closed = ec != beast::error::timeout;
+    });
+  };
+  readMore();
+  io.run();
+  EXPECT_TRUE(closed) << "the hub kept a plain-HTTP connection to its TLS port open";
+  return received;
+}
+
+TEST(HubTls, ServesHttpsAndTurnsAwayPlainHttpOldTlsAndSilentClients) {
+  if (!test::postgresBinDir())
+    GTEST_SKIP() << "PostgreSQL server binaries not found under /usr/lib/postgresql";
+  TempFolder dir;
+  const garmcap::test::TestCerts certs(dir.path());
+  test::TempPostgres pg;
+  pg.createDatabase("hub_tls");
+  HubConfig c;
+  c.databaseUrl = pg.url("hub_tls");
+  c.listenPort = 0;
+  c.threads = 1;  // one thread: a client that hangs in its handshake would block everything
+  c.tlsCertFile = certs.serverCert.string();
+  c.tlsKeyFile = certs.serverKey.string();
+  c.validate();
+  HubService service(c);
+  service.start();
+  const auto port = service.port();
+
+  // A client that connects and sends nothing holds no thread.
+  asio::io_context io;
+  tcp::socket silent(io);
+  silent.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
+
+  ssl::context trusting(ssl::context::tls_client);
+  trusting.set_verify_mode(ssl::verify_peer);
+  trusting.load_verify_file(certs.caCert.string());
+  const Answer health = httpsGet(port, trusting, "/api/hub/health");
+  EXPECT_EQ(health.status, 200);
+  EXPECT_EQ(nlohmann::json::parse(health.body).value("ok", false), true) << health.body;
+
+  const std::string plain = plainRequest(port);
+  EXPECT_EQ(plain.find("HTTP/1.1 200"), std::string::npos) << plain;
+
+  ssl::context old(ssl::context::tls_client);
+  old.set_verify_mode(ssl::verify_peer);
+  old.load_verify_file(certs.caCert.string());
+  // Security level 0 lets this client offer TLS 1.1 at all under OpenSSL 3; the hub must say no.
+  SSL_CTX_set_security_level(old.native_handle(), 0);
+  SSL_CTX_set_min_proto_version(old.native_handle(), TLS1_VERSION);
+  SSL_CTX_set_max_proto_version(old.native_handle(), TLS1_1_VERSION);
+  EXPECT_THROW(httpsGet(port, old, "/api/hub/health"), boost::system::system_error);
+
+  ssl::context otherCa(ssl::context::tls_client);
+  otherCa.set_verify_mode(ssl::verify_peer);
+  otherCa.load_verify_file(certs.otherCaCert.string());
+  EXPECT_THROW(httpsGet(port, otherCa, "/api/hub/health"), boost::system::system_error);
+
+  // Still serving, on its one thread.
+  EXPECT_EQ(httpsGet(port, trusting, "/api/hub/health").status, 200);
+  service.stop();
+}
+
+}  // namespace
+}  // namespace garmcap::hub
