@@ -19,6 +19,8 @@ constexpr double kFlankToCm = 3.0;
 constexpr double kSlitShareOfFlank = 0.4;
 constexpr double kSlitShareOfSeat = 0.5;
 constexpr double kSeatPercentile = 0.05;
+// The seat is sampled within this distance of the axis (wider than any form's hip).
+constexpr double kSeatHalfWidthCm = 25.0;
 // The slit starts within this distance below the form's crotch (pants part there; the seat's
 // ease hangs the garment's crotch a few cm lower), runs at least this long (the shortest
 // shorts' inseam, as the type stage's kPartedLegsCm) and may be interrupted (a fold, a bright
@@ -54,17 +56,25 @@ double carveGapBetweenLegs(cv::Mat& garment, const cv::Mat& dressedBgr, const Fo
   const int crotchRow = static_cast<int>(std::lround(view.rowOfHeight(*view.crotchCm())));
   const int hipRow = static_cast<int>(std::lround(view.rowOfHeight(view.hipCm())));
   if (hipRow < 0 || crotchRow <= hipRow || crotchRow >= garment.rows ||
-      axis - reach - flankTo < 0 || axis + reach + flankTo >= garment.cols)
+      axis - reach - flankTo < 0 || axis + reach + flankTo >= garment.cols ||
+      dressedBgr.size() != garment.size())
     return 0.0;
-  // Lightness, lightly smoothed against sensor noise.
+  // Lightness, lightly smoothed against sensor noise, over the part of the frame the seat and the
+  // slit can be in (a whole 12 MP frame costs tens of ms).
+  const int seatHalf = static_cast<int>(std::lround(kSeatHalfWidthCm * s));
+  const cv::Rect roi = cv::Rect(axis - seatHalf, hipRow, 2 * seatHalf + 1, garment.rows - hipRow) &
+                       cv::Rect(0, 0, garment.cols, garment.rows);
   cv::Mat gray;
-  cv::cvtColor(dressedBgr, gray, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(dressedBgr(roi), gray, cv::COLOR_BGR2GRAY);
   cv::GaussianBlur(gray, gray, cv::Size(), std::max(0.6, 0.1 * s));
   std::vector<double> seat;
-  for (int r = hipRow; r < crotchRow; ++r)
-    for (int x = 0; x < garment.cols; ++x)
-      if (garment.at<uchar>(r, x))
-        seat.push_back(gray.at<uchar>(r, x));
+  for (int r = hipRow; r < crotchRow; ++r) {
+    const uchar* m = garment.ptr(r);
+    const uchar* l = gray.ptr(r - roi.y);
+    for (int x = roi.x; x < roi.x + roi.width; ++x)
+      if (m[x])
+        seat.push_back(l[x - roi.x]);
+  }
   if (seat.size() < 100)
     return 0.0;
   const auto pos = seat.begin() + static_cast<long>(kSeatPercentile * (seat.size() - 1));
@@ -78,32 +88,34 @@ double carveGapBetweenLegs(cv::Mat& garment, const cv::Mat& dressedBgr, const Fo
     if (slit.empty() ? r > startLimit : r - slit.back().row > maxBreak)
       break;
     const uchar* m = garment.ptr(r);
-    const uchar* l = gray.ptr(r);
+    // Lightness by frame column (the ROI holds every column used below).
+    const uchar* row = gray.ptr(r - roi.y);
+    auto l = [&](int x) { return static_cast<double>(row[x - roi.x]); };
     int xm = -1;
     for (int x = axis - reach; x <= axis + reach; ++x)
-      if (m[x] && (xm < 0 || l[x] < l[xm]))
+      if (m[x] && (xm < 0 || l(x) < l(xm)))
         xm = x;
     if (xm < 0)
       continue;
     std::vector<double> lv, rv;
     for (int x = xm - flankTo; x <= xm - flankFrom; ++x)
       if (m[x])
-        lv.push_back(l[x]);
+        lv.push_back(l(x));
     for (int x = xm + flankFrom; x <= xm + flankTo; ++x)
       if (m[x])
-        rv.push_back(l[x]);
+        rv.push_back(l(x));
     const int need = (flankTo - flankFrom) / 2;
     if (static_cast<int>(lv.size()) <= need || static_cast<int>(rv.size()) <= need)
       continue;
     const double flank = std::max(medianOf(lv), medianOf(rv));
-    if (l[xm] > kSlitShareOfFlank * flank || l[xm] > kSlitShareOfSeat * seatDark)
+    if (l(xm) > kSlitShareOfFlank * flank || l(xm) > kSlitShareOfSeat * seatDark)
       continue;
     // The slit's extent: darker than half-way between its darkest pixel and the flank.
-    const double edge = 0.5 * (l[xm] + flank);
+    const double edge = 0.5 * (l(xm) + flank);
     int lo = xm, hi = xm;
-    while (lo - 1 > xm - flankFrom && l[lo - 1] < edge)
+    while (lo - 1 > xm - flankFrom && l(lo - 1) < edge)
       --lo;
-    while (hi + 1 < xm + flankFrom && l[hi + 1] < edge)
+    while (hi + 1 < xm + flankFrom && l(hi + 1) < edge)
       ++hi;
     slit.push_back({r, lo, hi});
   }
