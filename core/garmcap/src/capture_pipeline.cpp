@@ -10,6 +10,7 @@
 #include "bare_frame.h"
 #include "frame_ops.h"
 #include "garmcap/pipeline/capture_context.h"
+#include "leg_gap.h"
 #include "stage_draft.h"
 #include "stage_images.h"
 #include "stage_masks.h"
@@ -66,7 +67,8 @@ CaptureResult runPrepared(const PreparedCapture& prepared, const cv::Mat& dresse
   // 4. The garment, worn by the form and in the frame, at full resolution.
   const cv::Mat garmentW = segmentGarment(dressed.key, masks, ctx.calibration, g);
   const cv::Mat dressedFull = dressed.full.get();
-  const cv::Mat garment = garmentAtFullResolution(garmentW, dressedFull, dressed.key, masks, g);
+  cv::Mat garment = garmentAtFullResolution(garmentW, dressedFull, dressed.key, masks, g);
+  carveGapBetweenLegs(garment, dressedFull, *ctx.view, result.warnings);
   timer.done("grabcut");
 
   // 5. Type by silhouette against the references rendered on this form.

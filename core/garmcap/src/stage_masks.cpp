@@ -33,6 +33,11 @@ constexpr double kShadowBlurCm = 0.2;
 constexpr double kShadowMinWidthCm = 0.8;
 // More of the changed form than this looking like shadow is a dark neutral garment.
 constexpr double kShadowMaxShareOfChange = 0.4;
+// closedAcrossForm: garment over the screen within this far beyond the bare form's edge (at
+// least this much of it), not counting the first kClosureClearCm (the two keys' edges differ).
+constexpr double kClosureReachCm = 1.5;
+constexpr double kClosureMinCm = 0.3;
+constexpr double kClosureClearCm = 0.3;
 
 // The Lab difference of the two frames averaged over about sigmaPx before taking its size
 // (a,b magnitude plus half of L, as the fine difference): sensor noise averages out, while a
@@ -141,6 +146,51 @@ cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& fo
       }
     }
   });
+  return out;
+}
+
+// Form pixels a garment must cover because it hangs beyond both edges of the form there: per row
+// of the work frame from the bust down, for the torso's section and (below the crotch) each
+// leg's, when the dressed foreground shows garment over the screen just outside both edges of
+// the section (within kClosureReachCm, beyond kClosureClearCm of the bare form), the garment is a
+// tube round that part of the form and covers its front between them. A garment the colour of
+// the form matches the bare frame within the noise over large patches there, which the exposed
+// test then takes for bare form (physical rig: form-coloured dresses lost their skirts).
+cv::Mat closedAcrossForm(const cv::Mat& fgD, const cv::Mat& formMask, const FormView& view,
+                         double ws, double sw) {
+  cv::Mat out = cv::Mat::zeros(fgD.size(), CV_8UC1);
+  cv::Mat formGrown;
+  const int clear = std::max(1, static_cast<int>(std::lround(kClosureClearCm * sw)));
+  cv::dilate(formMask, formGrown,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * clear + 1, 2 * clear + 1)));
+  const cv::Mat outside = fgD & ~formGrown;
+  const int reach = static_cast<int>(std::lround(kClosureReachCm * sw));
+  const int minPx = std::max(2, static_cast<int>(std::lround(kClosureMinCm * sw)));
+  const int fromRow = std::max(0, static_cast<int>(view.rowOfHeight(view.bustCm()) * ws));
+  auto garmentBeside = [&](int row, int from, int to) {
+    from = std::clamp(from, 0, outside.cols - 1);
+    to = std::clamp(to, 0, outside.cols - 1);
+    return from <= to && cv::countNonZero(outside.row(row).colRange(from, to + 1)) >= minPx;
+  };
+  auto close = [&](int row, const calib::RowSection& sec) {
+    const int l = static_cast<int>(std::lround(sec.leftPx * ws));
+    const int r = static_cast<int>(std::lround(sec.rightPx * ws));
+    if (r <= l || l < 0 || r >= out.cols)
+      return;
+    if (garmentBeside(row, l - clear - reach, l - clear) &&
+        garmentBeside(row, r + clear, r + clear + reach))
+      out.row(row).colRange(l, r + 1).setTo(255, fgD.row(row).colRange(l, r + 1));
+  };
+  for (int row = fromRow; row < out.rows; ++row) {
+    const int full = static_cast<int>(std::lround(row / ws));
+    if (const auto torso = view.torsoAtRow(full)) {
+      close(row, *torso);
+      continue;
+    }
+    for (int side = 0; side < 2; ++side)
+      if (const auto leg = view.legAtRow(full, side))
+        close(row, *leg);
+  }
   return out;
 }
 
@@ -318,6 +368,7 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   trimap.setTo(cv::GC_PR_BGD + 0, exposed | shadow);
   trimap.setTo(cv::GC_BGD + 0, settledForm);
   trimap.setTo(cv::GC_FGD + 0, sure);
+  trimap.setTo(cv::GC_FGD + 0, closedAcrossForm(fgD, formMask, view, ws, sw));
   if (const char* dir = std::getenv("GARMCAP_DEBUG_DIR")) {
     // Intermediate masks for diagnosing segmentation: trimap labels x 80, colour difference x 4,
     // the exposed form and the two keys' masks.
