@@ -206,6 +206,39 @@ struct StationSetup {
   std::filesystem::path data, config;
 };
 
+// shop1 and shop2 in `dir`, each with its data folder and a config pushing to `hubUrl` (plus
+// `extra(station)`, lines of its [hub] section), and the hub's --station arguments for them.
+struct Stations {
+  std::vector<StationSetup> setups;
+  std::vector<std::string> hubArgs;
+};
+
+Stations twoStations(const std::filesystem::path& dir, const std::string& hubUrl,
+                     const std::function<std::string(const StationSetup&)>& extra = {}) {
+  Stations out;
+  out.setups = {{"shop1", "token-of-shop1-abcdef", dir / "s1", {}},
+                {"shop2", "token-of-shop2-abcdef", dir / "s2", {}}};
+  for (auto& s : out.setups) {
+    std::filesystem::create_directories(s.data);
+    s.config = dir / (s.name + ".toml");
+    std::ofstream(s.config) << "[hub]\nurl = \"" << hubUrl << "\"\ntoken = \"" << s.token
+                            << "\"\npoll_ms = 100\n"
+                            << (extra ? extra(s) : std::string());
+    out.hubArgs.push_back(s.name + "=" + daemon::sha256Hex(s.token));
+  }
+  return out;
+}
+
+// How a station of twoStations runs: its config, the simulated rig, its log in `dir`.
+DaemonOptions stationOptions(const StationSetup& s, const std::filesystem::path& dir,
+                             const std::filesystem::path& rig) {
+  DaemonOptions o;
+  o.args = {"--config", s.config.string()};
+  o.rig = rig;
+  o.stderrFile = dir / (s.name + ".log");
+  return o;
+}
+
 TEST(HubE2E, TwoStationsPushThroughHubDowntimeAndAKillEveryItemOnce) {
   if (!test::postgresBinDir())
     GTEST_SKIP() << "PostgreSQL server binaries not found under /usr/lib/postgresql "
@@ -217,23 +250,9 @@ TEST(HubE2E, TwoStationsPushThroughHubDowntimeAndAKillEveryItemOnce) {
   pg.createDatabase(db);
   const int hubPort = test::freeLoopbackPort();
   const auto rig = makeSimulatedRig(dir.path());
-  std::vector<StationSetup> setups = {{"shop1", "token-of-shop1-abcdef", dir.path() / "s1", {}},
-                                      {"shop2", "token-of-shop2-abcdef", dir.path() / "s2", {}}};
-  std::vector<std::string> stationArgs;
-  for (auto& s : setups) {
-    std::filesystem::create_directories(s.data);
-    s.config = dir.path() / (s.name + ".toml");
-    std::ofstream(s.config) << "[hub]\nurl = \"http://127.0.0.1:" << hubPort << "\"\ntoken = \""
-                            << s.token << "\"\npoll_ms = 100\n";
-    stationArgs.push_back(s.name + "=" + daemon::sha256Hex(s.token));
-  }
-  auto options = [&](const StationSetup& s) {
-    DaemonOptions o;
-    o.args = {"--config", s.config.string()};
-    o.rig = rig;
-    o.stderrFile = dir.path() / (s.name + ".log");
-    return o;
-  };
+  auto [setups, stationArgs] =
+      twoStations(dir.path(), "http://127.0.0.1:" + std::to_string(hubPort));
+  auto options = [&](const StationSetup& s) { return stationOptions(s, dir.path(), rig); };
   const auto hubLog = dir.path() / "hub.log";
   auto hub = std::make_unique<HubProcess>(pg.url("hub_e2e"), hubPort, stationArgs, hubLog);
   auto a = std::make_unique<Daemon>(setups[0].data, options(setups[0]));
@@ -409,28 +428,15 @@ TEST(HubE2E, AStationPushesOverTlsAndOneWithAnotherCaReportsWhy) {
   pg.createDatabase(db);
   const int hubPort = test::freeLoopbackPort();
   const auto rig = makeSimulatedRig(dir.path());
-  std::vector<StationSetup> setups = {{"shop1", "token-of-shop1-abcdef", dir.path() / "s1", {}},
-                                      {"shop2", "token-of-shop2-abcdef", dir.path() / "s2", {}}};
-  std::vector<std::string> stationArgs;
-  for (auto& s : setups) {
-    std::filesystem::create_directories(s.data);
-    s.config = dir.path() / (s.name + ".toml");
-    const auto& ca = s.name == "shop1" ? certs.caCert : certs.otherCaCert;
-    std::ofstream(s.config) << "[hub]\nurl = \"https://127.0.0.1:" << hubPort << "\"\ntoken = \""
-                            << s.token << "\"\nca_file = \"" << ca.string()
-                            << "\"\npoll_ms = 100\n";
-    stationArgs.push_back(s.name + "=" + daemon::sha256Hex(s.token));
-  }
+  auto [setups, stationArgs] = twoStations(
+      dir.path(), "https://127.0.0.1:" + std::to_string(hubPort), [&](const StationSetup& s) {
+        const auto& ca = s.name == "shop1" ? certs.caCert : certs.otherCaCert;
+        return "ca_file = \"" + ca.string() + "\"\n";
+      });
   const auto hubLog = dir.path() / "hub.log";
   HubProcess hub(pg.url(db), hubPort, stationArgs, hubLog,
                  {"--tls-cert", certs.serverCert.string(), "--tls-key", certs.serverKey.string()});
-  auto options = [&](const StationSetup& s) {
-    DaemonOptions o;
-    o.args = {"--config", s.config.string()};
-    o.rig = rig;
-    o.stderrFile = dir.path() / (s.name + ".log");
-    return o;
-  };
+  auto options = [&](const StationSetup& s) { return stationOptions(s, dir.path(), rig); };
   Daemon a(setups[0].data, options(setups[0]));
   Daemon b(setups[1].data, options(setups[1]));
   for (auto* d : {&a, &b})
