@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "frame_ops.h"
 #include "garmcap/pipeline/capture_pipeline.h"
@@ -194,197 +195,248 @@ cv::Mat closedAcrossForm(const cv::Mat& fgD, const cv::Mat& formMask, const Form
   return out;
 }
 
-}  // namespace
+// The bare form's key, its inside (eroded by about 0.25 cm: the dressed frame cannot show screen
+// there) and the ring round its outline where either key may place the edge.
+struct FormBands {
+  cv::Mat mask, inside, outline;
+};
 
-GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& keyD,
-                          const FormView& view, const WorkGeometry& g,
-                          std::vector<std::string>& warnings) {
-  const double ws = g.scale, sw = g.pxPerCm;
-  GarmentMasks out;
-  cv::Mat labE, labD;
-  {
-    // Both frames despilled over the same pixels, or the despill itself reads as a difference
-    // where one key missed part of the form (a dark green garment can cut the arms off the dressed
-    // key's main piece).
-    cv::Mat1b both;
-    const int band = calib::KeyOptions{}.edgeBandPx;
-    cv::dilate(keyE.mask | keyD.mask, both,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * band + 1, 2 * band + 1)));
-    cv::Mat3b e = keyE.despilled.clone(), d = keyD.despilled.clone();
-    calib::despill(e, both);
-    calib::despill(d, both);
-    cv::cvtColor(e, labE, cv::COLOR_BGR2Lab);
-    cv::cvtColor(d, labD, cv::COLOR_BGR2Lab);
-  }
-  const cv::Mat formMask = keyE.mask;
+FormBands formBands(const cv::Mat& formMask, double sw) {
+  FormBands bands{formMask, {}, {}};
   const int edgeR = std::max(1, static_cast<int>(std::lround(0.25 * sw)));
-  cv::Mat formInside;
-  cv::erode(formMask, formInside,
+  cv::erode(formMask, bands.inside,
             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * edgeR + 1, 2 * edgeR + 1)));
-  cv::Mat formOutline;
-  cv::dilate(formMask, formOutline, cv::Mat(), cv::Point(-1, -1), 2);
-  formOutline &= ~formInside;
-  cv::Mat1f diff = labDifference(labE, labD, formOutline);
-  {
-    // Sensor noise differs between the two shots; average it away before thresholding, over the
-    // form only (the garment's shadow changes the screen beside it).
-    const int k = 2 * std::max(2, static_cast<int>(std::lround(0.3 * sw))) + 1;
-    cv::Mat1f w, dw;
-    formMask.convertTo(w, CV_32F, 1.0 / 255.0);
-    cv::GaussianBlur(diff.mul(w), dw, cv::Size(k, k), 0);
-    cv::GaussianBlur(w, w, cv::Size(k, k), 0);
-    diff = dw / cv::max(w, 1e-3f);
-  }
-  // The form cannot vanish: inside it the dressed frame shows the form or the garment, whatever
-  // the key says (a dark green garment keys as screen by its greenness). Its outline is left to
-  // the key: mixed edge pixels differ between the shots by any sub-pixel shift.
-  const cv::Mat fgD = keyD.mask | formInside;
-  // Where the form is still visible the difference is noise; where the garment covers it, it is
-  // the garment's contrast. The noise floor is read where no garment goes: the form above its
-  // neck (head or neck cap). A pixel is exposed when its difference is within that noise, so a
-  // garment the colour of the form still stands out by its folds and weave; Otsu's threshold
-  // over the form is only the fallback for a form with too little above its neck.
-  double tau = 10.0;
+  cv::dilate(formMask, bands.outline, cv::Mat(), cv::Point(-1, -1), 2);
+  bands.outline &= ~bands.inside;
+  return bands;
+}
+
+// Both frames despilled over the same pixels, or the despill itself reads as a difference where
+// one key missed part of the form (a dark green garment can cut the arms off the dressed key's
+// main piece); returned as Lab.
+std::pair<cv::Mat, cv::Mat> despilledLab(const calib::KeyResult& keyE,
+                                         const calib::KeyResult& keyD) {
+  cv::Mat1b both;
+  const int band = calib::KeyOptions{}.edgeBandPx;
+  cv::dilate(keyE.mask | keyD.mask, both,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * band + 1, 2 * band + 1)));
+  cv::Mat3b e = keyE.despilled.clone(), d = keyD.despilled.clone();
+  calib::despill(e, both);
+  calib::despill(d, both);
+  cv::Mat labE, labD;
+  cv::cvtColor(e, labE, cv::COLOR_BGR2Lab);
+  cv::cvtColor(d, labD, cv::COLOR_BGR2Lab);
+  return {labE, labD};
+}
+
+// The per-pixel difference of the two frames with the sensor noise, which differs between the
+// shots, averaged away before thresholding: over the form only (the garment's shadow changes the
+// screen beside it).
+cv::Mat1f formDifference(const cv::Mat& labE, const cv::Mat& labD, const FormBands& form,
+                         double sw) {
+  cv::Mat1f diff = labDifference(labE, labD, form.outline);
+  const int k = 2 * std::max(2, static_cast<int>(std::lround(0.3 * sw))) + 1;
+  cv::Mat1f w, dw;
+  form.mask.convertTo(w, CV_32F, 1.0 / 255.0);
+  cv::GaussianBlur(diff.mul(w), dw, cv::Size(k, k), 0);
+  cv::GaussianBlur(w, w, cv::Size(k, k), 0);
+  return dw / cv::max(w, 1e-3f);
+}
+
+// Otsu's threshold of the difference over the form: the fallback noise threshold for a form with
+// too little above its neck to read the noise floor there.
+double otsuThresholdOverForm(const cv::Mat1f& diff, const cv::Mat& formMask, const cv::Mat& fgD) {
+  cv::Mat d8;
+  diff.convertTo(d8, CV_8U, 4.0);
+  std::vector<uchar> values;
+  for (int y = 0; y < d8.rows; y += 2)
+    for (int x = 0; x < d8.cols; x += 2)
+      if (formMask.at<uchar>(y, x) && fgD.at<uchar>(y, x))
+        values.push_back(d8.at<uchar>(y, x));
+  if (values.size() <= 100)
+    return 10.0;
+  cv::Mat v(values, false);
+  cv::Mat dummy;
+  return std::clamp(cv::threshold(v, dummy, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU) / 4.0, 5.0,
+                    25.0);
+}
+
+struct ExposedForm {
+  cv::Mat exposed;         // form that looks as in the bare frame
+  cv::Mat clearlyExposed;  // well inside the noise: the form for certain near no garment
+};
+
+// Where the form is still visible the difference is noise; where the garment covers it, it is the
+// garment's contrast. The noise floor is read where no garment goes: the form above its neck
+// (head or neck cap). A pixel is exposed when its difference is within that noise, so a garment
+// the colour of the form still stands out by its folds and weave.
+ExposedForm exposedForm(const cv::Mat1f& diff, const cv::Mat& labE, const cv::Mat& labD,
+                        const FormBands& form, const cv::Mat& fgD, const FormView& view,
+                        const WorkGeometry& g, const cv::Mat& kernel) {
+  const double ws = g.scale, sw = g.pxPerCm;
   const int neckRow =
       static_cast<int>(view.rowOfHeight(view.neckSideCm() + kNoiseAboveNeckCm) * ws);
   auto aboveNeck = [&](const cv::Mat1f& values) {
     std::vector<float> out;
     for (int y = 0; y < std::min(neckRow, values.rows); ++y)
       for (int x = 0; x < values.cols; x += 2)
-        if (formMask.at<uchar>(y, x) && fgD.at<uchar>(y, x))
+        if (form.mask.at<uchar>(y, x) && fgD.at<uchar>(y, x))
           out.push_back(values(y, x));
     return out;
   };
   const std::vector<float> noise = aboveNeck(diff);
   const bool noiseKnown = noise.size() > 2000;
-  if (noiseKnown) {
-    tau = std::clamp(noiseThreshold(noise, kNoiseSigmas), 2.0, 25.0);
-  } else {
-    cv::Mat d8;
-    diff.convertTo(d8, CV_8U, 4.0);
-    std::vector<uchar> values;
-    for (int y = 0; y < d8.rows; y += 2)
-      for (int x = 0; x < d8.cols; x += 2)
-        if (formMask.at<uchar>(y, x) && fgD.at<uchar>(y, x))
-          values.push_back(d8.at<uchar>(y, x));
-    if (values.size() > 100) {
-      cv::Mat v(values, false);
-      cv::Mat dummy;
-      tau = std::clamp(cv::threshold(v, dummy, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU) / 4.0,
-                       5.0, 25.0);
-    }
-  }
-  const int r = std::max(2, static_cast<int>(std::lround(0.4 * sw)));
-  const cv::Mat kernel =
-      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  const double tau = noiseKnown ? std::clamp(noiseThreshold(noise, kNoiseSigmas), 2.0, 25.0)
+                                : otsuThresholdOverForm(diff, form.mask, fgD);
   // The form's outline counts as form out to where either key may place it (the two keys' edges
   // differ by a pixel with noise); there the difference is the shift-tolerant one.
-  const cv::Mat formOrOutline = formMask | formOutline;
-  cv::Mat exposed = (diff < static_cast<float>(tau)) & formOrOutline & fgD;
+  const cv::Mat formOrOutline = form.mask | form.outline;
+  ExposedForm out;
+  out.exposed = (diff < static_cast<float>(tau)) & formOrOutline & fgD;
   // Exposed well inside the noise (half the threshold, on both tests): the form for certain, up
   // to the blur's reach from the garment.
-  cv::Mat clearlyExposed = (diff < static_cast<float>(kClearlyExposed * tau)) & exposed;
+  out.clearlyExposed = (diff < static_cast<float>(kClearlyExposed * tau)) & out.exposed;
   if (noiseKnown) {
     // Of what looks exposed pixel by pixel, keep only what also matches over about a centimetre:
     // a garment the colour of the form differs there.
     const cv::Mat1f averaged = averagedDifference(
-        labE, labD, formInside, kAveragedDifferenceCm * sw, static_cast<float>(tau));
+        labE, labD, form.inside, kAveragedDifferenceCm * sw, static_cast<float>(tau));
     const double tauAveraged = std::max(0.3, noiseThreshold(aboveNeck(averaged), kNoiseSigmas));
-    exposed &= averaged < static_cast<float>(tauAveraged);
-    clearlyExposed &= averaged < static_cast<float>(kClearlyExposed * tauAveraged);
+    out.exposed &= averaged < static_cast<float>(tauAveraged);
+    out.clearlyExposed &= averaged < static_cast<float>(kClearlyExposed * tauAveraged);
   }
-  cv::morphologyEx(exposed, exposed, cv::MORPH_CLOSE, kernel);
-  exposed &= formOrOutline & fgD;
-  // The garment's shadow on the form is not sure garment: it is GrabCut's to decide (below). A
-  // shadow is a smooth band that fades into the exposed form beside the garment: what looks like
-  // shadow is opened (a stripe or print of the garment shaded darker than the form is thin) and
-  // kept only where it touches the exposed form. When most of what changed over the form still
-  // looks like shadow, the garment itself is dark and neutral, and the test is not used.
-  cv::Mat shadow = shadowOnForm(labE, labD, formInside, sw) & fgD & ~exposed;
-  {
-    const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
-    cv::morphologyEx(
-        shadow, shadow, cv::MORPH_OPEN,
-        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1)));
-    cv::Mat touching;
-    cv::dilate(exposed, touching, cv::Mat(), cv::Point(-1, -1), 2);
-    cv::Mat labels;
-    const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
-    std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
-    for (int y = 0; y < labels.rows; ++y) {
-      const int* l = labels.ptr<int>(y);
-      const uchar* t = touching.ptr(y);
-      for (int x = 0; x < labels.cols; ++x)
-        if (l[x] > 0 && t[x])
-          keep[static_cast<std::size_t>(l[x])] = 1;
-    }
-    for (int y = 0; y < labels.rows; ++y) {
-      const int* l = labels.ptr<int>(y);
-      uchar* m = shadow.ptr(y);
-      for (int x = 0; x < labels.cols; ++x)
-        m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
-    }
-    const double changedOverForm = cv::countNonZero(formInside & fgD & ~exposed);
-    if (cv::countNonZero(shadow) > kShadowMaxShareOfChange * changedOverForm)
-      shadow.setTo(0);
+  cv::morphologyEx(out.exposed, out.exposed, cv::MORPH_CLOSE, kernel);
+  out.exposed &= formOrOutline & fgD;
+  return out;
+}
+
+// The garment's shadow on the form, which is not sure garment: it is GrabCut's to decide. A
+// shadow is a smooth band that fades into the exposed form beside the garment: what looks like
+// shadow is opened (a stripe or print of the garment shaded darker than the form is thin) and
+// kept only where it touches the exposed form. When most of what changed over the form still
+// looks like shadow, the garment itself is dark and neutral, and the test is not used (empty).
+cv::Mat shadowBesideExposedForm(const cv::Mat& labE, const cv::Mat& labD, const FormBands& form,
+                                const cv::Mat& fgD, const cv::Mat& exposed, double sw) {
+  cv::Mat shadow = shadowOnForm(labE, labD, form.inside, sw) & fgD & ~exposed;
+  const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
+  cv::morphologyEx(shadow, shadow, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1)));
+  cv::Mat touching;
+  cv::dilate(exposed, touching, cv::Mat(), cv::Point(-1, -1), 2);
+  cv::Mat labels;
+  const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
+  std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const uchar* t = touching.ptr(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (l[x] > 0 && t[x])
+        keep[static_cast<std::size_t>(l[x])] = 1;
   }
-  cv::Mat base = fgD & ~exposed & ~shadow;
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    uchar* m = shadow.ptr(y);
+    for (int x = 0; x < labels.cols; ++x)
+      m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
+  }
+  const double changedOverForm = cv::countNonZero(form.inside & fgD & ~exposed);
+  if (cv::countNonZero(shadow) > kShadowMaxShareOfChange * changedOverForm)
+    shadow.setTo(0);
+  return shadow;
+}
+
+struct SettledRegions {
+  cv::Mat garment;  // probable garment too far from any exposed form for GrabCut to decide
+  cv::Mat form;     // exposed form too far from any garment evidence to be garment
+};
+
+// GrabCut has a choice to make only near the exposed form: elsewhere the dressed foreground is
+// garment up to the key's edge against the screen (placed again at full resolution later).
+// Probable garment farther than kSettledCm from any exposed pixel is therefore sure, which leaves
+// the band cut nothing to decide along the screen-facing outline. Likewise exposed form farther
+// than kSettledCm from any garment evidence is sure form: a garment the colour of the form gives
+// GrabCut's colour models nothing to tell them apart by, and it would otherwise flood the bare
+// torso and arms from the garment.
+SettledRegions settledRegions(const cv::Mat& fgD, const ExposedForm& form, const cv::Mat& shadow,
+                              double sw) {
+  SettledRegions out;
+  cv::Mat1f distToExposed, distToGarment;
+  cv::distanceTransform(~(form.exposed | shadow), distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
+  out.garment = (distToExposed > static_cast<float>(kSettledCm * sw)) & fgD;
+  cv::distanceTransform(~(fgD & ~form.exposed), distToGarment, cv::DIST_L2, cv::DIST_MASK_3);
+  out.form = ((distToGarment > static_cast<float>(kSettledCm * sw)) & form.exposed) |
+             ((distToGarment > static_cast<float>(kClearlySettledCm * sw)) & form.clearlyExposed &
+              form.exposed);
+  return out;
+}
+
+// Intermediate masks for diagnosing segmentation, written when GARMCAP_DEBUG_DIR is set: trimap
+// labels x 80, colour difference x 4, the exposed form, the shadow and the two keys' masks.
+void writeDebugMasks(const GarmentMasks& masks, const cv::Mat1f& diff, const cv::Mat& shadow,
+                     const cv::Mat& dressedKey) {
+  const char* dir = std::getenv("GARMCAP_DEBUG_DIR");
+  if (!dir)
+    return;
+  cv::imwrite(std::string(dir) + "/trimap.png", masks.trimap * 80);
+  cv::Mat d8;
+  diff.convertTo(d8, CV_8U, 4.0);
+  cv::imwrite(std::string(dir) + "/diff.png", d8);
+  cv::imwrite(std::string(dir) + "/exposed.png", masks.exposed);
+  cv::imwrite(std::string(dir) + "/shadow.png", shadow);
+  cv::imwrite(std::string(dir) + "/key_bare.png", masks.form);
+  cv::imwrite(std::string(dir) + "/key_dressed.png", dressedKey);
+}
+
+}  // namespace
+
+GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& keyD,
+                          const FormView& view, const WorkGeometry& g,
+                          std::vector<std::string>& warnings) {
+  const double ws = g.scale, sw = g.pxPerCm;
+  const auto [labE, labD] = despilledLab(keyE, keyD);
+  const FormBands form = formBands(keyE.mask, sw);
+  const cv::Mat1f diff = formDifference(labE, labD, form, sw);
+  // The form cannot vanish: inside it the dressed frame shows the form or the garment, whatever
+  // the key says (a dark green garment keys as screen by its greenness). Its outline is left to
+  // the key: mixed edge pixels differ between the shots by any sub-pixel shift.
+  const cv::Mat fgD = keyD.mask | form.inside;
+  const int r = std::max(2, static_cast<int>(std::lround(0.4 * sw)));
+  const cv::Mat kernel =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  const ExposedForm exposed = exposedForm(diff, labE, labD, form, fgD, view, g, kernel);
+  const cv::Mat shadow = shadowBesideExposedForm(labE, labD, form, fgD, exposed.exposed, sw);
+
+  cv::Mat base = fgD & ~exposed.exposed & ~shadow;
   cv::morphologyEx(base, base, cv::MORPH_OPEN, kernel);
   cv::Mat sure;
   cv::erode(base, sure, kernel);
-  if (cv::countNonZero(sure) < 0.002 * static_cast<double>(formMask.total()) + 50 * ws * ws)
+  if (cv::countNonZero(sure) < 0.002 * static_cast<double>(form.mask.total()) + 50 * ws * ws)
     throw CaptureError(
         CaptureError::Reason::kNoGarment,
         "no garment found: the dressed frame shows the bare form (is the garment on the form?)");
+
+  GarmentMasks out;
   // A garment close to the screen's colour: GrabCut decides over the changed screen too.
-  out.screenChange = screenColouredChange(keyE, keyD, formInside, formOutline, fgD, sw, warnings);
+  out.screenChange = screenColouredChange(keyE, keyD, form.inside, form.outline, fgD, sw, warnings);
   const ScreenChange screenChange =
       out.screenChange
           ? *out.screenChange
           : ScreenChange{cv::Mat::zeros(fgD.size(), CV_8UC1), cv::Mat::zeros(fgD.size(), CV_8UC1)};
-  // GrabCut has a choice to make only near the exposed form: elsewhere the dressed foreground is
-  // garment up to the key's edge against the screen (placed again at full resolution below).
-  // Probable garment farther than kSettledCm from any exposed pixel is therefore sure, which
-  // leaves the band cut nothing to decide along the screen-facing outline.
-  // Likewise exposed form farther than kSettledCm from any garment evidence is sure form: a
-  // garment the colour of the form gives GrabCut's colour models nothing to tell them apart by,
-  // and it would otherwise flood the bare torso and arms from the garment.
-  cv::Mat settled, settledForm;
-  {
-    cv::Mat1f distToExposed, distToGarment;
-    cv::distanceTransform(~(exposed | shadow), distToExposed, cv::DIST_L2, cv::DIST_MASK_3);
-    settled = (distToExposed > static_cast<float>(kSettledCm * sw)) & fgD;
-    cv::distanceTransform(~(fgD & ~exposed), distToGarment, cv::DIST_L2, cv::DIST_MASK_3);
-    settledForm =
-        ((distToGarment > static_cast<float>(kSettledCm * sw)) & exposed) |
-        ((distToGarment > static_cast<float>(kClearlySettledCm * sw)) & clearlyExposed & exposed);
-  }
+  const SettledRegions settled = settledRegions(fgD, exposed, shadow, sw);
   cv::Mat& trimap = out.trimap;
   trimap = cv::Mat(fgD.size(), CV_8UC1, cv::Scalar(cv::GC_BGD + 0));
   trimap.setTo(cv::GC_PR_BGD + 0, screenChange.changed);
   trimap.setTo(cv::GC_PR_FGD + 0, screenChange.recoloured);
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
-  trimap.setTo(cv::GC_FGD + 0, settled);
-  trimap.setTo(cv::GC_PR_BGD + 0, exposed | shadow);
-  trimap.setTo(cv::GC_BGD + 0, settledForm);
+  trimap.setTo(cv::GC_FGD + 0, settled.garment);
+  trimap.setTo(cv::GC_PR_BGD + 0, exposed.exposed | shadow);
+  trimap.setTo(cv::GC_BGD + 0, settled.form);
   trimap.setTo(cv::GC_FGD + 0, sure);
-  trimap.setTo(cv::GC_FGD + 0, closedAcrossForm(fgD, formMask, view, ws, sw));
-  if (const char* dir = std::getenv("GARMCAP_DEBUG_DIR")) {
-    // Intermediate masks for diagnosing segmentation: trimap labels x 80, colour difference x 4,
-    // the exposed form and the two keys' masks.
-    cv::imwrite(std::string(dir) + "/trimap.png", trimap * 80);
-    cv::Mat d8;
-    diff.convertTo(d8, CV_8U, 4.0);
-    cv::imwrite(std::string(dir) + "/diff.png", d8);
-    cv::imwrite(std::string(dir) + "/exposed.png", exposed);
-    cv::imwrite(std::string(dir) + "/shadow.png", shadow);
-    cv::imwrite(std::string(dir) + "/key_bare.png", formMask);
-    cv::imwrite(std::string(dir) + "/key_dressed.png", keyD.mask);
-  }
-
-  out.form = formMask;
+  trimap.setTo(cv::GC_FGD + 0, closedAcrossForm(fgD, form.mask, view, ws, sw));
+  out.form = form.mask;
   out.foreground = fgD;
-  out.exposed = exposed;
+  out.exposed = exposed.exposed;
+  writeDebugMasks(out, diff, shadow, keyD.mask);
   return out;
 }
 
