@@ -26,9 +26,10 @@ def run(files: dict):
 
 
 CLEAN = {
-    "drafts/src/a.cpp": '#include "garmcap/drafts/a.h"\n',
+    "core/io/src/f.cpp": '#include "garmcap/io/file_io.h"\n',
+    "drafts/src/a.cpp": '#include "garmcap/drafts/a.h"\n#include "garmcap/io/file_io.h"\n',
     "calib/src/b.cpp": '#include "garmcap/calib/b.h"\n#include "garmcap/drafts/a.h"\n',
-    "capture/src/c.cpp": '#include "garmcap/capture/c.h"\n',
+    "capture/src/c.cpp": '#include "garmcap/capture/c.h"\n#include "garmcap/io/file_io.h"\n',
     "capture/sim/src/s.cpp": '#include "garmcap/sim/s.h"\n#include "garmcap/capture/c.h"\n'
                              '#include "garmcap/calib/b.h"\n',
     "core/garmcap/src/p.cpp": '#include "garmcap/pipeline/p.h"\n#include "garmcap/calib/b.h"\n',
@@ -37,6 +38,8 @@ CLEAN = {
 
 # (description, file added to the clean tree, its text, what the report must contain)
 FORBIDDEN = [
+    ("the base io including drafts", "core/io/src/bad.cpp", '#include "garmcap/drafts/a.h"\n',
+     "core/io/src/bad.cpp:1: #include \"garmcap/drafts/a.h\": core/io/ may include only garmcap/io"),
     ("capture including calib", "capture/src/bad.cpp",
      '#include <vector>\n#include "garmcap/calib/form_model.h"\n',
      "capture/src/bad.cpp:2: #include \"garmcap/calib/form_model.h\": capture/ may include only"),

@@ -1,7 +1,4 @@
-#include "garmcap/capture/file_io.h"
-
-// A copy of drafts' file I/O reduced to what rigs need (see file_io.h for why capture keeps
-// its own); keep the two in step when one changes its messages.
+#include "garmcap/io/file_io.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -13,7 +10,7 @@
 #include <random>
 #include <sstream>
 
-namespace garmcap::capture {
+namespace garmcap::io {
 namespace {
 
 std::string errnoText() {
@@ -47,23 +44,6 @@ void writeAll(int fd, std::string_view data, const std::filesystem::path& path) 
     }
     p += n;
     left -= static_cast<std::size_t>(n);
-  }
-}
-
-nlohmann::json parseJson(std::string_view text, const std::string& what) {
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    const auto [line, column] = lineColumn(text, e.byte > 0 ? e.byte - 1 : 0);
-    std::string reason = e.what();
-    // nlohmann's message repeats the position; keep only the part after "parse error ... : ".
-    if (const auto pos = reason.find("syntax error"); pos != std::string::npos)
-      reason = reason.substr(pos);
-    throw ParseError(what + ": malformed JSON at line " + std::to_string(line) + ", column " +
-                     std::to_string(column) + ": " + reason);
-  } catch (const nlohmann::json::exception& e) {
-    // e.g. out_of_range.406 for a number like 1e999: still the file's fault, so name it.
-    throw ParseError(what + ": malformed JSON: " + e.what());
   }
 }
 
@@ -123,6 +103,23 @@ void writeFileAtomic(const std::filesystem::path& path, std::string_view data) {
   }
 }
 
+nlohmann::json parseJson(std::string_view text, const std::string& what) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    const auto [line, column] = lineColumn(text, e.byte > 0 ? e.byte - 1 : 0);
+    std::string reason = e.what();
+    // nlohmann's message repeats the position; keep only the part after "parse error ... : ".
+    if (const auto pos = reason.find("syntax error"); pos != std::string::npos)
+      reason = reason.substr(pos);
+    throw ParseError(what + ": malformed JSON at line " + std::to_string(line) + ", column " +
+                     std::to_string(column) + ": " + reason);
+  } catch (const nlohmann::json::exception& e) {
+    // e.g. out_of_range.406 for a number like 1e999: still the file's fault, so name it.
+    throw ParseError(what + ": malformed JSON: " + e.what());
+  }
+}
+
 nlohmann::json readJsonFile(const std::filesystem::path& path) {
   return parseJson(readFile(path), path.string());
 }
@@ -160,4 +157,4 @@ std::string requireString(const nlohmann::json& object, const std::string& key,
   return v.get<std::string>();
 }
 
-}  // namespace garmcap::capture
+}  // namespace garmcap::io
