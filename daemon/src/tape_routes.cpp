@@ -8,6 +8,7 @@
 #include "garmcap/daemon/station_routes.h"
 #include "garmcap/daemon/tape.h"
 #include "garmcap/daemon/utf8.h"
+#include "garmcap/drafts/garment_vocabulary.h"
 #include "garmcap/pipeline/garment_measurer.h"
 
 namespace garmcap::daemon {
@@ -59,7 +60,7 @@ std::vector<TapeEntry> tapeEntriesFor(Catalog& catalog, const TapeRequest& reque
   if (item->type.empty())
     throw BadRequest("field 'item': item " + std::to_string(item->id) +
                      " has no garment type; set its type before taping it");
-  const auto& names = pipeline::measurementNamesFor(item->type);
+  const auto& names = drafts::garmentMeasurementNames(item->type);
   const auto result = catalog.result(item->id);
   std::vector<TapeEntry> out;
   for (const auto& [name, tape] : request.tapeCm) {

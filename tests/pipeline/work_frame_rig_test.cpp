@@ -197,14 +197,6 @@ TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
 // lost part of the garment (a slit cut into the hem, as a form-coloured patch leaves), the
 // circumference there is left out with a warning, not reported small; the rest still measures,
 // and the hem line is not lifted by the slit.
-// The measurer keeps its own list of what it measures per type; the rigs' truth.json is written
-// from the simulator's. Scoring needs the two to agree name for name.
-TEST(Measure, NamesPerTypeAreTheRigsTruthNames) {
-  for (const std::string type : {"top", "dress", "skirt", "pants"})
-    EXPECT_EQ(pipeline::measurementNamesFor(type), sim::garmentMeasurementNames(type)) << type;
-  EXPECT_THROW(pipeline::measurementNamesFor("coat"), std::invalid_argument);
-}
-
 TEST(Measure, ACircumferenceFarBelowTheFormsIsLeftOutNotInvented) {
   const sim::SceneRenderer r = scene("top", 2, {720, 960});
   const auto ctx = pipeline::buildCaptureContext(r.calibration(), pipeline::kDefaultSizeChart);

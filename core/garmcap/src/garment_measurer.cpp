@@ -7,6 +7,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "garmcap/drafts/garment_vocabulary.h"
+
 namespace garmcap::pipeline {
 namespace {
 
@@ -598,24 +600,6 @@ double crotchHeightCm(const Context& c, int partRow, int axisCol) {
 
 }  // namespace
 
-// The measurer's own vocabulary (docs/measurement_model.md, "The measurement model"): what it
-// measures per type. The rigs' truth.json uses the same names; a test holds the two lists equal,
-// so the measurer depends on no generator's code for them.
-const std::vector<std::string>& measurementNamesFor(const std::string& type) {
-  static const std::map<std::string, std::vector<std::string>> kNames = {
-      {"top", {"bust_circ", "waist_circ", "hem_circ", "garment_length", "sleeve_length"}},
-      {"dress",
-       {"bust_circ", "waist_circ", "hip_circ", "hem_circ", "garment_length", "skirt_length",
-        "sleeve_length"}},
-      {"skirt", {"waist_circ", "hip_circ", "hem_circ", "skirt_length"}},
-      {"pants", {"waist_circ", "hip_circ", "outseam", "inseam", "leg_opening_circ"}}};
-  const auto it = kNames.find(type);
-  if (it == kNames.end())
-    throw std::invalid_argument("measure: unknown garment type '" + type +
-                                "' (expected top, dress, skirt or pants)");
-  return it->second;
-}
-
 std::optional<double> measurementUncertaintyCm(const std::string& name) {
   // `garmcap rig eval tests/data/rig_physical` at 45eee6e (24 cases), per measurement the
   // nearest-rank 95th percentile of |error| over the correctly typed cases' readings (n in
@@ -643,7 +627,7 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
 
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
                                   const std::string& type) {
-  const auto& names = measurementNamesFor(type);
+  const auto& names = drafts::garmentMeasurementNames(type);
   if (garmentMask.size() != view.size() || garmentMask.type() != CV_8UC1)
     throw std::invalid_argument("measure: the garment mask must be CV_8UC1 of the frame's size");
   GarmentMeasurement out;

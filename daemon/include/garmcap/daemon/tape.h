@@ -39,7 +39,7 @@ struct TapeRequest {
 TapeRequest parseTapeRequest(const nlohmann::json& body);
 
 /// The rows to store for a request, checked against the item: it exists and is live, has a type,
-/// every name is one of its type's measurements (pipeline::measurementNamesFor) and was measured
+/// every name is one of its type's measurements (drafts::garmentMeasurementNames) and was measured
 /// by its capture (the uncorrected reading of result.json, else the stored value). Throws
 /// BadRequest naming the field.
 std::vector<TapeEntry> tapeEntriesFor(Catalog& catalog, const TapeRequest& request);

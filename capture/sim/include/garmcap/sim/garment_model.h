@@ -13,14 +13,15 @@
 #include <vector>
 
 #include "garmcap/calib/form_view.h"
+#include "garmcap/drafts/garment_vocabulary.h"
 #include "garmcap/drafts/measurements.h"
 
 namespace garmcap::sim {
 
-/// Measurement names of truth.json, and which apply to a type ("top", "dress", "skirt",
-/// "pants"). Throws std::invalid_argument for an unknown type.
-const std::vector<std::string>& garmentMeasurementNames(const std::string& type);
-const std::vector<std::string>& garmentTypeNames();  // top, dress, skirt, pants
+/// The types and the measurement names of truth.json: the station's vocabulary
+/// (drafts/garment_vocabulary.h), which the pipeline names too.
+using drafts::garmentMeasurementNames;
+using drafts::garmentTypeNames;
 
 /// The circumference is held constant this far (cm) above and below each measured height, so
 /// that a reader whose landmark heights differ slightly from the simulator's still reads the

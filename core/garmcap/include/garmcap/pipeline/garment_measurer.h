@@ -30,9 +30,6 @@ struct GarmentMeasurement {
   std::vector<std::string> warnings;           // measured, but with a caveat
 };
 
-/// Measurement names per type (top, dress, skirt, pants), as in truth.json.
-const std::vector<std::string>& measurementNamesFor(const std::string& type);
-
 /// How far (cm) a reported measurement may be off: the 95th percentile (nearest rank) of the
 /// absolute error on the physical rig (tests/data/rig_physical, cloth draped by an independent
 /// solver, the form registered from the bare frame; correctly typed cases only), rounded up to

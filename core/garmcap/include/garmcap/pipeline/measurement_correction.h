@@ -65,7 +65,7 @@ std::optional<Correction> fitCorrection(const std::vector<TapePair>& pairs);
 /// One taped measurement of one garment, as the catalog keeps it.
 struct TapeRecord {
   std::string type;  // garment type at taping time: top | dress | skirt | pants
-  std::string name;  // measurement name (measurementNamesFor(type))
+  std::string name;  // measurement name (drafts::garmentMeasurementNames(type))
   double measuredCm = 0;
   double tapeCm = 0;
 };
