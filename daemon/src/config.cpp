@@ -10,6 +10,7 @@
 #include <toml.hpp>
 
 #include "garmcap/daemon/utf8.h"
+#include "garmcap/drafts/size_charts.h"
 
 namespace garmcap::daemon {
 
@@ -173,7 +174,19 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
        {{"product_images", boolKey(&Config::makeProductImages)},
         {"texture", boolKey(&Config::makeTexture)},
         {"product_size_px", intKey(&Config::productSizePx, 64, 8192)},
-        {"size_chart", stringKey(&Config::sizeChart)},
+        {"size_chart",
+         [](const toml::value& v, Config& c, const std::string& key) {
+           if (!v.is_string())
+             bad(key, "must be a string");
+           // Checked here, so that a mistyped chart is refused at start-up or at SIGHUP (and the
+           // running one kept) instead of failing every capture after it.
+           try {
+             drafts::sizeChart(v.as_string().str);
+           } catch (const std::invalid_argument& e) {
+             bad(key, e.what());
+           }
+           c.sizeChart = v.as_string().str;
+         }},
         {"review_below_confidence", doubleKey(&Config::reviewBelowConfidence, 0.0, 1.0)},
         {"worker_threads", intKey(&Config::workerThreads, 1, 64)},
         {"queue_limit", intKey(&Config::queueLimit, 1, 10000)},

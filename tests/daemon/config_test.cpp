@@ -69,6 +69,11 @@ TEST(Config, RefusesWithKeyAndReason) {
   EXPECT_NE(errorOf(dir, "[http]\ncolour = 1\n").find("[http] colour: unknown key"),
             std::string::npos);
   EXPECT_NE(errorOf(dir, "[cameras]\n").find("unknown section"), std::string::npos);
+  EXPECT_NE(errorOf(dir, "[pipeline]\nsize_chart = \"korean\"\n")
+                .find("[pipeline] size_chart: unknown size chart 'korean' (known charts: "),
+            std::string::npos);
+  EXPECT_EQ(loadConfig(write(dir, "[pipeline]\nsize_chart = \"french_women\"\n")).sizeChart,
+            "french_women");
   EXPECT_NE(errorOf(dir, "[gpio]\ndebounce_ms = \"x\"\n").find("must be an integer"),
             std::string::npos);
   EXPECT_NE(errorOf(dir, "[http]\nlisten = \"0.0.0.0:8080\"\n").find("token"), std::string::npos);

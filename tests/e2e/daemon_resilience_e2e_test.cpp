@@ -2,7 +2,8 @@
 // process on a case of the bundled simulator rig (so captures calibrate and file items):
 //   - SIGKILL (a crash or a power cut) at random moments while item-creating captures run,
 //   - SIGTERM (finish the job in hand, keep the queue for the next start),
-//   - SIGHUP (reload; an invalid file keeps the running config and the log names key and reason),
+//   - SIGHUP (reload; an invalid file keeps the running config and the log names key and reason;
+//     a new size chart grades the next capture),
 //   - the systemd notify protocol (READY, RELOADING, STOPPING, WATCHDOG pings) on a socket the
 //     test binds as NOTIFY_SOCKET.
 #include <gtest/gtest.h>
@@ -628,6 +629,58 @@ TEST(DaemonResilience, SighupReloadsAndAnInvalidFileKeepsTheRunningConfig) {
                           [](const auto& x) { return x.text.find("RELOADING=1") == 0; }),
             5);
   EXPECT_FALSE(NotifySocket::has(ms, "WATCHDOG=1")) << "no WATCHDOG_USEC, no pings";
+  EXPECT_EQ(d.terminate(), 0);
+}
+
+// The size chart comes from the configuration and a SIGHUP changes it for the captures that
+// follow: the size guide of the next item is graded to the new chart (the processor is swapped
+// between jobs and prepares the calibration again with the new chart's body). A chart the
+// station does not know is refused at reload, naming the known ones, and the running chart kept.
+TEST(DaemonResilience, SighupChangesTheSizeChartOfTheNextCapture) {
+  TempDir dir;
+  const auto conf = dir.path() / "garmcapd.toml";
+  const auto log = dir.path() / "garmcapd.log";
+  std::ofstream(conf) << "[pipeline]\nsize_chart = \"korean_women\"\n";
+  DaemonOptions o{{"--config", conf.string()}, {}, {}, log};
+  o.synthetic = true;
+  Daemon d(dir.path() / "data", o);
+  auto config = [&] { return d.get("/api/status").json()["config"]; };
+  ASSERT_EQ(config()["size_chart"], "korean_women");
+  ASSERT_EQ(d.waitJob(d.post("/api/button").json()["job"])["state"], "done");
+  // The chart of the next item with a size guide (a garment without a pattern has none).
+  auto nextGuideChart = [&]() -> std::string {
+    for (int i = 0; i < 4; ++i) {
+      const auto job = d.waitJob(d.post("/api/button").json()["job"]);
+      if (job["state"] != "done")
+        continue;
+      const auto guide = d.get("/api/items/" + job["item_id"].dump() + "/sizeguide.json");
+      if (guide.status == 200)
+        return guide.json().value("chart", "");
+    }
+    return "";
+  };
+  EXPECT_EQ(nextGuideChart(), "korean_women");
+
+  std::ofstream(conf) << "[pipeline]\nsize_chart = \"italian_women\"\n";
+  d.signal(SIGHUP);
+  const auto deadline = Clock::now() + 10s;
+  while (Clock::now() < deadline && config()["reloads"] != 1)
+    std::this_thread::sleep_for(20ms);
+  ASSERT_EQ(config()["reloads"], 1);
+  EXPECT_EQ(config()["size_chart"], "italian_women");
+  EXPECT_EQ(nextGuideChart(), "italian_women");
+
+  std::ofstream(conf) << "[pipeline]\nsize_chart = \"korean_men\"\n";
+  d.signal(SIGHUP);
+  const auto refused = Clock::now() + 10s;
+  while (Clock::now() < refused && readAll(log).find("reload refused") == std::string::npos)
+    std::this_thread::sleep_for(20ms);
+  EXPECT_NE(readAll(log).find("[pipeline] size_chart: unknown size chart 'korean_men' (known "
+                              "charts: korean_women, italian_women, french_women)"),
+            std::string::npos)
+      << readAll(log);
+  EXPECT_EQ(config()["size_chart"], "italian_women");
+  EXPECT_EQ(nextGuideChart(), "italian_women");
   EXPECT_EQ(d.terminate(), 0);
 }
 
