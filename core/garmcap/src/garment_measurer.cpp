@@ -694,13 +694,13 @@ const std::vector<std::string>& measurementNamesFor(const std::string& type) {
 }
 
 std::optional<double> measurementUncertaintyCm(const std::string& name) {
-  // `garmcap rig eval tests/data/rig_physical` (24 cases), per
-  // measurement the nearest-rank 95th percentile of |error| over the correctly typed cases'
-  // readings (n in brackets). Where n < 20 that is the largest error seen. The large ones are the
-  // rig's known failures (docs/physical_rig.md): a form-coloured dress that loses its bodice above
-  // the bust (garment length, bust), a loose top hanging straight from the bust, deeper at the
-  // waist than the similar-section model scales the form's waist (waist, hem), the underarm hanging
-  // outside the bust's side (bust), touching legs read as twice their outer half (leg opening).
+  // `garmcap rig eval tests/data/rig_physical` (24 cases), per measurement the nearest-rank
+  // 95th percentile of |error| over the correctly typed cases' readings (n in brackets). Where n <
+  // 20 that is the largest error seen. The large ones are the rig's known failures
+  // (docs/physical_rig.md): a form-coloured dress that loses its bodice above the bust (garment
+  // length, bust), a loose top hanging straight from the bust, deeper at the waist than the
+  // similar-section model scales the form's waist (waist, hem), the underarm hanging outside the
+  // bust's side (bust), touching legs read as twice their outer half (leg opening).
   static const std::map<std::string, double> kU95 = {
       {"bust_circ", 8.8},         // (13)
       {"waist_circ", 4.3},        // (24)
