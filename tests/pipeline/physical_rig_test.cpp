@@ -42,13 +42,17 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 // pants' inseams 0.37 / 0.62 cm, outseams 0.53 / 0.99, leg openings 4.81 / 6.81. Form pixels
 // between garment hanging beyond both edges of the form taken for garment: 4 missing, form-coloured
 // dresses keep their skirts (garment_length 3.01 / 20.67, skirt_length 0.51 / 1.08, hem 3.26
-// / 10.76); bust 3.75 / 8.20 counts case_003's bust, missing before. Per measurement {mean, max}
-// absolute error in cm.
+// / 10.76); bust 3.75 / 8.20 counts case_003's bust, missing before. h/acc15b: holes inside the
+// form's section bridged in a circumference's run, the hem followed from a waistband just below
+// the waist, the garment's top beside the neck only where its cover reaches the shoulder: 1
+// reading missing (case_014's bust, its long sleeves cover the sides 8 cm below it),
+// garment_length 2.28 / 20.67, bust 3.68 / 8.74 (case_019's, missing before, +2.3). Per
+// measurement {mean, max} absolute error in cm.
 constexpr int kMinTypesRight = 23;
-constexpr int kMaxMissing = 6;
+constexpr int kMaxMissing = 2;
 const std::map<std::string, std::pair<double, double>> kBounds = {
     {"bust_circ", {4.4, 9.0}},        {"waist_circ", {2.7, 13.0}},     {"hip_circ", {1.3, 2.3}},
-    {"hem_circ", {3.8, 12.4}},        {"garment_length", {3.5, 23.0}}, {"skirt_length", {0.7, 1.5}},
+    {"hem_circ", {3.8, 12.4}},        {"garment_length", {2.7, 23.0}}, {"skirt_length", {0.7, 1.5}},
     {"sleeve_length", {1.2, 2.7}},    {"outseam", {0.7, 1.2}},         {"inseam", {0.6, 1.0}},
     {"leg_opening_circ", {5.3, 7.5}},
 };

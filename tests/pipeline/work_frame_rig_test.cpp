@@ -194,9 +194,11 @@ TEST(WorkFrame, SleevelessOnAFormWithBroadShoulders) {
 }
 
 // A garment cannot measure much less round than the form it is worn on: where the silhouette
-// lost part of the garment (a slit cut into the hem, as a form-coloured patch leaves), the
-// circumference there is left out with a warning, not reported small; the rest still measures,
-// and the hem line is not lifted by the slit.
+// lost part of the garment's side (the garment ends inside the form's outline, as a
+// form-coloured patch reaching the edge leaves), the circumference there is left out with a
+// warning, not reported small; the rest still measures, and the hem line is not lifted by the
+// cut. A slit with garment on both sides of it inside the form's outline is a hole the garment
+// spans (a tube round the form): it is bridged and the hem reads as before.
 TEST(Measure, ACircumferenceFarBelowTheFormsIsLeftOutNotInvented) {
   const sim::SceneRenderer r = scene("top", 2, {720, 960});
   const auto ctx = pipeline::buildCaptureContext(r.calibration(), pipeline::kDefaultSizeChart);
@@ -205,15 +207,22 @@ TEST(Measure, ACircumferenceFarBelowTheFormsIsLeftOutNotInvented) {
   const auto intact = pipeline::measureGarment(full, view, "top");
   ASSERT_TRUE(intact.measurements.count("hem_circ"));
 
-  // A slit 1.5 cm wide, 1 cm right of the centre front, from the hem 5 cm up.
-  cv::Mat notched = full.clone();
+  // A slit 1.5 cm wide, 1 cm right of the centre front, from the hem 5 cm up: bridged.
+  cv::Mat slit = full.clone();
   const cv::Rect box = cv::boundingRect(full);
   const double s = r.calibration().at("pose").at("px_per_cm").get<double>();
   const int axis = static_cast<int>(std::lround(view.axisXPx()));
   const int bottom = box.y + box.height;
-  notched(cv::Range(bottom - static_cast<int>(5 * s), bottom),
-          cv::Range(axis + static_cast<int>(s), axis + static_cast<int>(2.5 * s)))
-      .setTo(0);
+  const cv::Range hemBand(bottom - static_cast<int>(5 * s), bottom);
+  slit(hemBand, cv::Range(axis + static_cast<int>(s), axis + static_cast<int>(2.5 * s))).setTo(0);
+  const auto bridged = pipeline::measureGarment(slit, view, "top");
+  ASSERT_TRUE(bridged.measurements.count("hem_circ"));
+  EXPECT_NEAR(bridged.measurements.at("hem_circ"), intact.measurements.at("hem_circ"), 0.3);
+
+  // The same band cut from 1 cm right of the centre front out past the garment's side: the
+  // garment is on one side of the centre only there, and its run is about half the form's.
+  cv::Mat notched = full.clone();
+  notched(hemBand, cv::Range(axis + static_cast<int>(s), box.x + box.width)).setTo(0);
   const auto cut = pipeline::measureGarment(notched, view, "top");
   EXPECT_FALSE(cut.measurements.count("hem_circ"))
       << "hem_circ " << cut.measurements.at("hem_circ") << " reported";
@@ -224,6 +233,55 @@ TEST(Measure, ACircumferenceFarBelowTheFormsIsLeftOutNotInvented) {
   EXPECT_TRUE(warned);
   for (const std::string name : {"bust_circ", "waist_circ", "garment_length"})
     EXPECT_NEAR(cut.measurements.at(name), intact.measurements.at(name), 0.3) << name;
+}
+
+// A skirt's waistband may sit a little below the form's waist at the centre front (a physical
+// rig's skirt dipped 1 cm there): the hem is still followed down from the first covered row, and
+// hem and length read as before.
+TEST(Measure, AWaistbandDippingBelowTheWaistStillGivesTheHem) {
+  const sim::SceneRenderer r = scene("skirt", 3, {720, 960});
+  const auto ctx = pipeline::buildCaptureContext(r.calibration(), pipeline::kDefaultSizeChart);
+  const calib::FormView& view = *ctx->view;
+  const cv::Mat full = r.garmentCoverage() > 0.5f;
+  const auto intact = pipeline::measureGarment(full, view, "skirt");
+  ASSERT_TRUE(intact.measurements.count("hem_circ"));
+  ASSERT_TRUE(intact.measurements.count("skirt_length"));
+  const double s = r.calibration().at("pose").at("px_per_cm").get<double>();
+  const int axis = static_cast<int>(std::lround(view.axisXPx()));
+  const int waistRow = static_cast<int>(std::lround(view.rowOfHeight(view.waistCm())));
+  cv::Mat dipped = full.clone();
+  dipped(cv::Range(0, waistRow + static_cast<int>(std::lround(1.0 * s))),
+         cv::Range(axis - static_cast<int>(2 * s), axis + static_cast<int>(2 * s)))
+      .setTo(0);
+  const auto m = pipeline::measureGarment(dipped, view, "skirt");
+  ASSERT_TRUE(m.measurements.count("hem_circ")) << "hem_circ missing";
+  ASSERT_TRUE(m.measurements.count("skirt_length")) << "skirt_length missing";
+  EXPECT_NEAR(m.measurements.at("hem_circ"), intact.measurements.at("hem_circ"), 0.3);
+  EXPECT_NEAR(m.measurements.at("skirt_length"), intact.measurements.at("skirt_length"), 0.3);
+}
+
+// The garment's top beside the neck: a piece of the head the column grazes (the jaw's edge,
+// joined to the silhouette because the garment changed the light on it) lies above the
+// shoulder line and does not reach it, so it is not the garment's top.
+TEST(Measure, APieceOfTheHeadBesideTheNeckIsNotTheGarmentsTop) {
+  const sim::SceneRenderer r = scene("top", 4, {720, 960});
+  const auto ctx = pipeline::buildCaptureContext(r.calibration(), pipeline::kDefaultSizeChart);
+  const calib::FormView& view = *ctx->view;
+  const cv::Mat full = r.garmentCoverage() > 0.5f;
+  const auto intact = pipeline::measureGarment(full, view, "top");
+  ASSERT_TRUE(intact.measurements.count("garment_length"));
+  const double s = r.calibration().at("pose").at("px_per_cm").get<double>();
+  const int axis = static_cast<int>(std::lround(view.axisXPx()));
+  const int col = axis - static_cast<int>(std::ceil(view.neckHalfWidthPx() + 0.5 * s));
+  // 2 cm of "garment" 8-10 cm above the side neck, across the column.
+  const int top = static_cast<int>(std::lround(view.rowOfHeight(view.neckSideCm() + 10.0)));
+  cv::Mat withJaw = full.clone();
+  withJaw(cv::Range(top, top + static_cast<int>(std::lround(2.0 * s))),
+          cv::Range(col - static_cast<int>(s), col + static_cast<int>(s)))
+      .setTo(255);
+  const auto m = pipeline::measureGarment(withJaw, view, "top");
+  ASSERT_TRUE(m.measurements.count("garment_length"));
+  EXPECT_NEAR(m.measurements.at("garment_length"), intact.measurements.at("garment_length"), 0.3);
 }
 
 // Issue 18: the sample size of a captured item (the graded files' sample, the size guide's own
