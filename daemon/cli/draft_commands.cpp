@@ -40,6 +40,7 @@ struct DraftOptions {
   std::string paper = "a4";
   std::string patternSvg;  // pattern pieces at 1:1 with cut and sew lines
   std::string style = "DRAFT";
+  std::string vst;  // Valentina multisize table of --chart
 };
 
 std::map<std::string, double> parseSet(const std::vector<std::string>& items) {
@@ -98,6 +99,13 @@ void runDraft(const DraftOptions& o) {
     std::cout << nlohmann::json{{"charts", charts}}.dump(2) << "\n";
     return;
   }
+  if (!o.vst.empty()) {
+    if (o.chart.empty())
+      throw std::invalid_argument("draft: --vst needs --chart C (the chart it tabulates)");
+    gd::writeFileAtomic(o.vst, gd::chartToVst(gd::sizeChart(o.chart)));
+    if (o.type.empty())
+      return;
+  }
   if (o.type.empty())
     throw std::invalid_argument("draft: --type is required (see --list)");
   if (o.out.empty())
@@ -151,6 +159,9 @@ void addDraftCommands(CLI::App& app) {
   draft->add_option("--paper", opts->paper, "Paper of --pattern-pdf: a4 (default), letter, a0");
   draft->add_option("--pattern-svg", opts->patternSvg,
                     "Pattern pieces SVG to write (1:1 mm, cut and sew lines)");
+  draft->add_option("--vst", opts->vst,
+                    "Valentina multisize measurements (.vst) of --chart to write: every size, "
+                    "no --type needed");
   draft->add_option("--style", opts->style, "Style name printed on the pieces (default DRAFT)");
   draft->callback([opts] { runDraft(*opts); });
 

@@ -42,6 +42,7 @@
 #include "garmcap/drafts/marker.h"
 #include "garmcap/drafts/measurements.h"
 #include "garmcap/drafts/pattern_io.h"
+#include "garmcap/drafts/size_charts.h"
 #include "garmcap/dsw/size_guide.h"
 
 namespace garmcap::daemon {
@@ -604,6 +605,23 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
   router.add(V::get, "/api/export/files/images/{name}.jpg", imageFile("jpg"));
   router.add(V::get, "/api/export/files/images/{name}.png", imageFile("png"));
   router.add(V::get, "/api/export/files/images/{name}.webp", imageFile("webp"));
+
+  // A built-in size chart as a Valentina multisize table (every size, labelled): pure data, no
+  // catalog access, so it is answered on the spot.
+  router.add(
+      V::get, "/api/size_charts/{name}.vst", [](const Request&, const RouteMatch& m, Reply reply) {
+        const std::string name = m.param("name");
+        for (const auto& chart : drafts::sizeCharts()) {
+          if (chart.name == name)
+            return reply(
+                fileResponse("application/xml", drafts::chartToVst(chart), chart.name + ".vst"));
+        }
+        std::string known;
+        for (const auto& chart : drafts::sizeCharts())
+          known += (known.empty() ? "" : ", ") + chart.name;
+        reply(jsonError(http::status::not_found,
+                        "no size chart '" + quoteInput(name) + "' (known: " + known + ")"));
+      });
 
   // Pattern files of one item. `build` gets the item, its patterns and the size asked for.
   using PatternBuild =

@@ -144,7 +144,7 @@ std::string nestedGradingSvg(const GradedRun& run) {
        << fixed((g.end + off).y() * 10, 2) << "\"/>\n";
     const Point2 at = nameAt(run, i, sh);
     os << "<text x=\"" << fixed(at.x() * 10, 2) << "\" y=\"" << fixed(at.y() * 10, 2)
-       << "\" font-size=\"6\">" << xmlEscape(panels[i].name) << "</text>\n</g>\n";
+       << "\" font-size=\"6\">" << xmlEscape(pieceTitle(panels[i].name)) << "</text>\n</g>\n";
   }
   os << "</svg>\n";
   return os.str();
@@ -183,7 +183,7 @@ std::string nestedGradingPdf(const GradedRun& run) {
     cs << style(sample) << detail::pdfPath(moved(aligned(run, sample, i)), true);
     const auto& g = run.patterns[sample].panels[i].grainline;
     cs << "[] 0 d 0 G 0.6 w " << detail::pdfPath(moved({g.start, g.end}), false) << "0 g "
-       << detail::pdfText(nameAt(run, i, sh), 10, panels[i].name);
+       << detail::pdfText(nameAt(run, i, sh), 10, pieceTitle(panels[i].name));
   }
   detail::PdfDocument doc;
   doc.addPage(sh.widthCm, sh.heightCm, cs.str());
@@ -216,7 +216,7 @@ std::string nestedGradingDxf(const GradedRun& run) {
     }
     const auto& g = run.patterns[sample].panels[i].grainline;
     d.line("GRAIN", g.start + off, g.end + off);
-    d.text("TEXT", nameAt(run, i, sh), 5.0, panels[i].name);
+    d.text("TEXT", nameAt(run, i, sh), 5.0, pieceTitle(panels[i].name));
   }
   return d.finish();
 }

@@ -140,7 +140,7 @@ std::string sheetGeometry(const Pattern& pattern, const PieceText& text,
         geo << pdfPath(moved({tip - 0.8 * dir + 0.3 * v, tip, tip - 0.8 * dir - 0.3 * v}), false);
     }
     const Point2 c = detail::labelPoint(p.outline) + off;
-    geo << pdfText(c + Point2(-3, 0), 14, p.name);
+    geo << pdfText(c + Point2(-3, 0), 14, pieceTitle(p.name));
     geo << pdfText(c + Point2(-3, 0.7), 10,
                    text.style + "  size " + text.size + "  cut " + std::to_string(p.cutCount) +
                        (p.cutOnFold ? " on fold" : ""));

@@ -99,7 +99,8 @@ std::string patternSvg(const Pattern& pattern, const PieceText& text) {
     Point2 c = (bx.min + bx.max) / 2 + off;
     std::string cut = "Cut " + std::to_string(p.cutCount) + (p.cutOnFold ? " on fold" : "");
     os << "<text x=\"" << fixed(c.x() * 10, 2) << "\" y=\"" << fixed(c.y() * 10 - 4, 2)
-       << "\" font-size=\"7\" text-anchor=\"middle\">" << xmlEscape(p.name) << "</text>\n"
+       << "\" font-size=\"7\" text-anchor=\"middle\">" << xmlEscape(pieceTitle(p.name))
+       << "</text>\n"
        << "<text x=\"" << fixed(c.x() * 10, 2) << "\" y=\"" << fixed(c.y() * 10 + 5, 2)
        << "\" font-size=\"5\" text-anchor=\"middle\">"
        << xmlEscape("size " + text.size + " · " + cut) << "</text>\n</g>\n";

@@ -228,7 +228,8 @@ std::string summary(const Marker& m) {
 }
 
 std::string pieceLabel(const MarkerPiece& p) {
-  return p.panel + " " + p.size + (p.mirrored ? " (mirror)" : "") + (p.unfolded ? " (open)" : "");
+  return pieceTitle(p.panel) + " " + p.size + (p.mirrored ? " (mirror)" : "") +
+         (p.unfolded ? " (open)" : "");
 }
 
 // Grain arrow from grainStart to grainEnd: a line and an arrowhead at each end.

@@ -1,4 +1,4 @@
-// Measurement vocabulary, measurements JSON and Valentina .vit reader/writer.
+// Measurement vocabulary, measurements JSON, Valentina .vit reader/writer and .vst writer.
 
 #include "garmcap/drafts/measurements.h"
 
@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "garmcap/drafts/file_io.h"
+#include "garmcap/drafts/size_charts.h"
 #include "garmcap/drafts/xml_escape.h"
 #include "measurements_vocabulary.h"
 #include "xml_reader.h"
@@ -338,6 +339,127 @@ std::string measurementsToVit(const Measurements& m) {
     }
   }
   out << "    </body-measurements>\n</vit>\n";
+  return out.str();
+}
+
+namespace {
+
+// Rounded to 1e-6 cm so that the shortest decimal of the double is the clean one (0.6, not
+// 0.6000000000000014): Valentina reads the numbers as text.
+double round6(double v) {
+  return std::round(v * 1e6) / 1e6;
+}
+
+// The values of the chart's "Size" dimension: the sizes themselves when they are numbers evenly
+// spaced by a step Valentina accepts (1 to 50 in tenths, a whole number of steps from the
+// smallest to the largest, all within the 1..100 of a dimension that is not a body
+// measurement), else the positions 1..N.
+std::vector<double> dimensionValues(const SizeChart& chart) {
+  std::vector<double> values;
+  for (const auto& size : chart.sizes) {
+    double v = 0;
+    const auto res = std::from_chars(size.data(), size.data() + size.size(), v);
+    if (res.ec != std::errc() || res.ptr != size.data() + size.size())
+      break;
+    values.push_back(v);
+  }
+  bool usable = values.size() == chart.sizes.size() && !values.empty();
+  if (usable && values.size() > 1) {
+    const double step = (values.back() - values.front()) / static_cast<double>(values.size() - 1);
+    usable = step >= 1 && step < 50 && std::abs(step * 10 - std::round(step * 10)) < 1e-9;
+    for (size_t i = 0; usable && i < values.size(); ++i)
+      usable = std::abs(values[i] - (values.front() + step * static_cast<double>(i))) < 1e-9;
+  }
+  for (double v : values)
+    usable = usable && v >= 1 && v <= 100;
+  if (!usable) {
+    values.clear();
+    for (size_t i = 0; i < chart.sizes.size(); ++i)
+      values.push_back(static_cast<double>(i + 1));
+  }
+  return values;
+}
+
+}  // namespace
+
+std::string chartToVst(const SizeChart& chart) {
+  const std::string where = "chartToVst(" + chart.name + ")";
+  if (chart.sizes.empty() || chart.sizes.size() != chart.bodies.size())
+    throw std::invalid_argument(where + ": the chart has no sizes or not one body per size");
+  for (const auto& body : chart.bodies)
+    checkWritable(body, "chartToVst");
+  const size_t n = chart.sizes.size();
+  for (size_t i = 0; i < n; ++i) {
+    for (const auto& [name, v] : chart.bodies.front().values()) {
+      if (!chart.bodies[i].has(name)) {
+        throw std::invalid_argument(where + ": measurement '" + name + "' is missing in size " +
+                                    chart.sizes[i]);
+      }
+    }
+    if (chart.bodies[i].values().size() != chart.bodies.front().values().size()) {
+      throw std::invalid_argument(where + ": size " + chart.sizes[i] +
+                                  " has measurements that size " + chart.sizes.front() + " lacks");
+    }
+  }
+  const std::vector<double> dims = dimensionValues(chart);
+  const size_t baseIndex = n / 2;
+  const double step = n > 1 ? (dims.back() - dims.front()) / static_cast<double>(n - 1) : 0.0;
+  std::ostringstream out;
+  // Format 0.5.4, the newest multisize format Valentina 0.7.52 reads (its own schema list).
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      << "<vst>\n"
+      << "    <!--Measurements created with GarmCap Station.-->\n"
+      << "    <version>0.5.4</version>\n"
+      << "    <read-only>false</read-only>\n"
+      << "    <notes>" << xmlEscape("Size chart " + chart.name + ". " + chart.source)
+      << "</notes>\n"
+      << "    <unit>cm</unit>\n"
+      << "    <pm_system>998</pm_system>\n"
+      << "    <dimensions>\n"
+      << "        <dimension type=\"y\" base=\"" << formatNumber(dims[baseIndex]) << "\" min=\""
+      << formatNumber(dims.front()) << "\" max=\"" << formatNumber(dims.back()) << "\" step=\""
+      << formatNumber(round6(step)) << "\" measurement=\"false\" customName=\"Size\">\n"
+      << "            <labels>\n";
+  for (size_t i = 0; i < n; ++i) {
+    out << "                <label value=\"" << formatNumber(dims[i]) << "\" label=\""
+        << xmlEscape(chart.sizes[i]) << "\"/>\n";
+  }
+  out << "            </labels>\n"
+      << "        </dimension>\n"
+      << "    </dimensions>\n"
+      << "    <restrictions/>\n"
+      << "    <body-measurements>\n";
+  for (const auto& [name, unused] : chart.bodies.front().values()) {
+    // Valentina's value at size value d: base + (d - base d) / step * shiftA + correction(d).
+    const double base = chart.bodies[baseIndex].get(name);
+    const double shift =
+        n > 1 ? round6((chart.bodies.back().get(name) - chart.bodies.front().get(name)) /
+                       static_cast<double>(n - 1))
+              : 0.0;
+    std::string corrections;
+    for (size_t i = 0; i < n; ++i) {
+      const double k = static_cast<double>(i) - static_cast<double>(baseIndex);
+      const double correction = round6(chart.bodies[i].get(name) - (base + k * shift));
+      if (correction != 0.0) {
+        corrections += "                <correction coordinates=\"" + formatNumber(dims[i]) +
+                       "\" correction=\"" + formatNumber(correction) + "\"/>\n";
+      }
+    }
+    const bool project = isProjectMeasurement(name);
+    out << "        <m name=\"" << (project ? "@" : "") << xmlEscape(name) << "\" base=\""
+        << formatNumber(base) << "\" shiftA=\"" << formatNumber(shift) << "\"";
+    if (project) {
+      out << " full_name=\"" << xmlEscape(name) << "\" description=\""
+          << xmlEscape(vocabularyIndex().at(name)->description) << "\"";
+    }
+    if (corrections.empty()) {
+      out << "/>\n";
+    } else {
+      out << ">\n            <corrections>\n"
+          << corrections << "            </corrections>\n        </m>\n";
+    }
+  }
+  out << "    </body-measurements>\n</vst>\n";
   return out.str();
 }
 

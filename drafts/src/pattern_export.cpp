@@ -8,6 +8,25 @@
 #include "export_util.h"
 
 namespace garmcap::drafts {
+
+std::string pieceTitle(const std::string& panelName) {
+  // Names pattern makers use where the id's words would read oddly (a sweater's body pieces,
+  // trousers drafted as "pants").
+  static const std::vector<std::pair<std::string, std::string>> kTitles = {
+      {"body_front", "Front"},
+      {"body_back", "Back"},
+      {"pants_front", "Trousers front"},
+      {"pants_back", "Trousers back"}};
+  for (const auto& [id, title] : kTitles)
+    if (id == panelName)
+      return title;
+  std::string title = panelName;
+  std::replace(title.begin(), title.end(), '_', ' ');
+  if (!title.empty() && title[0] >= 'a' && title[0] <= 'z')
+    title[0] = static_cast<char>(title[0] - 'a' + 'A');
+  return title;
+}
+
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTurnAngleDeg = 20.0;  // a sharper bend than this is a corner, not a curve

@@ -313,8 +313,7 @@ void addBodicePanels(DraftBuilder& b, const BodiceDraft& d) {
   // and its halves are sewn at the centre back (issue 18), like the skirt back under it.
   pb.cutCount = 2;
   pb.cutOnFold = false;
-  pb.notches.push_back(
-      Notch{"armhole_back", pointAlong(d.backArmhole, polylineLength(d.backArmhole) - 8)});
+  addDoubleNotch(pb, "armhole_back", d.backArmhole, polylineLength(d.backArmhole) - 8);
   b.contour("waist_back", backWaist.points);
   b.contour("side_back", Polyline{d.side, d.sideWaistBack});
   b.contour("centre_back", Polyline{d.cbNeck, d.cbBust, d.cbWaist});

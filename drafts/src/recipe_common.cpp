@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "garmcap/drafts/panel_edges.h"
 #include "geometry_polyline_cum.h"
 
 namespace garmcap::drafts::detail {
@@ -185,6 +186,78 @@ Grainline grainline(const Point2& a, const Point2& b) {
 
 Point2 pointAlong(const Polyline& pl, double s) {
   return drafts::pointAtLength(pl, s);
+}
+
+void addDoubleNotch(Panel& panel, const std::string& name, const Polyline& pl, double s) {
+  panel.notches.push_back(Notch{name, pointAlong(pl, s)});
+  panel.notches.push_back(Notch{name + "_2", pointAlong(pl, s - kDoubleNotchGapCm)});
+}
+
+namespace {
+
+Panel& mutablePanel(Pattern& pattern, const std::string& name) {
+  for (auto& panel : pattern.panels)
+    if (panel.name == name)
+      return panel;
+  throw std::logic_error("no panel '" + name + "' for a seam notch");
+}
+
+// The points of a seam edge from the given end, with for each segment whether it is sewn (a
+// segment with a dart apex at one end is a dart leg: its opening is closed, not sewn along).
+struct SewnPath {
+  Polyline points;
+  std::vector<bool> sewn;
+  double length = 0;
+};
+
+SewnPath sewnPath(const Panel& panel, const EdgeRef& e, bool fromEnd) {
+  SewnPath path;
+  path.points = edgePoints(panel, e);
+  if (fromEnd)
+    std::reverse(path.points.begin(), path.points.end());
+  const auto isApex = [&](const Point2& q) {
+    return std::any_of(panel.darts.begin(), panel.darts.end(),
+                       [&](const Dart& d) { return (d.apex - q).norm() < 1e-6; });
+  };
+  for (size_t i = 0; i + 1 < path.points.size(); ++i) {
+    const bool sewn = !isApex(path.points[i]) && !isApex(path.points[i + 1]);
+    path.sewn.push_back(sewn);
+    if (sewn)
+      path.length += (path.points[i + 1] - path.points[i]).norm();
+  }
+  return path;
+}
+
+Point2 pointAtSewn(const SewnPath& path, double distance) {
+  double s = 0;
+  for (size_t i = 0; i < path.sewn.size(); ++i) {
+    if (!path.sewn[i])
+      continue;
+    const Point2 a = path.points[i], b = path.points[i + 1];
+    const double len = (b - a).norm();
+    if (s + len >= distance && len > 0)
+      return a + (b - a) * ((distance - s) / len);
+    s += len;
+  }
+  return path.points.back();
+}
+
+}  // namespace
+
+void addSeamNotches(Pattern& pattern, const std::string& seamName, const std::string& name,
+                    double fraction) {
+  const auto seam = std::find_if(pattern.seams.begin(), pattern.seams.end(),
+                                 [&](const SeamPair& s) { return s.name == seamName; });
+  if (seam == pattern.seams.end())
+    throw std::logic_error("no seam '" + seamName + "' to notch");
+  Panel& a = mutablePanel(pattern, seam->a.panel);
+  Panel& b = mutablePanel(pattern, seam->b.panel);
+  // a.from meets b.to (b.from when the outlines run the same way along the seam).
+  const SewnPath pa = sewnPath(a, seam->a, false);
+  const SewnPath pb = sewnPath(b, seam->b, !seamRunsSameWay(*seam));
+  const double distance = fraction * std::min(pa.length, pb.length);
+  a.notches.push_back(Notch{name, pointAtSewn(pa, distance)});
+  b.notches.push_back(Notch{name, pointAtSewn(pb, distance)});
 }
 
 }  // namespace garmcap::drafts::detail

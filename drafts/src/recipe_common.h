@@ -111,4 +111,17 @@ Grainline grainline(const Point2& a, const Point2& b);
 /// Point on the outline edge at arc length s from its start (for notches).
 Point2 pointAlong(const Polyline& pl, double s);
 
+/// Gap between the two notches of a double notch (pattern makers use 0.6 to 1.3 cm).
+constexpr double kDoubleNotchGapCm = 1.0;
+/// A double notch: the back of an armhole and of its sleeve cap carry two notches, the front
+/// one, so that a sleeve cannot be set in back to front. `name` at arc length `s` of `pl` and
+/// `name`_2 kDoubleNotchGapCm nearer the line's start.
+void addDoubleNotch(Panel& panel, const std::string& name, const Polyline& pl, double s);
+
+/// Matching notches `name` on both pieces of the seam pair `seamName` (already added): at the
+/// same sewn distance (dart openings left out: their legs are sewn together) from the end
+/// where the two edges meet, `fraction` of the shorter of the two sewn lengths.
+void addSeamNotches(Pattern& pattern, const std::string& seamName, const std::string& name,
+                    double fraction);
+
 }  // namespace garmcap::drafts::detail

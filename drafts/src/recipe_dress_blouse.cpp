@@ -61,6 +61,10 @@ void recipeDress(DraftBuilder& b) {
           sk.sideWaistBack);
   addSeam(p, "waist_front", "bodice_front", d.sideWaistFront, d.cfWaist, "skirt_front",
           sk.sideWaistFront, sk.cfWaist);
+  // Where bodice and skirt meet: one notch halfway along each waist seam, at the same sewn
+  // distance on both pieces (the darts between meet dart to dart).
+  addSeamNotches(p, "waist_back", "waist_seam", 0.5);
+  addSeamNotches(p, "waist_front", "waist_seam", 0.5);
   addSleeveTo(b, d, 1.0);
 }
 
@@ -132,8 +136,7 @@ void recipeBlouse(DraftBuilder& b) {
   pb.internalLines.push_back(dartBack);
   pb.grainline = grainline(Point2(4, 4), Point2(4, yHem - 3));
   pb.cutOnFold = true;
-  pb.notches.push_back(
-      Notch{"armhole_back", pointAlong(d.backArmhole, polylineLength(d.backArmhole) - 8)});
+  addDoubleNotch(pb, "armhole_back", d.backArmhole, polylineLength(d.backArmhole) - 8);
   Polyline front;
   append(front, d.fnp);
   append(front, reversed(d.frontNeck));

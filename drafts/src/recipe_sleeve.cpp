@@ -322,8 +322,8 @@ void addSleevePanel(DraftBuilder& b, const SleeveDraft& s, const std::string& bo
       polylineLength(s.capBack) - (8 + s.easeBack * 8 / s.capBackFull - cutBack);
   if (notchFront > 0.5)
     panel.notches.push_back(Notch{"armhole_front", pointAlong(s.capFront, notchFront)});
-  if (notchBack < polylineLength(s.capBack) - 0.5)
-    panel.notches.push_back(Notch{"armhole_back", pointAlong(s.capBack, notchBack)});
+  if (notchBack < polylineLength(s.capBack) - 0.5 && notchBack - kDoubleNotchGapCm > 0.5)
+    addDoubleNotch(panel, "armhole_back", s.capBack, notchBack);
   addPanelWithRegion(p, panel);
   if (!s.capOnly) {
     addSeam(p, "sleeve_underarm", "sleeve", s.underFront, s.hemFront, "sleeve", s.underBack,

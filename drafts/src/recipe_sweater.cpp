@@ -113,7 +113,7 @@ void recipeSweater(DraftBuilder& b) {
   Panel pb = makePanel("body_back", back);
   pb.cutOnFold = true;
   pb.grainline = grainline(Point2(4, 3), Point2(4, yHem - 3));
-  pb.notches.push_back(Notch{"armhole_back", pointAlong(armhole, polylineLength(armhole) - 8)});
+  addDoubleNotch(pb, "armhole_back", armhole, polylineLength(armhole) - 8);
   Polyline front;
   append(front, frontNeckBackFrame);
   append(front, sp);

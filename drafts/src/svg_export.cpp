@@ -163,7 +163,7 @@ std::string patternToSvg(const Pattern& pattern, const SvgOptions& options) {
       s << "<text x=\"" << num(c.x()) << "\" y=\"" << num(c.y() - 0.4)
         << "\" font-family=\"sans-serif\" font-size=\"1.1\" text-anchor=\"middle\" "
            "fill=\"#1f5fa8\">"
-        << xmlEscape(p.name) << "</text>\n";
+        << xmlEscape(pieceTitle(p.name)) << "</text>\n";
       s << "<text x=\"" << num(c.x()) << "\" y=\"" << num(c.y() + 0.9)
         << "\" font-family=\"sans-serif\" font-size=\"0.7\" text-anchor=\"middle\" "
            "fill=\"#1f5fa8\">"

@@ -226,6 +226,20 @@ TEST(ExportHttp, DressedCaptureExportsItsGradedSizeRun) {
   EXPECT_EQ(vit.contentType, "application/xml");
   EXPECT_NE(vit.body.find("<vit>"), std::string::npos);
   EXPECT_NE(vit.body.find("waist_circ"), std::string::npos);
+  // The chart's multisize table (Valentina reads it: export_test VstExport.*), every size
+  // labelled; an unknown chart a 404 naming the known ones.
+  const auto vst = d.get("/api/size_charts/korean_women.vst");
+  ASSERT_EQ(vst.status, 200) << vst.body;
+  EXPECT_EQ(vst.contentType, "application/xml");
+  EXPECT_NE(vst.body.find("<vst>"), std::string::npos);
+  EXPECT_NE(vst.body.find("<dimension type=\"y\" base=\"66\" min=\"44\" max=\"88\""),
+            std::string::npos)
+      << vst.body.substr(0, 400);
+  for (const char* s : {"44", "55", "66", "77", "88"})
+    EXPECT_NE(vst.body.find(std::string("label=\"") + s + "\""), std::string::npos) << s;
+  const auto noChart = d.get("/api/size_charts/martian.vst");
+  EXPECT_EQ(noChart.status, 404) << noChart.body;
+  EXPECT_NE(noChart.body.find("korean_women"), std::string::npos) << noChart.body;
   const auto gdxf = d.get(at + "/pattern_graded.dxf");
   ASSERT_EQ(gdxf.status, 200) << gdxf.body;
   for (const auto& s : graded)

@@ -28,6 +28,12 @@ class PatternExportError : public std::runtime_error {
 /// D6673-04 files and ezdxf's Gerber D6673 exporter (docs/exports.md, "DXF version").
 inline constexpr const char* kAstmVersionLine = "ASTM/D13Proposal 1 Version: D 6673-04";
 
+/// The name a person reads on a piece ("Bodice front", "Skirt back", "Sleeve", "Trousers
+/// front") for the panel id (`bodice_front`, ...), which stays the key in file structure (SVG
+/// ids, DXF block and AAMA piece names, RUL, GarmentCode). An unknown id reads as itself with
+/// spaces for underscores and a capital first letter.
+std::string pieceTitle(const std::string& panelName);
+
 /// What is printed on each piece besides the geometry.
 struct PieceText {
   std::string style;             // style name, usually the SKU

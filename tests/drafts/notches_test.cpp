@@ -1,0 +1,157 @@
+// Notches a pattern maker expects (issue 18): a double notch on the back armhole and on the
+// back of the sleeve cap, a single one on the front; matching notches where a dress's bodice and
+// skirt meet, at equal sewn distances on both pieces; and every notch in the DXF (layer 4) and
+// SVG files.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "garmcap/drafts/export_dxf_aama.h"
+#include "garmcap/drafts/export_svg.h"
+#include "garmcap/drafts/recipes.h"
+#include "garmcap/drafts/size_charts.h"
+
+namespace {
+
+using garmcap::drafts::Panel;
+using garmcap::drafts::Pattern;
+using garmcap::drafts::Point2;
+
+std::vector<Point2> notchesNamed(const Panel& p, const std::string& name) {
+  std::vector<Point2> out;
+  for (const auto& n : p.notches)
+    if (n.name == name)
+      out.push_back(n.position);
+  return out;
+}
+
+const Panel* findPanel(const Pattern& p, const std::string& name) {
+  for (const auto& panel : p.panels)
+    if (panel.name == name)
+      return &panel;
+  return nullptr;
+}
+
+Pattern draft(const std::string& type, const std::string& size) {
+  return garmcap::drafts::draftGarment(type, garmcap::drafts::sizeChart("korean_women").body(size),
+                                       {});
+}
+
+// Distance of `q` from the segment a-b.
+double segmentDistance(const Point2& q, const Point2& a, const Point2& b) {
+  const Point2 ab = b - a;
+  const double t = std::clamp((q - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (a + t * ab - q).norm();
+}
+
+// Sewn distance along the outline from vertex `from` walking `step` (+1 or -1) to the notch `q`:
+// the arc length minus each dart opening passed (both legs, leg to apex to leg), since the dart
+// is closed before the seam is sewn. Computed from the outline and the darts alone.
+double sewnDistance(const Panel& p, int from, int step, const Point2& q) {
+  const int n = static_cast<int>(p.outline.size());
+  double s = 0;
+  for (int k = 0, i = from; k < n; ++k, i = (i + step + n) % n) {
+    const Point2 a = p.outline[static_cast<size_t>(i)];
+    const Point2 b = p.outline[static_cast<size_t>((i + step + n) % n)];
+    if (segmentDistance(q, a, b) < 1e-6)
+      return s + (q - a).norm();
+    s += (b - a).norm();
+    for (const auto& d : p.darts)
+      if ((b - d.apex).norm() < 1e-6)
+        s -= (d.apex - a).norm() +
+             (d.apex - p.outline[static_cast<size_t>((i + 2 * step + 2 * n) % n)]).norm();
+  }
+  ADD_FAILURE() << p.name << ": notch not on the outline";
+  return -1;
+}
+
+TEST(Notches, DoubleOnTheBackArmholeSingleOnTheFront) {
+  const std::vector<std::pair<std::string, std::pair<std::string, std::string>>> types = {
+      {"bodice", {"bodice_back", "bodice_front"}},
+      {"dress", {"bodice_back", "bodice_front"}},
+      {"blouse", {"bodice_back", "bodice_front"}},
+      {"sweater", {"body_back", "body_front"}}};
+  for (const auto& [type, pieces] : types) {
+    for (const char* size : {"44", "66", "88"}) {
+      const Pattern p = draft(type, size);
+      std::vector<const Panel*> backs = {findPanel(p, pieces.first)};
+      std::vector<const Panel*> fronts = {findPanel(p, pieces.second)};
+      if (const Panel* sleeve = findPanel(p, "sleeve")) {
+        backs.push_back(sleeve);
+        fronts.push_back(sleeve);
+      }
+      for (const Panel* back : backs) {
+        ASSERT_NE(back, nullptr) << type;
+        const auto first = notchesNamed(*back, "armhole_back");
+        const auto second = notchesNamed(*back, "armhole_back_2");
+        ASSERT_EQ(first.size(), 1u) << type << " " << size << " " << back->name;
+        ASSERT_EQ(second.size(), 1u) << type << " " << size << " " << back->name;
+        // 1 cm apart along a gently curved armhole: the chord is within 0.05 cm of it.
+        EXPECT_NEAR((first[0] - second[0]).norm(), 1.0, 0.05) << type << " " << back->name;
+      }
+      for (const Panel* front : fronts) {
+        ASSERT_NE(front, nullptr) << type;
+        EXPECT_EQ(notchesNamed(*front, "armhole_front").size(), 1u) << type << " " << front->name;
+        EXPECT_TRUE(notchesNamed(*front, "armhole_front_2").empty()) << type << " " << front->name;
+      }
+    }
+  }
+}
+
+TEST(Notches, DressWaistSeamNotchesSitAtEqualSewnDistances) {
+  double largest = 0;
+  for (const auto& size : garmcap::drafts::sizeChart("korean_women").sizes) {
+    const Pattern p = draft("dress", size);
+    for (const char* seamName : {"waist_back", "waist_front"}) {
+      const auto seam = std::find_if(p.seams.begin(), p.seams.end(),
+                                     [&](const auto& s) { return s.name == seamName; });
+      ASSERT_NE(seam, p.seams.end()) << seamName;
+      const Panel& a = p.panel(seam->a.panel);
+      const Panel& b = p.panel(seam->b.panel);
+      const auto na = notchesNamed(a, "waist_seam");
+      const auto nb = notchesNamed(b, "waist_seam");
+      ASSERT_EQ(na.size(), 1u) << size << " " << a.name;
+      ASSERT_EQ(nb.size(), 1u) << size << " " << b.name;
+      // a.from meets b.to (the file convention, both outlines counter-clockwise): walk a
+      // forward from a.from and b backward from b.to.
+      const double da = sewnDistance(a, seam->a.from, +1, na[0]);
+      const double db = sewnDistance(b, seam->b.to, -1, nb[0]);
+      EXPECT_NEAR(da, db, 0.01) << size << " " << seamName;
+      largest = std::max(largest, std::abs(da - db));
+      // Halfway along the sewn seam: from the other end the notch is as far (within the
+      // 0.04 cm the two pieces' waist lengths may differ).
+      const double da2 = sewnDistance(a, seam->a.to, -1, na[0]);
+      EXPECT_NEAR(da, da2, 0.1) << size << " " << seamName;
+      EXPECT_GT(da, 5.0) << size << " " << seamName;
+    }
+  }
+  std::printf("waist-seam notches: sewn distances differ by at most %.4f mm\n", largest * 10);
+}
+
+TEST(Notches, EveryNotchIsInTheDxfAndSvg) {
+  for (const char* type : {"dress", "bodice", "sweater", "skirt_a", "pants", "sleeve"}) {
+    const Pattern p = draft(type, "66");
+    size_t notches = 0;
+    for (const auto& panel : p.panels)
+      notches += panel.notches.size();
+    const std::string dxf = garmcap::drafts::patternDxf(p, {"NOTCH", "66"});
+    const std::regex slit("LINE\\r?\\n *8\\r?\\n4\\r?\\n");
+    EXPECT_EQ(static_cast<size_t>(std::distance(std::sregex_iterator(dxf.begin(), dxf.end(), slit),
+                                                std::sregex_iterator())),
+              notches)
+        << type;
+    const std::string svg = garmcap::drafts::patternSvg(p, {"NOTCH", "66"});
+    const std::regex line("class=\"notch\"");
+    EXPECT_EQ(static_cast<size_t>(std::distance(std::sregex_iterator(svg.begin(), svg.end(), line),
+                                                std::sregex_iterator())),
+              notches)
+        << type;
+  }
+}
+
+}  // namespace
