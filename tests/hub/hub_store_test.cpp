@@ -6,6 +6,8 @@
 
 #include <atomic>
 #include <set>
+#include <sstream>
+#include <vector>
 
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/hub/hub_config.h"
@@ -246,6 +248,82 @@ TEST_F(HubStoreTest, KeysetPagesCoverEveryItemOnceWithFilters) {
                       "SELECT count(*) FROM pg_indexes WHERE indexname IN "
                       "('items_station_id', 'items_search')"),
             "2");
+}
+
+// The search finds its page in two steps (the newest rows first, then the trigram index's
+// matches below them: hub_store.cpp, searchStatement). Against a plain substring test in C++ of
+// every row psql reads back, for a term most items hold (found among the newest), one only old
+// items hold (rare among the newest, common below them), rare ones, case, a station filter, deleted
+// items, and pages small enough that every term crosses the newest-rows window.
+TEST_F(HubStoreTest, SearchPagesEqualAFullScanForCommonRareAndOldTerms) {
+  pg_->psql(db_, R"sql(
+    INSERT INTO items(station_id, local_id, sku, title, status, type, deleted_at)
+      SELECT 'shop' || (1 + g % 2), g, 'SKU-' || g,
+             CASE WHEN g % 3 = 0 THEN 'Navy skirt ' ELSE 'Skirt ' END
+             || CASE WHEN g <= 300 THEN 'Vintage ' ELSE '' END || md5(g::text),
+             'needs_review', 'skirt', CASE WHEN g % 97 = 0 THEN now() END
+      FROM generate_series(1, 3000) g;
+    ANALYZE items;)sql");
+  struct Row {
+    std::int64_t id;
+    std::string station, text;
+    bool deleted;
+  };
+  std::vector<Row> rows;  // newest first
+  std::istringstream dump(pg_->psql(
+      db_,
+      "SELECT id, station_id, lower(sku || ' ' || title), deleted_at IS NOT NULL FROM items "
+      "ORDER BY id DESC"));
+  for (std::string line; std::getline(dump, line);) {
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    for (std::string x; std::getline(fields, x, '|');)
+      f.push_back(x);
+    ASSERT_EQ(f.size(), 4u) << line;
+    rows.push_back({std::stoll(f[0]), f[1], f[2], f[3] == "t"});
+  }
+  ASSERT_EQ(rows.size(), 3000u);
+  const auto lower = [](std::string s) {
+    for (char& ch : s)
+      ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return s;
+  };
+  struct Case {
+    std::string term, station;
+    int limit;
+  };
+  // md5("7") starts 8f14e45f; "1e45" and "e45f" occur in a few titles only.
+  const std::vector<Case> cases = {{"navy", "", 50},      {"NAVY SKIRT", "shop2", 7},
+                                   {"vintage", "", 50},   {"Vintage", "shop1", 7},
+                                   {"vintage", "", 500},  {"e45f", "", 3},
+                                   {"1e45", "shop2", 50}, {"SKU-29", "", 4},
+                                   {"skirt", "", 500},    {"no such thing", "", 50}};
+  for (const auto& c : cases) {
+    std::vector<std::int64_t> expected;
+    for (const auto& r : rows)
+      if (!r.deleted && (c.station.empty() || r.station == c.station) &&
+          r.text.find(lower(c.term)) != std::string::npos)
+        expected.push_back(r.id);
+    HubQuery q;
+    q.search = c.term;
+    q.station = c.station;
+    q.limit = c.limit;
+    std::vector<std::int64_t> got;
+    for (int pages = 0; pages < 1000; ++pages) {
+      const auto page = store_->list(q);
+      EXPECT_LE(page.items.size(), static_cast<std::size_t>(c.limit));
+      for (const auto& it : page.items)
+        got.push_back(it.id);
+      if (!page.next)
+        break;
+      EXPECT_EQ(page.items.size(), static_cast<std::size_t>(c.limit));
+      EXPECT_EQ(*page.next, page.items.back().id);
+      q.afterId = *page.next;
+    }
+    EXPECT_EQ(got, expected) << "q='" << c.term << "' station='" << c.station
+                             << "' limit=" << c.limit;
+    EXPECT_FALSE(expected.empty() && c.term != "no such thing") << c.term;
+  }
 }
 
 TEST_F(HubStoreTest, ReconnectsAfterTheServerRestarts) {
