@@ -369,5 +369,31 @@ TEST(HubConfig, ReadsTomlStrictlyAndRefusesUnsafeListen) {
   fs::remove_all(dir);
 }
 
+// [shop]: the station's keys, by the station's checks, named with the file when refused.
+TEST(HubConfig, ShopSectionTakesTheStationsKeysAndChecks) {
+  namespace fs = std::filesystem;
+  const auto dir = fs::temp_directory_path() / ("garmcap-hubshop-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto file = dir / "hub.toml";
+  std::ofstream(file) << "[shop]\nbrand = \"Chain\"\nstore_url = \"https://shop.test\"\n"
+                      << "made_to_order = true\n[shop.size_labels]\n\"55\" = \"S\"\n";
+  const HubConfig c = loadHubConfig(file);
+  EXPECT_EQ(c.shop.brand, "Chain");
+  EXPECT_EQ(c.shop.storeUrl, "https://shop.test");
+  EXPECT_TRUE(c.shop.madeToOrder);
+  EXPECT_EQ(c.shop.sizeLabels.at("55"), "S");
+  for (const std::string bad : {"[shop]\nstore_url = \"ftp://x\"\n", "[shop]\nbrandd = \"x\"\n",
+                                "[shop]\nmade_to_order = \"yes\"\n"}) {
+    std::ofstream(file) << bad;
+    try {
+      loadHubConfig(file);
+      ADD_FAILURE() << bad;
+    } catch (const HubConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("[shop]"), std::string::npos) << e.what();
+    }
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace garmcap::hub

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <iterator>
 #include <limits>
 #include <pqxx/pqxx>
 
@@ -131,7 +132,7 @@ HubItem readItem(const pqxx::row& r) {
   return it;
 }
 
-void loadDetails(pqxx::work& w, HubItem& it) {
+void loadDetails(pqxx::transaction_base& w, HubItem& it) {
   for (const auto& r : w.exec_params(
            "SELECT name, value_cm FROM measurements WHERE item_id = $1 ORDER BY name", it.id))
     it.measurementsCm[r[0].c_str()] = r[1].as<double>();
@@ -185,7 +186,7 @@ ORDER BY id DESC LIMIT $5)sql";
 }
 
 // The details of a page of items in two queries, not two per item.
-void loadDetails(pqxx::work& w, std::vector<HubItem>& items) {
+void loadDetails(pqxx::transaction_base& w, std::vector<HubItem>& items) {
   if (items.empty())
     return;
   std::map<std::int64_t, HubItem*> byId;
@@ -533,6 +534,28 @@ HubPage HubStore::list(const HubQuery& q) {
     }
     loadDetails(w, page.items);
     return page;
+  });
+}
+
+std::vector<HubItem> HubStore::approvedItems(const std::string& station) {
+  return withConnection([&](pqxx::connection& c) {
+    pqxx::transaction<pqxx::repeatable_read, pqxx::read_only> w(c);
+    std::vector<HubItem> out;
+    // Pages of 1,000 on the primary key, each page's details in two queries.
+    for (std::int64_t after = 0;;) {
+      std::vector<HubItem> page;
+      for (const auto& row :
+           w.exec_params(itemColumns() + "WHERE status = 'approved' AND deleted_at IS NULL "
+                                         "AND id > $1 AND ($2 = '' OR station_id = $2) "
+                                         "ORDER BY id LIMIT 1000",
+                         after, station))
+        page.push_back(readItem(row));
+      if (page.empty())
+        return out;
+      after = page.back().id;
+      loadDetails(w, page);
+      std::move(page.begin(), page.end(), std::back_inserter(out));
+    }
   });
 }
 
