@@ -28,6 +28,7 @@
 #include "garmcap/daemon/api_routes.h"
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/export_items.h"
 #include "garmcap/daemon/export_shop.h"
 #include "garmcap/daemon/export_zip.h"
 #include "garmcap/daemon/http_guard.h"
@@ -52,96 +53,9 @@ using drafts::GradedRun;
 using drafts::PieceText;
 
 constexpr int kMaxExportItems = 2000;
-// Image kinds that go to shops, in the order shops show them: the square JPEG on white. The
-// cut-out is the same photo again (shops composite nothing), the 4:5 crop the same again.
-const std::vector<std::string> kShopImageKinds = {"product"};
 // The images catalog.zip holds: the shop photo, and the same photo as WebP for shops that take
 // it (the CSVs keep linking the JPEG, which every shop imports).
 const std::vector<std::string> kZipImageKinds = {"product", "product_webp"};
-
-std::string extensionOf(const std::string& mediaType) {
-  if (mediaType == "image/jpeg")
-    return "jpg";
-  if (mediaType == "image/png")
-    return "png";
-  if (mediaType == "image/webp")
-    return "webp";
-  return "";
-}
-
-std::string imagePath(std::int64_t id, const std::string& kind, const std::string& mediaType) {
-  return "images/" + std::to_string(id) + "-" + kind + "." + extensionOf(mediaType);
-}
-
-// A URL given as an option: http(s), printable ASCII without spaces or quotes, bounded.
-std::string urlOption(const RouteMatch& m, const std::string& key, const std::string& fallback) {
-  auto v = m.queryValue(key);
-  if (!v || v->empty())
-    return fallback;
-  const std::string& s = *v;
-  if (s.size() > 500)
-    throw BadRequest("query '" + key + "' is longer than 500 bytes");
-  if (s.rfind("http://", 0) != 0 && s.rfind("https://", 0) != 0)
-    throw BadRequest("query '" + key + "' must start with http:// or https://, got '" +
-                     quoteInput(s) + "'");
-  for (unsigned char c : s)
-    if (c <= 32 || c >= 127 || c == '"' || c == '\'' || c == '<' || c == '>' || c == '\\')
-      throw BadRequest("query '" + key + "' holds a character not allowed in a URL");
-  return s;
-}
-
-std::string shortOption(const RouteMatch& m, const std::string& key, const std::string& fallback,
-                        size_t maxLen) {
-  auto v = m.queryValue(key);
-  if (!v || v->empty())
-    return fallback;
-  if (v->size() > maxLen)
-    throw BadRequest("query '" + key + "' is longer than " + std::to_string(maxLen) + " bytes");
-  for (unsigned char c : *v)
-    if (c < 32 || c == 127)
-      throw BadRequest("query '" + key + "' holds a control character");
-  return *v;
-}
-
-// The shop's settings come from the config ([shop]); a query value overrides one for this
-// export. Without a configured or given URL the station's own address is used, which the
-// export refuses when it is a loopback one (unless [shop] allow_loopback).
-// The shop's addresses come from the [shop] settings (or the request's explicit options), never
-// from the request's Host header: the address a tablet reached the station by (127.0.0.1, a
-// 192.168.x LAN address) is not one a shop's importer can fetch images or link products from, and
-// an export built on it would publish dead links without a word. Left empty, the export refuses
-// with the option's name (export_shop.cpp's checkPublicUrl).
-ShopOptions shopOptions(const RouteMatch& m, const ShopConfig& shop) {
-  ShopOptions o;
-  o.publicBaseUrl = urlOption(m, "base_url", shop.publicBaseUrl);
-  o.storeUrl = urlOption(m, "store_url", shop.storeUrl);
-  o.storePlatform = shortOption(m, "store_platform", shop.storePlatform, 16);
-  o.brand = shortOption(m, "brand", shortOption(m, "vendor", shop.brand, 150), 150);
-  o.currency = shortOption(m, "currency", shop.currency, 3);
-  o.sizeSystem = shortOption(m, "size_system", shop.sizeSystem, 4);
-  o.sizeLabels = shop.sizeLabels;
-  o.madeToOrder = m.queryValue("made_to_order").value_or(shop.madeToOrder ? "1" : "0") == "1";
-  o.allowLoopback = shop.allowLoopback;
-  o.gender = shortOption(m, "gender", o.gender, 10);
-  o.legacyShopifyHeader = m.queryValue("legacy").value_or("0") == "1";
-  return o;
-}
-
-// Warnings as one header line: printable ASCII, bounded (the full text is in the ZIP's README).
-void setWarnings(Response& r, const std::vector<std::string>& warnings) {
-  r.set("X-Export-Warnings", std::to_string(warnings.size()));
-  if (warnings.empty())
-    return;
-  std::string text;
-  for (const auto& w : warnings)
-    text += (text.empty() ? "" : " | ") + w;
-  for (char& c : text)
-    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) >= 127)
-      c = '?';
-  if (text.size() > 2000)
-    text = text.substr(0, 1997) + "...";
-  r.set("X-Export-Warning-Text", text);
-}
 
 // What the export needs from the catalog, copied on the strand.
 struct CatalogSnapshot {
@@ -175,68 +89,9 @@ CatalogSnapshot snapshot(Catalog& c, bool withPatterns) {
   return s;
 }
 
-// The stored size guide (dsw::sizeGuideJson); a malformed one is an error naming the item.
-std::optional<dsw::SizeGuide> storedGuide(const Item& it, const std::optional<nlohmann::json>& j) {
-  if (!j || j->is_null())
-    return std::nullopt;
-  return dsw::sizeGuideFromJson(j->dump(), "item " + std::to_string(it.id) + " size guide");
-}
-
-// Catalog item -> shop item: the piece, its size guide, its colours ("navy/white": Merchant
-// names, dominant first) and whether it is a print. No SKU is invented: such an item is left
-// out by shopItems with a warning.
-ExportItem toExportItem(const Item& it, const std::optional<nlohmann::json>& guide) {
-  ExportItem e;
-  e.id = std::to_string(it.id);
-  e.sku = it.sku;
-  e.description = it.notes;
-  e.type = it.type;
-  e.attributes = it.attributes;
-  if (const auto c = it.attributes.find("color"); c != it.attributes.end()) {
-    std::string rest = c->second;
-    for (std::size_t at; !rest.empty(); rest = at == std::string::npos ? "" : rest.substr(at + 1)) {
-      at = rest.find('/');
-      if (at != 0)
-        e.colors.push_back(rest.substr(0, at));
-    }
-  }
-  if (const auto p = it.attributes.find("pattern"); p != it.attributes.end())
-    e.printed = p->second == "print";
-  e.title = it.title.empty() ? defaultProductTitle(e) : it.title;
-  if (it.priceCents)
-    e.price = static_cast<double>(*it.priceCents) / 100.0;
-  e.tags = it.tags;
-  e.published = true;
-  e.measurementsCm = it.measurementsCm;
-  e.sizeGuide = storedGuide(it, guide);
-  for (const auto& kind : kShopImageKinds)
-    for (const auto& im : it.images)
-      if (im.kind == kind && !extensionOf(im.mediaType).empty())
-        e.images.push_back({imagePath(it.id, im.kind, im.mediaType), ""});
-  return e;
-}
-
-// The approved items a shop can take; one without a SKU is left out with a warning saying
-// what to do, never exported under a made-up SKU.
-std::vector<ExportItem> shopItems(const CatalogSnapshot& snap, std::vector<std::string>& warnings) {
-  std::vector<ExportItem> items;
-  for (std::size_t i = 0; i < snap.items.size(); ++i) {
-    const Item& it = snap.items[i];
-    if (it.sku.empty()) {
-      warnings.push_back("item " + std::to_string(it.id) +
-                         " has no SKU; left out of the shop files (give it a SKU on its page)");
-      continue;
-    }
-    items.push_back(toExportItem(it, snap.sizeGuides[i]));
-  }
-  return items;
-}
-
-Response fileResponse(const std::string& type, std::string body, const std::string& name) {
-  Response r = textResponse(http::status::ok, type, std::move(body));
-  r.set(http::field::content_disposition, "attachment; filename=\"" + name + "\"");
-  r.set(http::field::cache_control, "no-store");
-  return r;
+// How an export's warnings name a station's item.
+std::string itemLabel(const Item& it) {
+  return "item " + std::to_string(it.id);
 }
 
 std::string sizeLabel(const Item& it, const std::string& size) {
@@ -248,7 +103,7 @@ std::string sizeLabel(const Item& it, const std::string& size) {
 std::optional<GradedRun> gradedRun(const Item& it, const std::optional<nlohmann::json>& guide,
                                    const std::map<std::string, nlohmann::json>& patterns) {
   std::vector<std::string> sizes;
-  if (const auto g = storedGuide(it, guide))
+  if (const auto g = storedSizeGuide(it, guide))
     for (const auto& row : g->rows)
       sizes.push_back(row.size);
   if (sizes.empty())
@@ -439,11 +294,12 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                     [reply, o, name, type, build, snap] {
                       try {
                         std::vector<std::string> warnings;
-                        const auto items = shopItems(*snap, warnings);
+                        const auto items =
+                            shopItems(snap->items, snap->sizeGuides, warnings, itemLabel);
                         ShopFile f = build(items, o);
                         warnings.insert(warnings.end(), f.warnings.begin(), f.warnings.end());
-                        Response r = fileResponse(type, std::move(f.bytes), name);
-                        setWarnings(r, warnings);
+                        Response r = downloadResponse(type, std::move(f.bytes), name);
+                        setExportWarnings(r, warnings);
                         reply(std::move(r));
                       } catch (const ExportError& e) {
                         reply(jsonError(http::status::unprocessable_entity, e.what()));
@@ -473,14 +329,15 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                   [c, reply, o, snap] {
                     try {
                       std::vector<std::string> notes;
-                      const std::vector<ExportItem> items = shopItems(*snap, notes);
+                      const std::vector<ExportItem> items =
+                          shopItems(snap->items, snap->sizeGuides, notes, itemLabel);
                       std::vector<ZipEntry> files;
                       for (size_t i = 0; i < snap->items.size(); ++i) {
                         const Item& it = snap->items[i];
                         const std::string style =
                             it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
                         for (const auto& im : it.images) {
-                          const std::string ext = extensionOf(im.mediaType);
+                          const std::string ext = imageExtension(im.mediaType);
                           if (ext.empty() || std::find(kZipImageKinds.begin(), kZipImageKinds.end(),
                                                        im.kind) == kZipImageKinds.end())
                             continue;
@@ -488,7 +345,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                           if (!bytes)
                             throw ExportError("image " + im.sha256 + " is missing from the store");
                           files.push_back(
-                              {imagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
+                              {exportImagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
                         }
                         const std::string dir = "patterns/" + std::to_string(it.id) + "/";
                         const auto& pats = snap->patterns[i];
@@ -548,8 +405,9 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                       for (const auto& n : notes)
                         readme += "Note: " + n + "\n";
                       files.push_back({"README.txt", readme});
-                      Response r = fileResponse("application/zip", storeZip(files), "catalog.zip");
-                      setWarnings(r, notes);
+                      Response r =
+                          downloadResponse("application/zip", storeZip(files), "catalog.zip");
+                      setExportWarnings(r, notes);
                       reply(std::move(r));
                     } catch (const ExportError& e) {
                       reply(jsonError(http::status::unprocessable_entity, e.what()));
@@ -581,7 +439,7 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
               return reply(
                   jsonError(http::status::not_found, "no approved item " + std::to_string(id)));
             for (const auto& im : it->images)
-              if (im.kind == kind && extensionOf(im.mediaType) == ext) {
+              if (im.kind == kind && imageExtension(im.mediaType) == ext) {
                 const ImageRef ref = im;
                 return c->offload(
                     [c, reply, ref] {
@@ -682,8 +540,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
         auto p = onePattern(it, pats, size);
         if (!p)
           return noPatternForSize(it, size);
-        return fileResponse("application/dxf", patternDxf(*p, {style(it), sizeLabel(it, size)}),
-                            fileBase(it, size) + ".dxf");
+        return downloadResponse("application/dxf", patternDxf(*p, {style(it), sizeLabel(it, size)}),
+                                fileBase(it, size) + ".dxf");
       }));
   // Tiled for office paper (A4 by default, US Letter) or on A0 plotter pages.
   router.add(V::get, "/api/items/{id}/pattern.pdf",
@@ -695,9 +553,9 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                  auto p = onePattern(it, pats, size);
                  if (!p)
                    return noPatternForSize(it, size);
-                 return fileResponse("application/pdf",
-                                     patternPdf(*p, {style(it), sizeLabel(it, size)}, paper),
-                                     fileBase(it, size) + "_" + paperFileTag(paper) + ".pdf");
+                 return downloadResponse("application/pdf",
+                                         patternPdf(*p, {style(it), sizeLabel(it, size)}, paper),
+                                         fileBase(it, size) + "_" + paperFileTag(paper) + ".pdf");
                })(req, m, std::move(reply));
              });
   router.add(
@@ -707,9 +565,9 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
         auto p = onePattern(it, pats, size);
         if (!p)
           return noPatternForSize(it, size);
-        return fileResponse("application/json",
-                            garmentCodeJson(*p, {style(it), sizeLabel(it, size)}),
-                            fileBase(it, size) + "_specification.json");
+        return downloadResponse("application/json",
+                                garmentCodeJson(*p, {style(it), sizeLabel(it, size)}),
+                                fileBase(it, size) + "_specification.json");
       }));
   // Files of the item's graded size run; an item whose garment could not be drafted says why.
   auto graded = [=](std::function<Response(const Item&, const GradedRun&)> write) {
@@ -727,28 +585,28 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
   };
   router.add(V::get, "/api/items/{id}/pattern_graded.dxf",
              graded([=](const Item& it, const GradedRun& run) {
-               return fileResponse("application/dxf", gradedDxf(run), style(it) + ".dxf");
+               return downloadResponse("application/dxf", gradedDxf(run), style(it) + ".dxf");
              }));
   router.add(V::get, "/api/items/{id}/pattern_graded.rul",
              graded([=](const Item& it, const GradedRun& run) {
-               return fileResponse("text/plain; charset=us-ascii", gradeRuleTable(run),
-                                   style(it) + ".rul");
+               return downloadResponse("text/plain; charset=us-ascii", gradeRuleTable(run),
+                                       style(it) + ".rul");
              }));
   // Nested grading: every size of the run superimposed per piece, the sample size marked.
   router.add(V::get, "/api/items/{id}/nested_grading.svg",
              graded([=](const Item& it, const GradedRun& run) {
-               return fileResponse("image/svg+xml", drafts::nestedGradingSvg(run),
-                                   style(it) + "_nested_grading.svg");
+               return downloadResponse("image/svg+xml", drafts::nestedGradingSvg(run),
+                                       style(it) + "_nested_grading.svg");
              }));
   router.add(V::get, "/api/items/{id}/nested_grading.pdf",
              graded([=](const Item& it, const GradedRun& run) {
-               return fileResponse("application/pdf", drafts::nestedGradingPdf(run),
-                                   style(it) + "_nested_grading.pdf");
+               return downloadResponse("application/pdf", drafts::nestedGradingPdf(run),
+                                       style(it) + "_nested_grading.pdf");
              }));
   router.add(V::get, "/api/items/{id}/nested_grading.dxf",
              graded([=](const Item& it, const GradedRun& run) {
-               return fileResponse("application/dxf", drafts::nestedGradingDxf(run),
-                                   style(it) + "_nested_grading.dxf");
+               return downloadResponse("application/dxf", drafts::nestedGradingDxf(run),
+                                       style(it) + "_nested_grading.dxf");
              }));
 
   // Markers: every piece of the sizes asked for (default: the item's own) laid on the fabric
@@ -804,11 +662,12 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
             fileBase(it, "marker_" + labels + "_" + widthTag(q.widthCm) + "cm");
         switch (format) {
           case MarkerFile::kSvg:
-            return fileResponse("image/svg+xml", drafts::markerSvg(laid, title), name + ".svg");
+            return downloadResponse("image/svg+xml", drafts::markerSvg(laid, title), name + ".svg");
           case MarkerFile::kPdf:
-            return fileResponse("application/pdf", drafts::markerPdf(laid, title), name + ".pdf");
+            return downloadResponse("application/pdf", drafts::markerPdf(laid, title),
+                                    name + ".pdf");
           case MarkerFile::kDxf:
-            return fileResponse("application/dxf", drafts::markerDxf(laid), name + ".dxf");
+            return downloadResponse("application/dxf", drafts::markerDxf(laid), name + ".dxf");
           case MarkerFile::kJson:
             break;
         }
@@ -831,8 +690,8 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
           return jsonError(
               http::status::not_found,
               "item " + std::to_string(it.id) + " has no body measurements Valentina knows");
-        return fileResponse("application/xml", drafts::measurementsToVit(m),
-                            fileBase(it, "body") + ".vit");
+        return downloadResponse("application/xml", drafts::measurementsToVit(m),
+                                fileBase(it, "body") + ".vit");
       }));
 }
 

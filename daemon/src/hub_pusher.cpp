@@ -373,6 +373,10 @@ bool HubPusher::pass() {
     std::optional<std::pair<int, std::string>> refusal;
     if (item) {
       nlohmann::json doc = item->toJson();
+      // The size guide goes with the item: the hub's shop exports show it as the station's do.
+      const auto guide = onCatalog<std::optional<nlohmann::json>>(
+          station_, stopping_, [id = row.itemId](Catalog& c) { return c.sizeGuide(id); });
+      doc["size_guide"] = guide ? *guide : nlohmann::json(nullptr);
       nlohmann::json images = nlohmann::json::object();
       for (const auto& im : item->images) {
         const std::string target = "/api/hub/blobs/" + im.sha256;

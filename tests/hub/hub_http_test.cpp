@@ -2,10 +2,17 @@
 // what, the blob hash check, the push and patch answers, and the station's request guard.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
 #include <set>
+#include <vector>
 
 #include "../e2e/daemon_harness.h"
 #include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/export_shop.h"
 #include "garmcap/hub/hub_service.h"
 #include "temp_postgres.h"
 
@@ -239,6 +246,132 @@ TEST_F(HubHttpTest, ListsValidateTheirQueryAndTheGuardApplies) {
             403);
   const auto health = call(http::verb::get, "/api/hub/health", "").json();
   EXPECT_EQ(health["schema"], kHubSchemaVersion);
+}
+
+// The chain's Shopify CSV, read back by Python's csv module in strict mode (an independent
+// RFC 4180 reader; it refuses a stray quote or an unterminated field): the approved items of
+// both stations are there once each, the same local id at two stations being two products;
+// an item waiting for review and a deleted one are not; the header is the station writer's;
+// a title with a quote, a comma and a line break comes back as it went in; the image link
+// names the hub's item and the hub serves it; `station=` and a station token narrow it.
+std::vector<std::vector<std::string>> strictCsvRows(const std::string& csv) {
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("hub-export-" + std::to_string(::getpid()) + ".csv");
+  std::ofstream(file, std::ios::binary) << csv;
+  const std::string cmd =
+      "python3 -c 'import csv, json, sys\n"
+      "rows = list(csv.reader(open(sys.argv[1], newline=\"\", encoding=\"utf-8\"), strict=True))\n"
+      "assert all(len(r) == len(rows[0]) for r in rows), \"ragged rows\"\n"
+      "print(json.dumps(rows))' " +
+      file.string() + " 2>&1";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  for (std::size_t n; p && (n = std::fread(buf, 1, sizeof buf, p)) > 0;)
+    out.append(buf, n);
+  const int rc = p ? ::pclose(p) : -1;
+  std::filesystem::remove(file);
+  if (rc != 0)
+    throw std::runtime_error("python3 csv (strict) refused the file: " + out);
+  return Json::parse(out).get<std::vector<std::vector<std::string>>>();
+}
+
+TEST_F(HubHttpTest, TheChainsShopifyCsvHoldsTheApprovedItemsOfEveryStationOnce) {
+  const std::string jpeg = std::string("\xff\xd8\xff\xe0", 4) + std::string(300, '\x11');
+  const std::string sha = daemon::sha256Hex(jpeg);
+  ASSERT_EQ(call(http::verb::put, "/api/hub/blobs/" + sha, "shop1-secret", jpeg,
+                 "application/octet-stream")
+                .status,
+            201);
+  const std::string trickyTitle = "Navy \"A-line\" skirt, pleated\r\nsecond line";
+  auto push = [](const std::string& token, std::int64_t localId, const std::string& sku,
+                 const std::string& title, const std::string& status, bool deleted,
+                 const Json& images) {
+    Json item{{"sku", sku},
+              {"title", title},
+              {"status", status},
+              {"type", "skirt"},
+              {"price_cents", 4900},
+              {"notes", "Wool, lined."},
+              {"tags", {"autumn"}},
+              {"attributes", {{"color", "navy"}}},
+              {"measurements", {{"waist_circ", 70.0}, {"garment_length", 62.5}}},
+              {"images", images}};
+    const auto r = call(http::verb::post, "/api/hub/push", token,
+                        Json{{"local_id", localId}, {"item", item}, {"deleted", deleted}}.dump());
+    EXPECT_EQ(r.status, 200) << r.body;
+    return r.json()["id"].get<std::int64_t>();
+  };
+  const Json product{{"product", {{"sha256", sha}, {"media_type", "image/jpeg"}}}};
+  const auto a = push("shop1-secret", 901, "EXP-A-901", trickyTitle, "approved", false, product);
+  push("shop1-secret", 902, "EXP-A-902", "Waiting", "needs_review", false, Json::object());
+  push("shop1-secret", 903, "EXP-A-903", "Gone", "approved", true, Json::object());
+  push("shop2-secret", 901, "EXP-B-901", "Cream blouse", "approved", false, Json::object());
+
+  const std::string options =
+      "base_url=https://files.shop.test/hub&store_url=https://shop.test&brand=Chain";
+  const auto res =
+      call(http::verb::get, "/api/export/shopify.csv?" + options, "admin-secret", "", "");
+  ASSERT_EQ(res.status, 200) << res.body;
+  EXPECT_EQ(res.contentType, "text/csv; charset=utf-8");
+  EXPECT_NE(res.disposition.find("shopify.csv"), std::string::npos);
+  const auto rows = strictCsvRows(res.body);
+  ASSERT_GE(rows.size(), 3u);
+  const auto& header = rows[0];
+  // The station's writer, same options: the same columns.
+  daemon::ShopOptions o;
+  o.publicBaseUrl = "https://files.shop.test/hub";
+  o.storeUrl = "https://shop.test";
+  o.brand = "Chain";
+  EXPECT_EQ(res.body.substr(0, res.body.find("\r\n")),
+            daemon::shopifyCsv({}, o).bytes.substr(0, res.body.find("\r\n")));
+  auto column = [&](const std::string& name) {
+    const auto at = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(at, header.end()) << name;
+    return static_cast<std::size_t>(at - header.begin());
+  };
+  const std::size_t sku = column("SKU"), title = column("Title"),
+                    image = column("Product image URL"), vendor = column("Vendor");
+  std::map<std::string, int> skus;
+  std::map<std::string, std::vector<std::string>> bySku;
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    if (rows[i][sku].rfind("EXP-", 0) == 0) {
+      ++skus[rows[i][sku]];
+      bySku[rows[i][sku]] = rows[i];
+    }
+  EXPECT_EQ(skus, (std::map<std::string, int>{{"EXP-A-901", 1}, {"EXP-B-901", 1}}));
+  EXPECT_EQ(bySku["EXP-A-901"][title], trickyTitle);
+  EXPECT_EQ(bySku["EXP-B-901"][title], "Cream blouse");
+  EXPECT_EQ(bySku["EXP-A-901"][vendor], "Chain");
+  const std::string imagePath = "images/" + std::to_string(a) + "-product.jpg";
+  EXPECT_EQ(bySku["EXP-A-901"][image], "https://files.shop.test/hub/" + imagePath);
+  const auto served = call(http::verb::get, "/api/export/files/" + imagePath, "admin-secret");
+  EXPECT_EQ(served.status, 200);
+  EXPECT_EQ(served.body, jpeg);
+  EXPECT_EQ(call(http::verb::get, "/api/export/files/" + imagePath, "shop2-secret").status, 404);
+
+  // One station: by the admin's filter or by a station's own token.
+  auto skusOf = [&](const std::string& query, const std::string& token) {
+    std::set<std::string> out;
+    const auto r = call(http::verb::get, "/api/export/shopify.csv?" + query, token, "", "");
+    EXPECT_EQ(r.status, 200) << r.body;
+    const auto rs = strictCsvRows(r.body);
+    for (std::size_t i = 1; i < rs.size(); ++i)
+      if (rs[i][sku].rfind("EXP-", 0) == 0)
+        out.insert(rs[i][sku]);
+    return out;
+  };
+  EXPECT_EQ(skusOf(options + "&station=shop2", "admin-secret"), std::set<std::string>{"EXP-B-901"});
+  EXPECT_EQ(skusOf(options, "shop1-secret"), std::set<std::string>{"EXP-A-901"});
+  EXPECT_EQ(
+      call(http::verb::get, "/api/export/shopify.csv?" + options + "&station=shop2", "shop1-secret")
+          .status,
+      403);
+  EXPECT_EQ(call(http::verb::get, "/api/export/shopify.csv?" + options, "").status, 401);
+  // The station's rules: no public base URL, no export (422 naming the option).
+  const auto noBase = call(http::verb::get, "/api/export/shopify.csv", "admin-secret");
+  EXPECT_EQ(noBase.status, 422);
+  EXPECT_NE(noBase.body.find("base"), std::string::npos) << noBase.body;
 }
 
 }  // namespace

@@ -3,17 +3,20 @@
 # garmcap-hub, 100,000 items of 3 stations with 300,000 images (small distinct blobs) loaded in
 # SQL, then 200 list pages (keyset, per station, deep cursors) and 200 searches through the
 # HTTP API, timed by curl. Prints p50 and p99 in ms.
-#   tests/hub/hub_scale.sh build/bin/garmcap-hub [ITEMS]
+#   tests/hub/hub_scale.sh build/bin/garmcap-hub [ITEMS [OTHER-GARMCAP-HUB]]
+# With a second binary (an older build, say) both serve the same database and each request goes
+# to one and then the other, so that both see the same load of a shared machine.
 set -eu
-hub=$(readlink -f "$1"); items=${2:-100000}
+hub=$(readlink -f "$1"); items=${2:-100000}; other=${3:+$(readlink -f "$3")}
 bin=$(ls -d /usr/lib/postgresql/*/bin | sort | tail -1)
 tmp=$(mktemp -d); chmod 755 "$tmp"
 run() { if [ "$(id -u)" = 0 ]; then runuser -u nobody -- sh -c "$1"; else sh -c "$1"; fi; }
 [ "$(id -u)" = 0 ] && chown nobody "$tmp"
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
 hport=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
-cleanup() { kill "$hubpid" 2>/dev/null || true; run "$bin/pg_ctl -D $tmp/data -m immediate stop" >/dev/null 2>&1 || true; rm -rf "$tmp"; }
-hubpid=
+oport=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+cleanup() { kill $hubpid $otherpid 2>/dev/null || true; run "$bin/pg_ctl -D $tmp/data -m immediate stop" >/dev/null 2>&1 || true; rm -rf "$tmp"; }
+hubpid=; otherpid=
 trap cleanup EXIT
 run "$bin/initdb -D $tmp/data -U garmcap --auth=trust -E UTF8 --no-locale --no-sync" >/dev/null
 run "$bin/pg_ctl -D $tmp/data -l $tmp/log -o '-p $port -k $tmp -c listen_addresses=127.0.0.1' -w start" >/dev/null
@@ -26,6 +29,14 @@ admin=$("$hub" hash-token admin-token)
   >"$tmp/hub.out" 2>"$tmp/hub.err" &
 hubpid=$!
 for i in $(seq 100); do grep -qs listening "$tmp/hub.out" && break; sleep 0.1; done
+if [ -n "$other" ]; then
+  "$other" --db "host=127.0.0.1 port=$port user=garmcap dbname=scale" --listen "127.0.0.1:$oport" \
+    --admin-token-sha256 "$admin" --station "shop1=$("$hub" hash-token t1)" \
+    --station "shop2=$("$hub" hash-token t2)" --station "shop3=$("$hub" hash-token t3)" \
+    >"$tmp/other.out" 2>"$tmp/other.err" &
+  otherpid=$!
+  for i in $(seq 100); do grep -qs listening "$tmp/other.out" && break; sleep 0.1; done
+fi
 start=$(date +%s.%N)
 $psql -d scale <<SQL
 INSERT INTO items(station_id, local_id, sku, title, status, type, doc)
@@ -41,12 +52,19 @@ ANALYZE;
 SQL
 echo "loaded $items items, $((3 * items)) images in $(echo "$(date +%s.%N) - $start" | bc) s"
 $psql -d scale -A -t -c "SELECT 'items ' || count(*) FROM items" -c "SELECT 'images ' || count(*) FROM images"
-url="http://127.0.0.1:$hport"
-time_requests() {  # $1 = label, stdin = targets
+ask() {  # $1 = label, $2 = port, $3 = target: prints "label seconds"
+  curl -s -o /dev/null -w "$1 %{time_total}\n" -H 'Authorization: Bearer admin-token' "http://127.0.0.1:$2$3"
+}
+time_requests() {  # $1 = label, stdin = targets; with a second hub, alternately B, A and A, B
+  n=0
   while read -r t; do
-    curl -s -o /dev/null -w '%{time_total}\n' -H 'Authorization: Bearer admin-token' "$url$t"
-  done | sort -n | awk -v label="$1" '{ a[NR] = $1 * 1000 } END {
-    printf "%s: %d requests, p50 %.1f ms, p99 %.1f ms, max %.1f ms\n", label, NR, a[int(NR * 0.5)], a[int(NR * 0.99)], a[NR] }'
+    n=$((n + 1))
+    if [ -z "$other" ]; then ask A "$hport" "$t"
+    elif [ $((n % 2)) = 1 ]; then ask B "$oport" "$t"; ask A "$hport" "$t"
+    else ask A "$hport" "$t"; ask B "$oport" "$t"; fi
+  done | sort -k2 -n | awk -v label="$1" -v a="$hub" -v b="$other" '{ k = $1; c[k]++; t[k, c[k]] = $2 * 1000 } END {
+    for (k in c) { n = c[k]; who = b == "" ? "" : " (" (k == "A" ? a : b) ")"
+      printf "%s%s: %d requests, p50 %.1f ms, p99 %.1f ms, max %.1f ms\n", label, who, n, t[k, int(n * 0.5)], t[k, int(n * 0.99)], t[k, n] } }'
 }
 maxid=$($psql -d scale -A -t -c 'SELECT max(id) FROM items')
 for i in $(seq 200); do

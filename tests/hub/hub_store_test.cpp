@@ -6,6 +6,8 @@
 
 #include <atomic>
 #include <set>
+#include <sstream>
+#include <vector>
 
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/hub/hub_config.h"
@@ -248,6 +250,82 @@ TEST_F(HubStoreTest, KeysetPagesCoverEveryItemOnceWithFilters) {
             "2");
 }
 
+// The search finds its page in two steps (the newest rows first, then the trigram index's
+// matches below them: hub_store.cpp, searchStatement). Against a plain substring test in C++ of
+// every row psql reads back, for a term most items hold (found among the newest), one only old
+// items hold (rare among the newest, common below them), rare ones, case, a station filter, deleted
+// items, and pages small enough that every term crosses the newest-rows window.
+TEST_F(HubStoreTest, SearchPagesEqualAFullScanForCommonRareAndOldTerms) {
+  pg_->psql(db_, R"sql(
+    INSERT INTO items(station_id, local_id, sku, title, status, type, deleted_at)
+      SELECT 'shop' || (1 + g % 2), g, 'SKU-' || g,
+             CASE WHEN g % 3 = 0 THEN 'Navy skirt ' ELSE 'Skirt ' END
+             || CASE WHEN g <= 300 THEN 'Vintage ' ELSE '' END || md5(g::text),
+             'needs_review', 'skirt', CASE WHEN g % 97 = 0 THEN now() END
+      FROM generate_series(1, 3000) g;
+    ANALYZE items;)sql");
+  struct Row {
+    std::int64_t id;
+    std::string station, text;
+    bool deleted;
+  };
+  std::vector<Row> rows;  // newest first
+  std::istringstream dump(pg_->psql(
+      db_,
+      "SELECT id, station_id, lower(sku || ' ' || title), deleted_at IS NOT NULL FROM items "
+      "ORDER BY id DESC"));
+  for (std::string line; std::getline(dump, line);) {
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    for (std::string x; std::getline(fields, x, '|');)
+      f.push_back(x);
+    ASSERT_EQ(f.size(), 4u) << line;
+    rows.push_back({std::stoll(f[0]), f[1], f[2], f[3] == "t"});
+  }
+  ASSERT_EQ(rows.size(), 3000u);
+  const auto lower = [](std::string s) {
+    for (char& ch : s)
+      ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return s;
+  };
+  struct Case {
+    std::string term, station;
+    int limit;
+  };
+  // md5("7") starts 8f14e45f; "1e45" and "e45f" occur in a few titles only.
+  const std::vector<Case> cases = {{"navy", "", 50},      {"NAVY SKIRT", "shop2", 7},
+                                   {"vintage", "", 50},   {"Vintage", "shop1", 7},
+                                   {"vintage", "", 500},  {"e45f", "", 3},
+                                   {"1e45", "shop2", 50}, {"SKU-29", "", 4},
+                                   {"skirt", "", 500},    {"no such thing", "", 50}};
+  for (const auto& c : cases) {
+    std::vector<std::int64_t> expected;
+    for (const auto& r : rows)
+      if (!r.deleted && (c.station.empty() || r.station == c.station) &&
+          r.text.find(lower(c.term)) != std::string::npos)
+        expected.push_back(r.id);
+    HubQuery q;
+    q.search = c.term;
+    q.station = c.station;
+    q.limit = c.limit;
+    std::vector<std::int64_t> got;
+    for (int pages = 0; pages < 1000; ++pages) {
+      const auto page = store_->list(q);
+      EXPECT_LE(page.items.size(), static_cast<std::size_t>(c.limit));
+      for (const auto& it : page.items)
+        got.push_back(it.id);
+      if (!page.next)
+        break;
+      EXPECT_EQ(page.items.size(), static_cast<std::size_t>(c.limit));
+      EXPECT_EQ(*page.next, page.items.back().id);
+      q.afterId = *page.next;
+    }
+    EXPECT_EQ(got, expected) << "q='" << c.term << "' station='" << c.station
+                             << "' limit=" << c.limit;
+    EXPECT_FALSE(expected.empty() && c.term != "no such thing") << c.term;
+  }
+}
+
 TEST_F(HubStoreTest, ReconnectsAfterTheServerRestarts) {
   store_->push("shop1", pushed(1, "before", "needs_review"));
   pg_->stop();
@@ -288,6 +366,32 @@ TEST(HubConfig, ReadsTomlStrictlyAndRefusesUnsafeListen) {
   addStation(dup, "b=" + h1, "--station");
   EXPECT_THROW(dup.validate(), HubConfigError);
   EXPECT_THROW(addStation(dup, "a b=" + h1, "--station"), HubConfigError);
+  fs::remove_all(dir);
+}
+
+// [shop]: the station's keys, by the station's checks, named with the file when refused.
+TEST(HubConfig, ShopSectionTakesTheStationsKeysAndChecks) {
+  namespace fs = std::filesystem;
+  const auto dir = fs::temp_directory_path() / ("garmcap-hubshop-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto file = dir / "hub.toml";
+  std::ofstream(file) << "[shop]\nbrand = \"Chain\"\nstore_url = \"https://shop.test\"\n"
+                      << "made_to_order = true\n[shop.size_labels]\n\"55\" = \"S\"\n";
+  const HubConfig c = loadHubConfig(file);
+  EXPECT_EQ(c.shop.brand, "Chain");
+  EXPECT_EQ(c.shop.storeUrl, "https://shop.test");
+  EXPECT_TRUE(c.shop.madeToOrder);
+  EXPECT_EQ(c.shop.sizeLabels.at("55"), "S");
+  for (const std::string bad : {"[shop]\nstore_url = \"ftp://x\"\n", "[shop]\nbrandd = \"x\"\n",
+                                "[shop]\nmade_to_order = \"yes\"\n"}) {
+    std::ofstream(file) << bad;
+    try {
+      loadHubConfig(file);
+      ADD_FAILURE() << bad;
+    } catch (const HubConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("[shop]"), std::string::npos) << e.what();
+    }
+  }
   fs::remove_all(dir);
 }
 

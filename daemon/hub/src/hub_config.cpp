@@ -23,6 +23,27 @@ std::string hashValue(const toml::value& v, const std::string& key) {
   return v.as_string().str;
 }
 
+// The [shop] table as the JSON that daemon::applyShopSettings reads (the station's settings
+// form): strings, booleans and tables of strings; another type is passed on for its checks to
+// refuse by name.
+nlohmann::json shopJson(const toml::value& v) {
+  if (v.is_string())
+    return v.as_string().str;
+  if (v.is_boolean())
+    return v.as_boolean();
+  if (v.is_integer())
+    return v.as_integer();
+  if (v.is_floating())
+    return v.as_floating();
+  if (v.is_table()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [k, x] : v.as_table())
+      out[k] = shopJson(x);
+    return out;
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 bool validStationId(const std::string& id) {
@@ -103,6 +124,15 @@ HubConfig loadHubConfig(const std::filesystem::path& file, HubConfig c) {
   for (const auto& [section, table] : root.as_table()) {
     if (!table.is_table())
       bad(f + ": " + section, "must be a table [" + section + "]");
+    if (section == "shop") {
+      // The station's [shop] keys, through the station's own checks.
+      try {
+        daemon::applyShopSettings(shopJson(table), c.shop);
+      } catch (const daemon::ConfigError& e) {
+        bad(f + ": [shop]", e.what());
+      }
+      continue;
+    }
     for (const auto& [key, v] : table.as_table()) {
       const std::string name = f + ": [" + section + "] " + key;
       auto integer = [&](long long lo, long long hi) {

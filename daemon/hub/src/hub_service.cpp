@@ -10,6 +10,8 @@
 #include "garmcap/daemon/login_sessions.h"
 #include "garmcap/daemon/tls_context.h"
 #include "garmcap/daemon/utf8.h"
+#include "garmcap/hub/hub_caller.h"
+#include "garmcap/hub/hub_exports.h"
 
 namespace garmcap::hub {
 
@@ -22,40 +24,6 @@ using daemon::Request;
 using daemon::RouteMatch;
 
 namespace {
-
-// Who is calling: a station (by its token), the admin, or nobody.
-struct Caller {
-  std::optional<std::string> station;
-  bool admin = false;
-  bool any() const { return admin || station.has_value(); }
-};
-
-Caller caller(const Request& req, HubStore& store, const HubConfig& config) {
-  Caller c;
-  const auto auth = req[http::field::authorization];
-  std::string_view a(auth.data(), auth.size());
-  // RFC 7235: the scheme is case-insensitive, one or more spaces follow.
-  if (a.size() <= 7 || !boost::beast::iequals(boost::beast::string_view(a.data(), 6), "Bearer") ||
-      a[6] != ' ')
-    return c;
-  a.remove_prefix(7);
-  while (!a.empty() && a.front() == ' ')
-    a.remove_prefix(1);
-  if (a.empty())
-    return c;
-  const std::string hash = tokenHash(std::string(a));
-  if (!config.adminTokenSha256.empty() && daemon::constantTimeEqual(hash, config.adminTokenSha256))
-    c.admin = true;
-  else
-    c.station = store.stationForToken(hash);
-  return c;
-}
-
-daemon::Response unauthorized(const std::string& what) {
-  auto res = jsonError(http::status::unauthorized, what);
-  res.set(http::field::www_authenticate, "Bearer realm=\"garmcap-hub\"");
-  return res;
-}
 
 std::int64_t queryInt(const RouteMatch& m, const std::string& name, std::int64_t fallback,
                       std::int64_t lo, std::int64_t hi) {
@@ -150,8 +118,49 @@ const std::string& shaParam(const RouteMatch& m) {
 
 }  // namespace
 
+Caller callerOf(const Request& req, HubStore& store, const HubConfig& config) {
+  Caller c;
+  const auto auth = req[http::field::authorization];
+  std::string_view a(auth.data(), auth.size());
+  // RFC 7235: the scheme is case-insensitive, one or more spaces follow.
+  if (a.size() <= 7 || !boost::beast::iequals(boost::beast::string_view(a.data(), 6), "Bearer") ||
+      a[6] != ' ')
+    return c;
+  a.remove_prefix(7);
+  while (!a.empty() && a.front() == ' ')
+    a.remove_prefix(1);
+  if (a.empty())
+    return c;
+  const std::string hash = tokenHash(std::string(a));
+  if (!config.adminTokenSha256.empty() && daemon::constantTimeEqual(hash, config.adminTokenSha256))
+    c.admin = true;
+  else
+    c.station = store.stationForToken(hash);
+  return c;
+}
+
+daemon::Response unauthorized(const std::string& what) {
+  auto res = jsonError(http::status::unauthorized, what);
+  res.set(http::field::www_authenticate, "Bearer realm=\"garmcap-hub\"");
+  return res;
+}
+
+std::optional<std::string> readScope(const Caller& c, const RouteMatch& m) {
+  std::string station;
+  if (auto s = m.queryValue("station")) {
+    if (!s->empty() && !validStationId(*s))
+      throw BadRequest("station must be 1..64 of [A-Za-z0-9_-]");
+    station = *s;
+  }
+  if (c.admin)
+    return station;
+  if (!station.empty() && station != *c.station)
+    return std::nullopt;
+  return *c.station;
+}
+
 void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& config) {
-  auto who = [&store, &config](const Request& req) { return caller(req, store, config); };
+  auto who = [&store, &config](const Request& req) { return callerOf(req, store, config); };
 
   router.add(
       http::verb::get, "/api/hub/health", [&store](const Request&, const RouteMatch&, Reply reply) {
@@ -253,19 +262,13 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
                if (!c.any())
                  return reply(unauthorized("a station or admin token is required"));
                HubQuery q;
-               if (auto s = m.queryValue("station")) {
-                 if (!s->empty() && !validStationId(*s))
-                   throw BadRequest("station must be 1..64 of [A-Za-z0-9_-]");
-                 q.station = *s;
-               }
                // A station token lists its own station's items only; the admin token all.
-               if (!c.admin) {
-                 if (!q.station.empty() && q.station != *c.station)
-                   return reply(jsonError(http::status::forbidden,
-                                          "a station token lists only its own station's items; "
-                                          "the admin token lists every station's"));
-                 q.station = *c.station;
-               }
+               const auto scope = readScope(c, m);
+               if (!scope)
+                 return reply(jsonError(http::status::forbidden,
+                                        "a station token lists only its own station's items; "
+                                        "the admin token lists every station's"));
+               q.station = *scope;
                if (auto s = m.queryValue("q"))
                  q.search = s->substr(0, 200);
                q.afterId = queryInt(m, "after", 0, 0, std::numeric_limits<std::int64_t>::max());
@@ -331,6 +334,8 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
                                         "approve it (status \"approved\") to edit it here"));
                reply(jsonResponse(http::status::ok, store.item(id)->toJson()));
              });
+
+  addHubExportRoutes(router, store, config);
 }
 
 HubService::HubService(const HubConfig& config) : config_(config) {

@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <iterator>
+#include <limits>
 #include <pqxx/pqxx>
 
 namespace garmcap::hub {
@@ -130,7 +132,7 @@ HubItem readItem(const pqxx::row& r) {
   return it;
 }
 
-void loadDetails(pqxx::work& w, HubItem& it) {
+void loadDetails(pqxx::transaction_base& w, HubItem& it) {
   for (const auto& r : w.exec_params(
            "SELECT name, value_cm FROM measurements WHERE item_id = $1 ORDER BY name", it.id))
     it.measurementsCm[r[0].c_str()] = r[1].as<double>();
@@ -140,8 +142,51 @@ void loadDetails(pqxx::work& w, HubItem& it) {
     it.images.push_back({r[0].c_str(), r[1].c_str(), r[2].c_str()});
 }
 
+// The search's statement: the page's rows, newest first below $1 (station $2, ILIKE pattern $4,
+// $5 rows), found in two steps, because no single plan is quick for every term. Ordered by id
+// and limited, the planner either walks the primary key newest first and tests each row (quick
+// for a term many items hold, a walk through the whole table for a rare one) or takes the
+// trigram index's matches and sorts them (quick for a rare term, every matching row read for a
+// common one); it picks by an estimate of the term's frequency that was off by a factor of 20
+// to 30 for 4-letter terms, and a wrong pick cost 70 ms at 100,000 items (docs/hub.md, Scale).
+//  1. `recent`: the newest rows below $1, a window of $3 = kSearchWindowPerRow rows per wanted
+//     row, tested one by one. A term held by at least 1 in kSearchWindowPerRow items fills the
+//     page here (`head`), at the cost of reading the window (about 2 ms for 2,000 rows).
+//  2. Otherwise (the window was full and the page is not), the term is rare among the newest
+//     items, and the rest of the page comes from `older`: the trigram index's matches, those
+//     below the window and of the station taken, newest first. `older` is materialized with
+//     the trigram condition alone: without an order the planner has no reason to walk the
+//     primary key, and with no bound on id or station it does not AND the matches with a scan
+//     of 98,000 primary-key or 33,000 station entries (it did, estimating either bound at a
+//     third of the table: 8 to 30 ms). Its size is the number of items holding the term: small
+//     for a rare term, large only for one rare among the newest items and common among the
+//     older ones. A CTE is computed when first read, and the one-time filter keeps `older`
+//     unread when the window answered.
+constexpr int kSearchWindowPerRow = 40;
+
+const std::string& searchStatement() {
+  static const std::string kSql = itemColumns() + R"sql(
+WHERE id IN (
+  WITH recent AS MATERIALIZED (
+    SELECT id, sku, title FROM items WHERE deleted_at IS NULL AND id < $1
+      AND ($2 = '' OR station_id = $2) ORDER BY id DESC LIMIT $3),
+  head AS MATERIALIZED (
+    SELECT id FROM recent WHERE (sku || ' ' || title) ILIKE $4 ORDER BY id DESC LIMIT $5),
+  older AS MATERIALIZED (
+    SELECT id, station_id FROM items WHERE (sku || ' ' || title) ILIKE $4
+      AND deleted_at IS NULL)
+  SELECT id FROM head
+  UNION ALL
+  (SELECT id FROM older
+     WHERE (SELECT count(*) FROM recent) = $3 AND (SELECT count(*) FROM head) < $5
+       AND id < (SELECT min(id) FROM recent) AND ($2 = '' OR station_id = $2)
+     ORDER BY id DESC LIMIT $5))
+ORDER BY id DESC LIMIT $5)sql";
+  return kSql;
+}
+
 // The details of a page of items in two queries, not two per item.
-void loadDetails(pqxx::work& w, std::vector<HubItem>& items) {
+void loadDetails(pqxx::transaction_base& w, std::vector<HubItem>& items) {
   if (items.empty())
     return;
   std::map<std::int64_t, HubItem*> byId;
@@ -469,14 +514,16 @@ HubPage HubStore::list(const HubQuery& q) {
   // Fixed statements; an empty filter is disabled through its bound value. The keyset bound is
   // the largest bigint when starting, so one form of the query serves every page.
   const std::int64_t after = q.afterId > 0 ? q.afterId : std::numeric_limits<std::int64_t>::max();
-  const std::string pattern = q.search.empty() ? std::string() : likePattern(q.search);
   return withConnection([&](pqxx::connection& c) {
     pqxx::work w(c);
-    const auto r = w.exec_params(
-        itemColumns() +
-            "WHERE deleted_at IS NULL AND id < $1 AND ($2 = '' OR station_id = $2) "
-            "AND ($3 = '' OR (sku || ' ' || title) ILIKE $3) ORDER BY id DESC LIMIT $4",
-        after, q.station, pattern, limit + 1);
+    const auto r =
+        q.search.empty()
+            ? w.exec_params(itemColumns() +
+                                "WHERE deleted_at IS NULL AND id < $1 AND ($2 = '' OR "
+                                "station_id = $2) ORDER BY id DESC LIMIT $3",
+                            after, q.station, limit + 1)
+            : w.exec_params(searchStatement(), after, q.station, kSearchWindowPerRow * (limit + 1),
+                            likePattern(q.search), limit + 1);
     HubPage page;
     for (const auto& row : r) {
       if (static_cast<int>(page.items.size()) == limit) {
@@ -487,6 +534,28 @@ HubPage HubStore::list(const HubQuery& q) {
     }
     loadDetails(w, page.items);
     return page;
+  });
+}
+
+std::vector<HubItem> HubStore::approvedItems(const std::string& station) {
+  return withConnection([&](pqxx::connection& c) {
+    pqxx::transaction<pqxx::repeatable_read, pqxx::read_only> w(c);
+    std::vector<HubItem> out;
+    // Pages of 1,000 on the primary key, each page's details in two queries.
+    for (std::int64_t after = 0;;) {
+      std::vector<HubItem> page;
+      for (const auto& row :
+           w.exec_params(itemColumns() + "WHERE status = 'approved' AND deleted_at IS NULL "
+                                         "AND id > $1 AND ($2 = '' OR station_id = $2) "
+                                         "ORDER BY id LIMIT 1000",
+                         after, station))
+        page.push_back(readItem(row));
+      if (page.empty())
+        return out;
+      after = page.back().id;
+      loadDetails(w, page);
+      std::move(page.begin(), page.end(), std::back_inserter(out));
+    }
   });
 }
 

@@ -13,6 +13,8 @@
 //   key_file = "/etc/garmcap-hub/tls/key.pem"     # its private key, unencrypted
 //   [stations]
 //   shop1 = "<64 hex: sha256 of shop1's token>"
+//   [shop]                            # the chain's shop exports: the station's [shop] keys
+//   brand = "..."                     # (docs/daemon.md), checked by the station's rules
 //
 // Only hashes of tokens are stored: a leaked config file does not let anyone push. Strict like
 // the station's: an unknown key, a wrong type or a bad value throws HubConfigError naming the
@@ -23,6 +25,8 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+
+#include "garmcap/daemon/config.h"
 
 namespace garmcap::hub {
 
@@ -42,6 +46,7 @@ struct HubConfig {
   int threads = 4;
   std::string tlsCertFile;  // both set: HTTPS; both empty: plain HTTP (loopback only)
   std::string tlsKeyFile;
+  daemon::ShopConfig shop;  // [shop]: defaults of the chain's shop exports
 
   bool tls() const { return !tlsCertFile.empty() || !tlsKeyFile.empty(); }
   /// Throws HubConfigError when incomplete (no database, half a [tls] section, a TLS file that

@@ -12,6 +12,7 @@
 //   GET   /api/items/<id>             admin or station
 //   PATCH /api/items/<id>             admin: {"title", "price_cents", "status"}
 //   GET   /api/hub/health             anyone: {"ok": true, "schema": N}
+//   GET   /api/export/shopify.csv ... the chain's shop files (hub_exports.h)
 
 #include <boost/asio/io_context.hpp>
 #include <memory>

@@ -130,6 +130,9 @@ class HubStore {
 
   std::optional<HubItem> item(std::int64_t id);
   HubPage list(const HubQuery& query);
+  /// The approved items that are not deleted, of `station` ("" = every station), oldest first,
+  /// with their measurements and images: what the chain's shop exports take. One snapshot.
+  std::vector<HubItem> approvedItems(const std::string& station);
   PatchResult patch(std::int64_t id, const HubPatch& patch);
   /// Changes for `station` after `since`, oldest first.
   std::vector<HubChange> changes(const std::string& station, std::int64_t since, int limit);

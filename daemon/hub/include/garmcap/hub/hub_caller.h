@@ -1,0 +1,31 @@
+#pragma once
+// Who calls the hub (a station by its token, the admin, or nobody) and which stations a read
+// covers: shared by the hub's API routes (hub_service.cpp) and its exports (hub_exports.cpp).
+
+#include <optional>
+#include <string>
+
+#include "garmcap/daemon/http_router.h"
+#include "garmcap/hub/hub_config.h"
+#include "garmcap/hub/hub_store.h"
+
+namespace garmcap::hub {
+
+struct Caller {
+  std::optional<std::string> station;
+  bool admin = false;
+  bool any() const { return admin || station.has_value(); }
+};
+
+/// The caller of `req` by its `Authorization: Bearer` token (RFC 7235: the scheme in any case).
+Caller callerOf(const daemon::Request& req, HubStore& store, const HubConfig& config);
+
+/// 401 with the hub's WWW-Authenticate challenge.
+daemon::Response unauthorized(const std::string& what);
+
+/// The station a read covers: for the admin the `station` query ("" or absent: every station),
+/// for a station token its own station. Throws BadRequest for a malformed station name; nullopt
+/// when a station token asks for another station's (the route answers 403).
+std::optional<std::string> readScope(const Caller& caller, const daemon::RouteMatch& m);
+
+}  // namespace garmcap::hub
