@@ -5,8 +5,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
 
-#include "garmcap/capture/file_io.h"
 #include "garmcap/capture/v4l2_decode.h"
+#include "garmcap/io/file_io.h"
 
 namespace garmcap::capture {
 
@@ -88,11 +88,12 @@ std::filesystem::path writeRigFrame(const std::filesystem::path& caseDir, const 
       ok = cv::imencode(".png", bgr, buf, {cv::IMWRITE_PNG_COMPRESSION, 9});
     }
   } catch (const cv::Exception& e) {
-    throw FileError(path.string() + ": encoding failed (" + e.what() + ")");
+    throw io::FileError(path.string() + ": encoding failed (" + e.what() + ")");
   }
   if (!ok)
-    throw FileError(path.string() + ": encoding failed");
-  writeFileAtomic(path, std::string_view(reinterpret_cast<const char*>(buf.data()), buf.size()));
+    throw io::FileError(path.string() + ": encoding failed");
+  io::writeFileAtomic(path,
+                      std::string_view(reinterpret_cast<const char*>(buf.data()), buf.size()));
   for (const RigImageFormat other : kFormats) {
     if (other != format)
       std::filesystem::remove(caseDir / frameFile(frame, other));
@@ -114,7 +115,7 @@ Rig readRig(const std::filesystem::path& dir) {
   Rig rig;
   rig.dir = dir;
   try {
-    rig.index = readJsonFile(indexPath);
+    rig.index = io::readJsonFile(indexPath);
   } catch (const std::exception& e) {
     throw RigError(e.what());
   }
@@ -123,36 +124,36 @@ Rig readRig(const std::filesystem::path& dir) {
             "image_format", "jpeg_quality", "cases"},
            what);
   try {
-    if (requireString(rig.index, "format", what) != "garmcap-rig") {
+    if (io::requireString(rig.index, "format", what) != "garmcap-rig") {
       throw RigError(what + ": field 'format' must be \"garmcap-rig\"");
     }
-    if (requireNumber(rig.index, "version", what) != 1) {
+    if (io::requireNumber(rig.index, "version", what) != 1) {
       throw RigError(what + ": field 'version' must be 1");
     }
     std::optional<RigImageFormat> imageFormat;
     if (rig.index.contains("image_format")) {
-      const std::string f = requireString(rig.index, "image_format", what);
+      const std::string f = io::requireString(rig.index, "image_format", what);
       if (f != "png" && f != "jpg")
         throw RigError(what + ": field 'image_format' must be \"png\" or \"jpg\", not \"" + f +
                        "\"");
       imageFormat = parseRigImageFormat(f);
     }
     if (rig.index.contains("jpeg_quality")) {
-      const double q = requireNumber(rig.index, "jpeg_quality", what);
+      const double q = io::requireNumber(rig.index, "jpeg_quality", what);
       if (!(q >= 1 && q <= 100) || q != std::floor(q))
         throw RigError(what + ": field 'jpeg_quality' must be an integer 1..100");
     }
-    const auto& cases = requireField(rig.index, "cases", what);
+    const auto& cases = io::requireField(rig.index, "cases", what);
     if (!cases.is_array())
       throw RigError(what + ": field 'cases' must be an array");
     for (std::size_t i = 0; i < cases.size(); ++i) {
       const std::string cw = what + ": cases[" + std::to_string(i) + "]";
       onlyKeys(cases[i], {"id", "dir", "type", "attributes", "hard", "size"}, cw);
       RigCaseInfo c;
-      c.id = requireString(cases[i], "id", cw);
-      c.dir = dir / requireString(cases[i], "dir", cw);
-      c.type = requireString(cases[i], "type", cw);
-      const auto& attrs = requireField(cases[i], "attributes", cw);
+      c.id = io::requireString(cases[i], "id", cw);
+      c.dir = dir / io::requireString(cases[i], "dir", cw);
+      c.type = io::requireString(cases[i], "type", cw);
+      const auto& attrs = io::requireField(cases[i], "attributes", cw);
       if (!attrs.is_object())
         throw RigError(cw + ": field 'attributes' must be an object");
       for (const auto& [k, v] : attrs.items()) {
@@ -160,12 +161,12 @@ Rig readRig(const std::filesystem::path& dir) {
           throw RigError(cw + ": attribute '" + k + "' must be a string");
         c.attributes[k] = v.get<std::string>();
       }
-      const auto& hard = requireField(cases[i], "hard", cw);
+      const auto& hard = io::requireField(cases[i], "hard", cw);
       if (!hard.is_boolean())
         throw RigError(cw + ": field 'hard' must be true or false");
       c.hard = hard.get<bool>();
       if (cases[i].contains("size"))
-        c.size = requireString(cases[i], "size", cw);
+        c.size = io::requireString(cases[i], "size", cw);
       const std::string ofCase = " (case '" + c.id + "' of " + what + ")";
       for (const char* frame : {"empty", "dressed"}) {
         std::filesystem::path file;
@@ -186,7 +187,7 @@ Rig readRig(const std::filesystem::path& dir) {
       }
       rig.cases.push_back(std::move(c));
     }
-  } catch (const ParseError& e) {
+  } catch (const io::ParseError& e) {
     throw RigError(e.what());
   }
   return rig;
@@ -197,8 +198,8 @@ cv::Mat loadRigImage(const std::filesystem::path& file) {
     throw RigError(file.string() + ": missing");
   std::string bytes;
   try {
-    bytes = readFile(file);
-  } catch (const FileError& e) {
+    bytes = io::readFile(file);
+  } catch (const io::FileError& e) {
     throw RigError(e.what());
   }
   const std::string ext = file.extension().string();
@@ -246,9 +247,9 @@ RigCase loadRigCase(const std::filesystem::path& caseDir) {
                    " (the two frames must come from the same camera setting)");
   }
   try {
-    c.truth = readJsonFile(caseDir / "truth.json");
+    c.truth = io::readJsonFile(caseDir / "truth.json");
     if (std::filesystem::is_regular_file(caseDir / "calibration.json")) {
-      c.calibration = readJsonFile(caseDir / "calibration.json");
+      c.calibration = io::readJsonFile(caseDir / "calibration.json");
     } else if (c.truth.contains("calibration")) {
       c.calibration = c.truth["calibration"];
     }
@@ -260,9 +261,9 @@ RigCase loadRigCase(const std::filesystem::path& caseDir) {
       if (form.is_relative())
         c.calibration["form"] = (caseDir / form).lexically_normal().string();
     }
-  } catch (const ParseError& e) {
+  } catch (const io::ParseError& e) {
     throw RigError(e.what());
-  } catch (const FileError& e) {
+  } catch (const io::FileError& e) {
     throw RigError(e.what());
   }
   return c;
@@ -282,10 +283,10 @@ RigCase cropRigCaseBottom(const RigCase& rigCase, int keepRows) {
     if (!out.calibration.contains("camera") || out.calibration["camera"].is_null()) {
       if (std::filesystem::is_regular_file(rigCase.dir / "camera.json")) {
         try {
-          out.calibration["camera"] = readJsonFile(rigCase.dir / "camera.json");
-        } catch (const ParseError& e) {
+          out.calibration["camera"] = io::readJsonFile(rigCase.dir / "camera.json");
+        } catch (const io::ParseError& e) {
           throw RigError(e.what());
-        } catch (const FileError& e) {
+        } catch (const io::FileError& e) {
           throw RigError(e.what());
         }
       }
