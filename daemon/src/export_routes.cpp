@@ -275,281 +275,277 @@ std::string widthTag(double cm) {
   return os.str();
 }
 
-}  // namespace
+// Pattern files of one item. `build` gets the item, its size guide, its patterns and the size
+// asked for.
+using PatternBuild =
+    std::function<Response(const Item&, const std::optional<nlohmann::json>&,
+                           const std::map<std::string, nlohmann::json>&, const std::string&)>;
+using GradedWrite = std::function<Response(const Item&, const GradedRun&)>;
+using ShopBuild = std::function<ShopFile(const std::vector<ExportItem>&, const ShopOptions&)>;
+enum class MarkerFile { kSvg, kPdf, kDxf, kJson };
 
-void addExportRoutes(Router& router, RouteContext& ctx) {
-  using V = http::verb;
-  RouteContext* c = &ctx;
+// A named route handler bound to the station's route context (Router takes plain callables).
+template <class Handler>
+auto withContext(RouteContext* c, Handler handler) {
+  return [c, handler](auto&&... args) { handler(c, std::forward<decltype(args)>(args)...); };
+}
 
-  // Shop files: snapshot on the strand, build on the pool.
-  auto shopRoute =
-      [c](std::string name, std::string type,
-          std::function<ShopFile(const std::vector<ExportItem>&, const ShopOptions&)> build) {
-        return [c, name, type, build](const Request&, const RouteMatch& m, Reply reply) {
-          const ShopOptions o = shopOptions(m, c->shopConfig());
-          c->withCatalog(
-              [c, reply, o, name, type, build](Catalog& cat) {
-                auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, false));
-                c->offload(
-                    [reply, o, name, type, build, snap] {
-                      try {
-                        std::vector<std::string> warnings;
-                        const auto items =
-                            shopItems(snap->items, snap->sizeGuides, warnings, itemLabel);
-                        ShopFile f = build(items, o);
-                        warnings.insert(warnings.end(), f.warnings.begin(), f.warnings.end());
-                        Response r = downloadResponse(type, std::move(f.bytes), name);
-                        setExportWarnings(r, warnings);
-                        reply(std::move(r));
-                      } catch (const ExportError& e) {
-                        reply(jsonError(http::status::unprocessable_entity, e.what()));
-                      } catch (const std::exception& e) {
-                        reply(jsonError(http::status::internal_server_error, e.what()));
-                      }
-                    },
-                    reply);
+// A shop file (`name`, served as `type`): the approved items snapshot on the strand, the file
+// built on the pool.
+Handler shopFileRoute(RouteContext* c, std::string name, std::string type, ShopBuild build) {
+  return [c, name, type, build](const Request&, const RouteMatch& m, Reply reply) {
+    const ShopOptions o = shopOptions(m, c->shopConfig());
+    c->withCatalog(
+        [c, reply, o, name, type, build](Catalog& cat) {
+          auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, false));
+          c->offload(
+              [reply, o, name, type, build, snap] {
+                try {
+                  std::vector<std::string> warnings;
+                  const auto items = shopItems(snap->items, snap->sizeGuides, warnings, itemLabel);
+                  ShopFile f = build(items, o);
+                  warnings.insert(warnings.end(), f.warnings.begin(), f.warnings.end());
+                  Response r = downloadResponse(type, std::move(f.bytes), name);
+                  setExportWarnings(r, warnings);
+                  reply(std::move(r));
+                } catch (const ExportError& e) {
+                  reply(jsonError(http::status::unprocessable_entity, e.what()));
+                } catch (const std::exception& e) {
+                  reply(jsonError(http::status::internal_server_error, e.what()));
+                }
               },
               reply);
-        };
-      };
-  router.add(V::get, "/api/export/shopify.csv",
-             shopRoute("shopify.csv", "text/csv; charset=utf-8", shopifyCsv));
-  router.add(V::get, "/api/export/woocommerce.csv",
-             shopRoute("woocommerce.csv", "text/csv; charset=utf-8", wooCommerceCsv));
-  router.add(V::get, "/api/export/merchant.tsv",
-             shopRoute("merchant.tsv", "text/tab-separated-values; charset=utf-8", merchantTsv));
+        },
+        reply);
+  };
+}
 
-  router.add(
-      V::get, "/api/export/catalog.zip", [c](const Request&, const RouteMatch& m, Reply reply) {
-        const ShopOptions o = shopOptions(m, c->shopConfig());
-        c->withCatalog(
-            [c, reply, o](Catalog& cat) {
-              auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, true));
-              c->offload(
-                  [c, reply, o, snap] {
+// GET /api/export/catalog.zip: photos, patterns and the shop files of every approved item.
+void getCatalogZip(RouteContext* c, const Request&, const RouteMatch& m, Reply reply) {
+  const ShopOptions o = shopOptions(m, c->shopConfig());
+  c->withCatalog(
+      [c, reply, o](Catalog& cat) {
+        auto snap = std::make_shared<CatalogSnapshot>(snapshot(cat, true));
+        c->offload(
+            [c, reply, o, snap] {
+              try {
+                std::vector<std::string> notes;
+                const std::vector<ExportItem> items =
+                    shopItems(snap->items, snap->sizeGuides, notes, itemLabel);
+                std::vector<ZipEntry> files;
+                for (size_t i = 0; i < snap->items.size(); ++i) {
+                  const Item& it = snap->items[i];
+                  const std::string style =
+                      it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
+                  for (const auto& im : it.images) {
+                    const std::string ext = imageExtension(im.mediaType);
+                    if (ext.empty() || std::find(kZipImageKinds.begin(), kZipImageKinds.end(),
+                                                 im.kind) == kZipImageKinds.end())
+                      continue;
+                    auto bytes = c->store().read(im.sha256);
+                    if (!bytes)
+                      throw ExportError("image " + im.sha256 + " is missing from the store");
+                    files.push_back(
+                        {exportImagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
+                  }
+                  const std::string dir = "patterns/" + std::to_string(it.id) + "/";
+                  const auto& pats = snap->patterns[i];
+                  for (const auto& [size, json] : pats) {
                     try {
-                      std::vector<std::string> notes;
-                      const std::vector<ExportItem> items =
-                          shopItems(snap->items, snap->sizeGuides, notes, itemLabel);
-                      std::vector<ZipEntry> files;
-                      for (size_t i = 0; i < snap->items.size(); ++i) {
-                        const Item& it = snap->items[i];
-                        const std::string style =
-                            it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
-                        for (const auto& im : it.images) {
-                          const std::string ext = imageExtension(im.mediaType);
-                          if (ext.empty() || std::find(kZipImageKinds.begin(), kZipImageKinds.end(),
-                                                       im.kind) == kZipImageKinds.end())
-                            continue;
-                          auto bytes = c->store().read(im.sha256);
-                          if (!bytes)
-                            throw ExportError("image " + im.sha256 + " is missing from the store");
-                          files.push_back(
-                              {exportImagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
-                        }
-                        const std::string dir = "patterns/" + std::to_string(it.id) + "/";
-                        const auto& pats = snap->patterns[i];
-                        for (const auto& [size, json] : pats) {
-                          try {
-                            auto p =
-                                drafts::patternFromJsonValue(json, "item " + std::to_string(it.id));
-                            const PieceText t{style, sizeLabel(it, size)};
-                            files.push_back({dir + size + ".dxf", patternDxf(p, t)});
-                            files.push_back({dir + size + ".svg", patternSvg(p, t)});
-                            if (size == "base")
-                              files.push_back({dir + "garmentcode.json", garmentCodeJson(p, t)});
-                          } catch (const std::exception& e) {
-                            notes.push_back("item " + std::to_string(it.id) + " size " + size +
-                                            ": " + e.what());
-                          }
-                        }
-                        try {
-                          if (auto run = gradedRun(it, snap->sizeGuides[i], pats)) {
-                            files.push_back({dir + "graded.dxf", gradedDxf(*run)});
-                            files.push_back({dir + "graded.rul", gradeRuleTable(*run)});
-                          }
-                          auto base = pats.find("base");
-                          auto vm = vitMeasurements(
-                              it, base == pats.end() ? std::nullopt : std::optional(base->second));
-                          if (!vm.empty())
-                            files.push_back(
-                                {dir + "measurements.vit", drafts::measurementsToVit(vm)});
-                        } catch (const std::exception& e) {
-                          notes.push_back("item " + std::to_string(it.id) + ": " + e.what());
-                        }
-                      }
-                      for (auto [file, build] : {std::pair{"shopify.csv", &shopifyCsv},
-                                                 std::pair{"woocommerce.csv", &wooCommerceCsv},
-                                                 std::pair{"merchant.tsv", &merchantTsv}}) {
-                        // A shop file the settings cannot make yet (no public address) is left
-                        // out with the reason; the patterns and photos are still worth having.
-                        try {
-                          ShopFile f = build(items, o);
-                          for (const auto& w : f.warnings)
-                            notes.push_back(std::string(file) + ": " + w);
-                          files.push_back({file, std::move(f.bytes)});
-                        } catch (const ExportError& e) {
-                          notes.push_back(std::string(file) + " left out: " + e.what());
-                        }
-                      }
-                      std::string readme =
-                          "GarmCap Station catalog export: " + std::to_string(items.size()) +
-                          " approved items.\n" +
-                          (o.publicBaseUrl.empty()
-                               ? std::string("No public address is set ([shop] public_base_url), "
-                                             "so the shop files cannot link the images yet.\n")
-                               : "Upload the folder so that images/ is reachable at " +
-                                     o.publicBaseUrl + "/images/ before importing the CSVs.\n") +
-                          "Patterns: patterns/<item id>/ (DXF in mm, SVG 1:1, GarmentCode JSON, "
-                          "Valentina .vit, graded DXF + RUL when graded).\n";
-                      for (const auto& n : notes)
-                        readme += "Note: " + n + "\n";
-                      files.push_back({"README.txt", readme});
-                      Response r =
-                          downloadResponse("application/zip", storeZip(files), "catalog.zip");
-                      setExportWarnings(r, notes);
-                      reply(std::move(r));
-                    } catch (const ExportError& e) {
-                      reply(jsonError(http::status::unprocessable_entity, e.what()));
+                      auto p = drafts::patternFromJsonValue(json, "item " + std::to_string(it.id));
+                      const PieceText t{style, sizeLabel(it, size)};
+                      files.push_back({dir + size + ".dxf", patternDxf(p, t)});
+                      files.push_back({dir + size + ".svg", patternSvg(p, t)});
+                      if (size == "base")
+                        files.push_back({dir + "garmentcode.json", garmentCodeJson(p, t)});
                     } catch (const std::exception& e) {
-                      reply(jsonError(http::status::internal_server_error, e.what()));
+                      notes.push_back("item " + std::to_string(it.id) + " size " + size + ": " +
+                                      e.what());
                     }
-                  },
-                  reply);
+                  }
+                  try {
+                    if (auto run = gradedRun(it, snap->sizeGuides[i], pats)) {
+                      files.push_back({dir + "graded.dxf", gradedDxf(*run)});
+                      files.push_back({dir + "graded.rul", gradeRuleTable(*run)});
+                    }
+                    auto base = pats.find("base");
+                    auto vm = vitMeasurements(
+                        it, base == pats.end() ? std::nullopt : std::optional(base->second));
+                    if (!vm.empty())
+                      files.push_back({dir + "measurements.vit", drafts::measurementsToVit(vm)});
+                  } catch (const std::exception& e) {
+                    notes.push_back("item " + std::to_string(it.id) + ": " + e.what());
+                  }
+                }
+                for (auto [file, build] : {std::pair{"shopify.csv", &shopifyCsv},
+                                           std::pair{"woocommerce.csv", &wooCommerceCsv},
+                                           std::pair{"merchant.tsv", &merchantTsv}}) {
+                  // A shop file the settings cannot make yet (no public address) is left
+                  // out with the reason; the patterns and photos are still worth having.
+                  try {
+                    ShopFile f = build(items, o);
+                    for (const auto& w : f.warnings)
+                      notes.push_back(std::string(file) + ": " + w);
+                    files.push_back({file, std::move(f.bytes)});
+                  } catch (const ExportError& e) {
+                    notes.push_back(std::string(file) + " left out: " + e.what());
+                  }
+                }
+                std::string readme =
+                    "GarmCap Station catalog export: " + std::to_string(items.size()) +
+                    " approved items.\n" +
+                    (o.publicBaseUrl.empty()
+                         ? std::string("No public address is set ([shop] public_base_url), "
+                                       "so the shop files cannot link the images yet.\n")
+                         : "Upload the folder so that images/ is reachable at " + o.publicBaseUrl +
+                               "/images/ before importing the CSVs.\n") +
+                    "Patterns: patterns/<item id>/ (DXF in mm, SVG 1:1, GarmentCode JSON, "
+                    "Valentina .vit, graded DXF + RUL when graded).\n";
+                for (const auto& n : notes)
+                  readme += "Note: " + n + "\n";
+                files.push_back({"README.txt", readme});
+                Response r = downloadResponse("application/zip", storeZip(files), "catalog.zip");
+                setExportWarnings(r, notes);
+                reply(std::move(r));
+              } catch (const ExportError& e) {
+                reply(jsonError(http::status::unprocessable_entity, e.what()));
+              } catch (const std::exception& e) {
+                reply(jsonError(http::status::internal_server_error, e.what()));
+              }
             },
             reply);
-      });
+      },
+      reply);
+}
 
-  // The images the default base URL links to: "<id>-<kind>" names only, resolved through the
-  // catalog (never through the file system).
-  auto imageFile = [c](std::string ext) {
-    return [c, ext](const Request&, const RouteMatch& m, Reply reply) {
-      const std::string name = m.param("name");
-      const auto dash = name.find('-');
-      if (dash == std::string::npos || dash == 0)
-        throw BadRequest("image name must be <item id>-<kind>, got '" + quoteInput(name) + "'");
-      RouteMatch idOnly;
-      idOnly.params["id"] = name.substr(0, dash);
-      const std::int64_t id = idOnly.id("id");
-      const std::string kind = name.substr(dash + 1);
-      c->withCatalog(
-          [c, reply, id, kind, ext](Catalog& cat) {
-            auto it = cat.item(id);
-            if (!it || it->status != kStatusApproved)
-              return reply(
-                  jsonError(http::status::not_found, "no approved item " + std::to_string(id)));
-            for (const auto& im : it->images)
-              if (im.kind == kind && imageExtension(im.mediaType) == ext) {
-                const ImageRef ref = im;
-                return c->offload(
-                    [c, reply, ref] {
-                      auto bytes = c->store().read(ref.sha256);
-                      if (!bytes)
-                        return reply(
-                            jsonError(http::status::internal_server_error,
-                                      "image " + ref.sha256 + " is missing from the store"));
-                      Response r = textResponse(http::status::ok, ref.mediaType, std::move(*bytes));
-                      r.set(http::field::cache_control, "public, max-age=86400");
-                      reply(std::move(r));
-                    },
-                    reply);
-              }
-            reply(jsonError(http::status::not_found, "item " + std::to_string(id) + " has no " +
-                                                         ext + " image '" + kind + "'"));
-          },
-          reply);
-    };
-  };
-  router.add(V::get, "/api/export/files/images/{name}.jpg", imageFile("jpg"));
-  router.add(V::get, "/api/export/files/images/{name}.png", imageFile("png"));
-  router.add(V::get, "/api/export/files/images/{name}.webp", imageFile("webp"));
-
-  // A built-in size chart as a Valentina multisize table (every size, labelled): pure data, no
-  // catalog access, so it is answered on the spot.
-  router.add(
-      V::get, "/api/size_charts/{name}.vst", [](const Request&, const RouteMatch& m, Reply reply) {
-        const std::string name = m.param("name");
-        for (const auto& chart : drafts::sizeCharts()) {
-          if (chart.name == name)
+// The images the default base URL links to: "<id>-<kind>" names only, resolved through the
+// catalog (never through the file system).
+Handler exportImageRoute(RouteContext* c, std::string ext) {
+  return [c, ext](const Request&, const RouteMatch& m, Reply reply) {
+    const std::string name = m.param("name");
+    const auto dash = name.find('-');
+    if (dash == std::string::npos || dash == 0)
+      throw BadRequest("image name must be <item id>-<kind>, got '" + quoteInput(name) + "'");
+    RouteMatch idOnly;
+    idOnly.params["id"] = name.substr(0, dash);
+    const std::int64_t id = idOnly.id("id");
+    const std::string kind = name.substr(dash + 1);
+    c->withCatalog(
+        [c, reply, id, kind, ext](Catalog& cat) {
+          auto it = cat.item(id);
+          if (!it || it->status != kStatusApproved)
             return reply(
-                fileResponse("application/xml", drafts::chartToVst(chart), chart.name + ".vst"));
-        }
-        std::string known;
-        for (const auto& chart : drafts::sizeCharts())
-          known += (known.empty() ? "" : ", ") + chart.name;
-        reply(jsonError(http::status::not_found,
-                        "no size chart '" + quoteInput(name) + "' (known: " + known + ")"));
-      });
+                jsonError(http::status::not_found, "no approved item " + std::to_string(id)));
+          for (const auto& im : it->images)
+            if (im.kind == kind && imageExtension(im.mediaType) == ext) {
+              const ImageRef ref = im;
+              return c->offload(
+                  [c, reply, ref] {
+                    auto bytes = c->store().read(ref.sha256);
+                    if (!bytes)
+                      return reply(jsonError(http::status::internal_server_error,
+                                             "image " + ref.sha256 + " is missing from the store"));
+                    Response r = textResponse(http::status::ok, ref.mediaType, std::move(*bytes));
+                    r.set(http::field::cache_control, "public, max-age=86400");
+                    reply(std::move(r));
+                  },
+                  reply);
+            }
+          reply(jsonError(http::status::not_found, "item " + std::to_string(id) + " has no " + ext +
+                                                       " image '" + kind + "'"));
+        },
+        reply);
+  };
+}
 
-  // Pattern files of one item. `build` gets the item, its patterns and the size asked for.
-  using PatternBuild =
-      std::function<Response(const Item&, const std::optional<nlohmann::json>&,
-                             const std::map<std::string, nlohmann::json>&, const std::string&)>;
-  auto patternRoute = [c](PatternBuild build) {
-    return [c, build](const Request&, const RouteMatch& m, Reply reply) {
-      const auto id = m.id("id");
-      const std::string size = patternSizeParam(m);
-      c->withCatalog(
-          [c, reply, id, size, build](Catalog& cat) {
-            auto it = cat.item(id);
-            if (!it)
-              return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
-            auto guide = cat.sizeGuide(id);
-            std::map<std::string, nlohmann::json> pats;
-            for (const auto& s : it->sizes)
-              if (auto p = cat.pattern(id, s))
-                pats[s] = *p;
-            if (auto p = pats.find(size); p != pats.end() && patternIsEmpty(p->second))
-              return reply(noDraftedPattern(*it, size));
-            c->offload(
-                [reply, item = *it, guide, pats, size, build] {
-                  try {
-                    reply(build(item, guide, pats, size));
-                  } catch (const ExportError& e) {
-                    reply(jsonError(http::status::unprocessable_entity, e.what()));
-                  } catch (const drafts::PatternExportError& e) {
-                    reply(jsonError(http::status::unprocessable_entity, e.what()));
-                  } catch (const std::exception& e) {
-                    reply(jsonError(http::status::internal_server_error, e.what()));
-                  }
-                },
-                reply);
-          },
-          reply);
-    };
-  };
-  auto onePattern = [](const Item& it, const std::map<std::string, nlohmann::json>& pats,
-                       const std::string& size) -> std::optional<drafts::Pattern> {
-    auto p = pats.find(size);
-    if (p == pats.end())
-      return std::nullopt;
-    return drafts::patternFromJsonValue(p->second,
-                                        "item " + std::to_string(it.id) + " pattern " + size);
-  };
-  auto style = [](const Item& it) {
-    return it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
-  };
-  auto fileBase = [](const Item& it, const std::string& size) {
-    return (it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku) + "_" + size;
-  };
+// GET /api/size_charts/{name}.vst: a built-in size chart as a Valentina multisize table (every
+// size, labelled): pure data, no catalog access, so it is answered on the spot.
+void getSizeChartVst(const Request&, const RouteMatch& m, Reply reply) {
+  const std::string name = m.param("name");
+  for (const auto& chart : drafts::sizeCharts()) {
+    if (chart.name == name)
+      return reply(
+          downloadResponse("application/xml", drafts::chartToVst(chart), chart.name + ".vst"));
+  }
+  std::string known;
+  for (const auto& chart : drafts::sizeCharts())
+    known += (known.empty() ? "" : ", ") + chart.name;
+  reply(jsonError(http::status::not_found,
+                  "no size chart '" + quoteInput(name) + "' (known: " + known + ")"));
+}
 
-  router.add(
-      V::get, "/api/items/{id}/pattern.dxf",
-      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
+// The handler of a pattern file of one item: the item, its size guide and patterns read on the
+// strand, the file built by `build` on the pool.
+Handler patternRoute(RouteContext* c, PatternBuild build) {
+  return [c, build](const Request&, const RouteMatch& m, Reply reply) {
+    const auto id = m.id("id");
+    const std::string size = patternSizeParam(m);
+    c->withCatalog(
+        [c, reply, id, size, build](Catalog& cat) {
+          auto it = cat.item(id);
+          if (!it)
+            return reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+          auto guide = cat.sizeGuide(id);
+          std::map<std::string, nlohmann::json> pats;
+          for (const auto& s : it->sizes)
+            if (auto p = cat.pattern(id, s))
+              pats[s] = *p;
+          if (auto p = pats.find(size); p != pats.end() && patternIsEmpty(p->second))
+            return reply(noDraftedPattern(*it, size));
+          c->offload(
+              [reply, item = *it, guide, pats, size, build] {
+                try {
+                  reply(build(item, guide, pats, size));
+                } catch (const ExportError& e) {
+                  reply(jsonError(http::status::unprocessable_entity, e.what()));
+                } catch (const drafts::PatternExportError& e) {
+                  reply(jsonError(http::status::unprocessable_entity, e.what()));
+                } catch (const std::exception& e) {
+                  reply(jsonError(http::status::internal_server_error, e.what()));
+                }
+              },
+              reply);
+        },
+        reply);
+  };
+}
+
+std::optional<drafts::Pattern> onePattern(const Item& it,
+                                          const std::map<std::string, nlohmann::json>& pats,
+                                          const std::string& size) {
+  auto p = pats.find(size);
+  if (p == pats.end())
+    return std::nullopt;
+  return drafts::patternFromJsonValue(p->second,
+                                      "item " + std::to_string(it.id) + " pattern " + size);
+}
+
+std::string style(const Item& it) {
+  return it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
+}
+
+std::string fileBase(const Item& it, const std::string& size) {
+  return (it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku) + "_" + size;
+}
+
+// GET /api/items/{id}/pattern.dxf
+Response patternDxfFile(const Item& it, const std::optional<nlohmann::json>&,
+                        const std::map<std::string, nlohmann::json>& pats,
+                        const std::string& size) {
+  auto p = onePattern(it, pats, size);
+  if (!p)
+    return noPatternForSize(it, size);
+  return downloadResponse("application/dxf", patternDxf(*p, {style(it), sizeLabel(it, size)}),
+                          fileBase(it, size) + ".dxf");
+}
+
+// GET /api/items/{id}/pattern.pdf: tiled for office paper (A4 by default, US Letter) or on A0
+// plotter pages.
+void getPatternPdf(RouteContext* c, const Request& req, const RouteMatch& m, Reply reply) {
+  const drafts::Paper paper = paperParam(m);
+  patternRoute(c,
+               [paper](const Item& it, const std::optional<nlohmann::json>&,
                        const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
-        auto p = onePattern(it, pats, size);
-        if (!p)
-          return noPatternForSize(it, size);
-        return downloadResponse("application/dxf", patternDxf(*p, {style(it), sizeLabel(it, size)}),
-                                fileBase(it, size) + ".dxf");
-      }));
-  // Tiled for office paper (A4 by default, US Letter) or on A0 plotter pages.
-  router.add(V::get, "/api/items/{id}/pattern.pdf",
-             [=](const Request& req, const RouteMatch& m, Reply reply) {
-               const drafts::Paper paper = paperParam(m);
-               patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
-                                const std::map<std::string, nlohmann::json>& pats,
-                                const std::string& size) {
                  auto p = onePattern(it, pats, size);
                  if (!p)
                    return noPatternForSize(it, size);
@@ -557,142 +553,172 @@ void addExportRoutes(Router& router, RouteContext& ctx) {
                                          patternPdf(*p, {style(it), sizeLabel(it, size)}, paper),
                                          fileBase(it, size) + "_" + paperFileTag(paper) + ".pdf");
                })(req, m, std::move(reply));
-             });
-  router.add(
-      V::get, "/api/items/{id}/garmentcode.json",
-      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
-                       const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
-        auto p = onePattern(it, pats, size);
-        if (!p)
-          return noPatternForSize(it, size);
-        return downloadResponse("application/json",
-                                garmentCodeJson(*p, {style(it), sizeLabel(it, size)}),
-                                fileBase(it, size) + "_specification.json");
-      }));
-  // Files of the item's graded size run; an item whose garment could not be drafted says why.
-  auto graded = [=](std::function<Response(const Item&, const GradedRun&)> write) {
-    return patternRoute([=](const Item& it, const std::optional<nlohmann::json>& guide,
-                            const std::map<std::string, nlohmann::json>& pats, const std::string&) {
-      if (pats.empty())
-        return noDraftedPattern(it, "base");
-      auto run = gradedRun(it, guide, pats);
-      if (!run)
-        return jsonError(http::status::not_found,
-                         "item " + std::to_string(it.id) +
-                             " has no graded size run (fewer than two graded sizes stored)");
-      return write(it, *run);
-    });
-  };
-  router.add(V::get, "/api/items/{id}/pattern_graded.dxf",
-             graded([=](const Item& it, const GradedRun& run) {
-               return downloadResponse("application/dxf", gradedDxf(run), style(it) + ".dxf");
-             }));
-  router.add(V::get, "/api/items/{id}/pattern_graded.rul",
-             graded([=](const Item& it, const GradedRun& run) {
-               return downloadResponse("text/plain; charset=us-ascii", gradeRuleTable(run),
-                                       style(it) + ".rul");
-             }));
-  // Nested grading: every size of the run superimposed per piece, the sample size marked.
-  router.add(V::get, "/api/items/{id}/nested_grading.svg",
-             graded([=](const Item& it, const GradedRun& run) {
-               return downloadResponse("image/svg+xml", drafts::nestedGradingSvg(run),
-                                       style(it) + "_nested_grading.svg");
-             }));
-  router.add(V::get, "/api/items/{id}/nested_grading.pdf",
-             graded([=](const Item& it, const GradedRun& run) {
-               return downloadResponse("application/pdf", drafts::nestedGradingPdf(run),
-                                       style(it) + "_nested_grading.pdf");
-             }));
-  router.add(V::get, "/api/items/{id}/nested_grading.dxf",
-             graded([=](const Item& it, const GradedRun& run) {
-               return downloadResponse("application/dxf", drafts::nestedGradingDxf(run),
-                                       style(it) + "_nested_grading.dxf");
-             }));
+}
 
-  // Markers: every piece of the sizes asked for (default: the item's own) laid on the fabric
-  // width. A marker that cannot be laid (a piece wider than the fabric) is a 422 naming why.
-  // One marker at a time per station (kMaxMarkersAtOnce): a request that finds the slot taken
-  // gets 503 with Retry-After; the slot is freed as the answer is sent (or the request is
-  // dropped).
-  enum class MarkerFile { kSvg, kPdf, kDxf, kJson };
-  const auto markerSlots = std::make_shared<MarkerSlots>();
-  auto marker = [=](MarkerFile format) {
-    return [=](const Request& req, const RouteMatch& m, Reply reply) {
-      const MarkerQuery q = markerQuery(m);
-      const auto slot = markerSlots->tryAcquire();
-      if (!slot)
-        return reply(markerBusy());
-      Reply answer = [slot, reply](Response r) {
-        slot->release();
-        reply(std::move(r));
-      };
-      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
-                       const std::map<std::string, nlohmann::json>& pats, const std::string&) {
+// GET /api/items/{id}/garmentcode.json
+Response garmentCodeFile(const Item& it, const std::optional<nlohmann::json>&,
+                         const std::map<std::string, nlohmann::json>& pats,
+                         const std::string& size) {
+  auto p = onePattern(it, pats, size);
+  if (!p)
+    return noPatternForSize(it, size);
+  return downloadResponse("application/json", garmentCodeJson(*p, {style(it), sizeLabel(it, size)}),
+                          fileBase(it, size) + "_specification.json");
+}
+
+// Files of the item's graded size run; an item whose garment could not be drafted says why.
+Handler gradedRoute(RouteContext* c, GradedWrite write) {
+  return patternRoute(
+      c, [write](const Item& it, const std::optional<nlohmann::json>& guide,
+                 const std::map<std::string, nlohmann::json>& pats, const std::string&) {
         if (pats.empty())
           return noDraftedPattern(it, "base");
-        std::vector<std::string> sizes = q.sizes;
-        if (sizes.empty())
-          sizes.push_back(pats.count("base") || !pats.count(it.baseSize) ? "base" : it.baseSize);
-        std::vector<drafts::SizedPattern> sized;
-        std::string labels;
-        for (const auto& s : sizes) {
-          if (!pats.count(s)) {
-            if (q.sizes.empty())
-              return noPatternForSize(it, s);
-            std::string have;
-            for (const auto& h : it.sizes)
-              have += (have.empty() ? "" : ", ") + h;
-            return jsonError(http::status::bad_request,
-                             "query 'sizes': item " + std::to_string(it.id) +
-                                 " has no pattern for size '" + s + "' (sizes: " + have + ")");
-          }
-          if (patternIsEmpty(pats.at(s)))
-            return noDraftedPattern(it, s);
-          // The piece as measured keeps the name "base" beside its own chart size.
-          const bool both =
-              s == "base" && std::find(sizes.begin(), sizes.end(), it.baseSize) != sizes.end();
-          sized.push_back({both ? s : sizeLabel(it, s), *onePattern(it, pats, s)});
-          labels += (labels.empty() ? "" : "-") + sized.back().size;
-        }
-        const drafts::Marker laid = drafts::layMarker(sized, {q.widthCm});
-        std::string title = style(it) + " " + sized.front().pattern.type + " size";
-        for (const auto& sp : sized)
-          title += " " + sp.size;
-        const std::string name =
-            fileBase(it, "marker_" + labels + "_" + widthTag(q.widthCm) + "cm");
-        switch (format) {
-          case MarkerFile::kSvg:
-            return downloadResponse("image/svg+xml", drafts::markerSvg(laid, title), name + ".svg");
-          case MarkerFile::kPdf:
-            return downloadResponse("application/pdf", drafts::markerPdf(laid, title),
-                                    name + ".pdf");
-          case MarkerFile::kDxf:
-            return downloadResponse("application/dxf", drafts::markerDxf(laid), name + ".dxf");
-          case MarkerFile::kJson:
-            break;
-        }
-        return jsonResponse(http::status::ok, drafts::markerSummaryJson(laid, title));
-      })(req, m, std::move(answer));
+        auto run = gradedRun(it, guide, pats);
+        if (!run)
+          return jsonError(http::status::not_found,
+                           "item " + std::to_string(it.id) +
+                               " has no graded size run (fewer than two graded sizes stored)");
+        return write(it, *run);
+      });
+}
+
+Response gradedDxfFile(const Item& it, const GradedRun& run) {
+  return downloadResponse("application/dxf", gradedDxf(run), style(it) + ".dxf");
+}
+
+Response gradedRulFile(const Item& it, const GradedRun& run) {
+  return downloadResponse("text/plain; charset=us-ascii", gradeRuleTable(run), style(it) + ".rul");
+}
+
+// Nested grading: every size of the run superimposed per piece, the sample size marked.
+Response nestedGradingSvgFile(const Item& it, const GradedRun& run) {
+  return downloadResponse("image/svg+xml", drafts::nestedGradingSvg(run),
+                          style(it) + "_nested_grading.svg");
+}
+
+Response nestedGradingPdfFile(const Item& it, const GradedRun& run) {
+  return downloadResponse("application/pdf", drafts::nestedGradingPdf(run),
+                          style(it) + "_nested_grading.pdf");
+}
+
+Response nestedGradingDxfFile(const Item& it, const GradedRun& run) {
+  return downloadResponse("application/dxf", drafts::nestedGradingDxf(run),
+                          style(it) + "_nested_grading.dxf");
+}
+
+// A marker of the sizes `q` asks for (default: the item's own) in `format`.
+Response markerFile(MarkerFile format, const MarkerQuery& q, const Item& it,
+                    const std::map<std::string, nlohmann::json>& pats) {
+  if (pats.empty())
+    return noDraftedPattern(it, "base");
+  std::vector<std::string> sizes = q.sizes;
+  if (sizes.empty())
+    sizes.push_back(pats.count("base") || !pats.count(it.baseSize) ? "base" : it.baseSize);
+  std::vector<drafts::SizedPattern> sized;
+  std::string labels;
+  for (const auto& s : sizes) {
+    if (!pats.count(s)) {
+      if (q.sizes.empty())
+        return noPatternForSize(it, s);
+      std::string have;
+      for (const auto& h : it.sizes)
+        have += (have.empty() ? "" : ", ") + h;
+      return jsonError(http::status::bad_request, "query 'sizes': item " + std::to_string(it.id) +
+                                                      " has no pattern for size '" + s +
+                                                      "' (sizes: " + have + ")");
+    }
+    if (patternIsEmpty(pats.at(s)))
+      return noDraftedPattern(it, s);
+    // The piece as measured keeps the name "base" beside its own chart size.
+    const bool both =
+        s == "base" && std::find(sizes.begin(), sizes.end(), it.baseSize) != sizes.end();
+    sized.push_back({both ? s : sizeLabel(it, s), *onePattern(it, pats, s)});
+    labels += (labels.empty() ? "" : "-") + sized.back().size;
+  }
+  const drafts::Marker laid = drafts::layMarker(sized, {q.widthCm});
+  std::string title = style(it) + " " + sized.front().pattern.type + " size";
+  for (const auto& sp : sized)
+    title += " " + sp.size;
+  const std::string name = fileBase(it, "marker_" + labels + "_" + widthTag(q.widthCm) + "cm");
+  switch (format) {
+    case MarkerFile::kSvg:
+      return downloadResponse("image/svg+xml", drafts::markerSvg(laid, title), name + ".svg");
+    case MarkerFile::kPdf:
+      return downloadResponse("application/pdf", drafts::markerPdf(laid, title), name + ".pdf");
+    case MarkerFile::kDxf:
+      return downloadResponse("application/dxf", drafts::markerDxf(laid), name + ".dxf");
+    case MarkerFile::kJson:
+      break;
+  }
+  return jsonResponse(http::status::ok, drafts::markerSummaryJson(laid, title));
+}
+
+// Markers: every piece of the sizes asked for (default: the item's own) laid on the fabric
+// width. A marker that cannot be laid (a piece wider than the fabric) is a 422 naming why.
+// One marker at a time per station (kMaxMarkersAtOnce): a request that finds the slot taken
+// gets 503 with Retry-After; the slot is freed as the answer is sent (or the request is
+// dropped).
+Handler markerRoute(RouteContext* c, std::shared_ptr<MarkerSlots> markerSlots, MarkerFile format) {
+  return [=](const Request& req, const RouteMatch& m, Reply reply) {
+    const MarkerQuery q = markerQuery(m);
+    const auto slot = markerSlots->tryAcquire();
+    if (!slot)
+      return reply(markerBusy());
+    Reply answer = [slot, reply](Response r) {
+      slot->release();
+      reply(std::move(r));
     };
+    patternRoute(c, [format, q](const Item& it, const std::optional<nlohmann::json>&,
+                                const std::map<std::string, nlohmann::json>& pats,
+                                const std::string&) { return markerFile(format, q, it, pats); })(
+        req, m, std::move(answer));
   };
-  router.add(V::get, "/api/items/{id}/marker.svg", marker(MarkerFile::kSvg));
-  router.add(V::get, "/api/items/{id}/marker.pdf", marker(MarkerFile::kPdf));
-  router.add(V::get, "/api/items/{id}/marker.dxf", marker(MarkerFile::kDxf));
-  router.add(V::get, "/api/items/{id}/marker.json", marker(MarkerFile::kJson));
+}
+
+// GET /api/items/{id}/measurements.vit: the body the draft was made for, as Valentina reads it.
+Response measurementsVitFile(const Item& it, const std::optional<nlohmann::json>&,
+                             const std::map<std::string, nlohmann::json>& pats,
+                             const std::string&) {
+  auto base = pats.find("base");
+  auto m = vitMeasurements(it, base == pats.end() ? std::nullopt : std::optional(base->second));
+  if (m.empty())
+    return jsonError(http::status::not_found,
+                     "item " + std::to_string(it.id) + " has no body measurements Valentina knows");
+  return downloadResponse("application/xml", drafts::measurementsToVit(m),
+                          fileBase(it, "body") + ".vit");
+}
+
+}  // namespace
+
+void addExportRoutes(Router& router, RouteContext& ctx) {
+  using V = http::verb;
+  RouteContext* c = &ctx;
+  router.add(V::get, "/api/export/shopify.csv",
+             shopFileRoute(c, "shopify.csv", "text/csv; charset=utf-8", shopifyCsv));
+  router.add(V::get, "/api/export/woocommerce.csv",
+             shopFileRoute(c, "woocommerce.csv", "text/csv; charset=utf-8", wooCommerceCsv));
   router.add(
-      V::get, "/api/items/{id}/measurements.vit",
-      patternRoute([=](const Item& it, const std::optional<nlohmann::json>&,
-                       const std::map<std::string, nlohmann::json>& pats, const std::string&) {
-        auto base = pats.find("base");
-        auto m =
-            vitMeasurements(it, base == pats.end() ? std::nullopt : std::optional(base->second));
-        if (m.empty())
-          return jsonError(
-              http::status::not_found,
-              "item " + std::to_string(it.id) + " has no body measurements Valentina knows");
-        return downloadResponse("application/xml", drafts::measurementsToVit(m),
-                                fileBase(it, "body") + ".vit");
-      }));
+      V::get, "/api/export/merchant.tsv",
+      shopFileRoute(c, "merchant.tsv", "text/tab-separated-values; charset=utf-8", merchantTsv));
+  router.add(V::get, "/api/export/catalog.zip", withContext(c, getCatalogZip));
+  router.add(V::get, "/api/export/files/images/{name}.jpg", exportImageRoute(c, "jpg"));
+  router.add(V::get, "/api/export/files/images/{name}.png", exportImageRoute(c, "png"));
+  router.add(V::get, "/api/export/files/images/{name}.webp", exportImageRoute(c, "webp"));
+  router.add(V::get, "/api/size_charts/{name}.vst", getSizeChartVst);
+  router.add(V::get, "/api/items/{id}/pattern.dxf", patternRoute(c, patternDxfFile));
+  router.add(V::get, "/api/items/{id}/pattern.pdf", withContext(c, getPatternPdf));
+  router.add(V::get, "/api/items/{id}/garmentcode.json", patternRoute(c, garmentCodeFile));
+  router.add(V::get, "/api/items/{id}/pattern_graded.dxf", gradedRoute(c, gradedDxfFile));
+  router.add(V::get, "/api/items/{id}/pattern_graded.rul", gradedRoute(c, gradedRulFile));
+  router.add(V::get, "/api/items/{id}/nested_grading.svg", gradedRoute(c, nestedGradingSvgFile));
+  router.add(V::get, "/api/items/{id}/nested_grading.pdf", gradedRoute(c, nestedGradingPdfFile));
+  router.add(V::get, "/api/items/{id}/nested_grading.dxf", gradedRoute(c, nestedGradingDxfFile));
+  const auto markerSlots = std::make_shared<MarkerSlots>();
+  router.add(V::get, "/api/items/{id}/marker.svg", markerRoute(c, markerSlots, MarkerFile::kSvg));
+  router.add(V::get, "/api/items/{id}/marker.pdf", markerRoute(c, markerSlots, MarkerFile::kPdf));
+  router.add(V::get, "/api/items/{id}/marker.dxf", markerRoute(c, markerSlots, MarkerFile::kDxf));
+  router.add(V::get, "/api/items/{id}/marker.json", markerRoute(c, markerSlots, MarkerFile::kJson));
+  router.add(V::get, "/api/items/{id}/measurements.vit", patternRoute(c, measurementsVitFile));
 }
 
 }  // namespace garmcap::daemon
