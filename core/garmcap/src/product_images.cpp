@@ -113,27 +113,30 @@ cv::Mat1f dropShadow(const cv::Mat1f& canvasAlpha) {
   if (box.area() == 0)
     return shadow;
   const double h = box.height;
+  // All of it at reduced resolution (a third of the blur's sigma a pixel, as weightedBlur): the
+  // shadow has no detail finer than that, and at full resolution a 12 MP photo's canvases would
+  // cost over a second (distance transform, a kernel hundreds of px wide).
+  const double sigma = std::max(1.0, kShadowSigma * h);
+  const double f = std::max(1.0, sigma / 3.0);
+  const cv::Size small(std::max(1, static_cast<int>(std::lround(canvasAlpha.cols / f))),
+                       std::max(1, static_cast<int>(std::lround(canvasAlpha.rows / f))));
+  cv::Mat1f a;
+  cv::resize(canvasAlpha, a, small, 0, 0, cv::INTER_AREA);
   // Shrunk from the half-covered outline (the soft edge's middle) by a distance transform: one
-  // pass, where an erosion by tens of px would cost a kernel that wide.
-  const cv::Mat1b solid = canvasAlpha >= 0.5f;
+  // pass, where an erosion would cost a kernel that wide.
+  const cv::Mat1b solid = a >= 0.5f;
   const cv::Mat1f depth = depthInside(solid);
-  const cv::Mat1b core = depth > static_cast<float>(kShadowShrink * h);
-  const int drop = static_cast<int>(std::lround(kShadowDrop * h));
-  cv::Mat1f moved = cv::Mat1f::zeros(canvasAlpha.size());
+  const cv::Mat1b core = depth > static_cast<float>(kShadowShrink * h / f);
+  const int drop = static_cast<int>(std::lround(kShadowDrop * h / f));
+  cv::Mat1f moved = cv::Mat1f::zeros(small);
   if (drop < moved.rows) {
     const cv::Rect from(0, 0, moved.cols, moved.rows - drop);
     core(from).convertTo(moved(from + cv::Point(0, drop)), CV_32F, kShadowOpacity / 255.0);
   }
-  // Blurred at reduced resolution, as weightedBlur: a sigma of tens of px at full resolution
-  // would be a kernel of hundreds; beyond the canvas is white (no shadow), hence the zero border.
-  const double sigma = std::max(1.0, kShadowSigma * h);
-  const double f = std::max(1.0, sigma / 3.0);
-  const cv::Size small(std::max(1, static_cast<int>(std::lround(moved.cols / f))),
-                       std::max(1, static_cast<int>(std::lround(moved.rows / f))));
-  cv::Mat1f s, b;
-  cv::resize(moved, s, small, 0, 0, cv::INTER_AREA);
-  cv::GaussianBlur(s, b, cv::Size(), sigma / f, sigma / f, cv::BORDER_CONSTANT);
-  cv::resize(b, shadow, moved.size(), 0, 0, cv::INTER_LINEAR);
+  // Beyond the canvas is white (no shadow), hence the zero border.
+  cv::Mat1f b;
+  cv::GaussianBlur(moved, b, cv::Size(), sigma / f, sigma / f, cv::BORDER_CONSTANT);
+  cv::resize(b, shadow, canvasAlpha.size(), 0, 0, cv::INTER_LINEAR);
   return shadow;
 }
 
