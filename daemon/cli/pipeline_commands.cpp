@@ -383,6 +383,7 @@ void addPipelineCommands(CLI::App& app, CLI::App& rigGroup) {
   auto* cap = app.add_subcommand("capture", "Run GarmCap on a bare-form and a dressed frame");
   static fs::path empty, dressed, calibration, out;
   static std::string captureChart = pipeline::kDefaultSizeChart;
+  static bool productShadow = false;
   cap->add_option("--empty", empty, "bare-form frame (PNG/JPEG)")->required();
   cap->add_option("--dressed", dressed, "dressed frame, same camera and size")->required();
   cap->add_option("--calibration", calibration, "calibration JSON (garmcap calibrate)")->required();
@@ -390,12 +391,16 @@ void addPipelineCommands(CLI::App& app, CLI::App& rigGroup) {
   cap->add_option("--size-chart", captureChart,
                   "size chart completing the form's body for drafting (default korean_women, as "
                   "the daemon's [pipeline] size_chart)");
+  cap->add_flag("--product-shadow", productShadow,
+                "a soft drop shadow under the garment on the white photos (product, product_4x5; "
+                "as the daemon's [pipeline] product_shadow)");
   cap->callback([] {
     const cv::Mat e = readImage(empty, "bare-form frame");
     const cv::Mat d = readImage(dressed, "dressed frame");
     const json cal = drafts::readJsonFile(calibration);
     pipeline::CaptureOptions options;
     options.sizeChart = captureChart;
+    options.productShadow = productShadow;
     const auto r = pipeline::runCapture(e, d, cal, options);
     writeCaptureOutputs(out, r);
     std::cout << r.toJson().dump(2) << "\n";

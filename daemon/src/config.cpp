@@ -174,6 +174,7 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
        {{"product_images", boolKey(&Config::makeProductImages)},
         {"texture", boolKey(&Config::makeTexture)},
         {"product_size_px", intKey(&Config::productSizePx, 64, 8192)},
+        {"product_shadow", boolKey(&Config::productShadow)},
         {"size_chart",
          [](const toml::value& v, Config& c, const std::string& key) {
            if (!v.is_string())

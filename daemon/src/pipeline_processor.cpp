@@ -39,6 +39,7 @@ class PipelineProcessor : public CaptureProcessor {
     options_.makeProductImages = config.makeProductImages;
     options_.makeTexture = config.makeTexture;
     options_.productSizePx = config.productSizePx;
+    options_.productShadow = config.productShadow;
     sizeChart_ = config.sizeChart;
     formPath_ = config.formPath;
   }

@@ -611,6 +611,7 @@ void Station::reload(const Config& c) {
     config_.makeProductImages = c.makeProductImages;
     config_.makeTexture = c.makeTexture;
     config_.productSizePx = c.productSizePx;
+    config_.productShadow = c.productShadow;
     config_.sizeChart = c.sizeChart;
     config_.resumeQueuedS = c.resumeQueuedS;
     config_.keepDeletedDays = c.keepDeletedDays;

@@ -70,6 +70,7 @@ nlohmann::json Station::statusJson() {
                  {"product_images", config_.makeProductImages},
                  {"texture", config_.makeTexture},
                  {"product_size_px", config_.productSizePx},
+                 {"product_shadow", config_.productShadow},
                  {"reloads", reloads_}};
   s["preview_clients"] = previewSinks_.size();
   s["event_clients"] = eventSinks_.size();

@@ -74,6 +74,12 @@ TEST(Config, RefusesWithKeyAndReason) {
             std::string::npos);
   EXPECT_EQ(loadConfig(write(dir, "[pipeline]\nsize_chart = \"french_women\"\n")).sizeChart,
             "french_women");
+  // The drop shadow on the product photos: off unless asked for, and only as a boolean.
+  EXPECT_FALSE(loadConfig(write(dir, "[pipeline]\n")).productShadow);
+  EXPECT_TRUE(loadConfig(write(dir, "[pipeline]\nproduct_shadow = true\n")).productShadow);
+  EXPECT_NE(errorOf(dir, "[pipeline]\nproduct_shadow = \"yes\"\n")
+                .find("[pipeline] product_shadow: must be true or false"),
+            std::string::npos);
   EXPECT_NE(errorOf(dir, "[gpio]\ndebounce_ms = \"x\"\n").find("must be an integer"),
             std::string::npos);
   EXPECT_NE(errorOf(dir, "[http]\nlisten = \"0.0.0.0:8080\"\n").find("token"), std::string::npos);

@@ -325,6 +325,7 @@ TEST(Station, ReloadAppliesAtOnceAndSwapsTheProcessorOnlyBetweenJobs) {
   Config fresh = rig.config;
   fresh.reviewBelowConfidence = 0.99;
   fresh.queueLimit = 1;
+  fresh.productShadow = true;
   fresh.cameraDevice = "/dev/video9";  // needs a restart: logged, not applied
   rig.station->reload(fresh);
   rig.runUntil(
@@ -332,6 +333,7 @@ TEST(Station, ReloadAppliesAtOnceAndSwapsTheProcessorOnlyBetweenJobs) {
   auto status = rig.json(rig.call(http::verb::get, "/api/status"));
   EXPECT_EQ(status["config"]["queue_limit"], 1);
   EXPECT_EQ(status["config"]["review_below_confidence"], 0.99);
+  EXPECT_EQ(status["config"]["product_shadow"], true);
   EXPECT_EQ(status["camera"]["device"], "fake0");
   EXPECT_EQ(rig.processorsMade, 0) << "the processor was swapped under a running job";
   auto j = rig.waitJob(job);

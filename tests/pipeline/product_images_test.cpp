@@ -141,3 +141,111 @@ TEST(ProductImages, RefinedAlphaFollowsTheFramesEdge) {
   EXPECT_EQ(a(50, 20), 1.0f);
   EXPECT_EQ(a(50, 180), 0.0f);
 }
+
+namespace {
+
+// A garment of `size` with a print (noise, so that any change to its pixels shows) and a soft
+// alpha edge, on the screen of a 600x800 frame; the composite a plain white background gives
+// (written out here, apart from onWhite) placed as the photos centre it.
+struct ShadowScene {
+  cv::Mat3b frame;
+  cv::Mat1f alpha;
+  cv::Rect box;
+};
+
+ShadowScene shadowScene(cv::Size size) {
+  ShadowScene s{cv::Mat3b(600, 800, kScreen), cv::Mat1f::zeros(600, 800), {}};
+  const cv::Rect garment(cv::Point(400 - size.width / 2, 300 - size.height / 2), size);
+  cv::Mat3b print(size);
+  cv::theRNG().state = 17;
+  cv::randu(print, cv::Scalar(20, 40, 60), cv::Scalar(120, 140, 220));
+  print.copyTo(s.frame(garment));
+  cv::rectangle(s.alpha, garment, cv::Scalar(1.0), cv::FILLED);
+  cv::GaussianBlur(s.alpha, s.alpha, cv::Size(5, 5), 1.2);
+  s.alpha.setTo(0.0f, s.alpha < 1e-3f);
+  s.box = cv::boundingRect(s.alpha > 0.0f);
+  return s;
+}
+
+cv::Mat3b plainOnWhite(const ShadowScene& s, cv::Size canvas) {
+  cv::Mat3b out(canvas, cv::Vec3b(255, 255, 255));
+  const cv::Point at((canvas.width - s.box.width) / 2, (canvas.height - s.box.height) / 2);
+  for (int y = 0; y < s.box.height; ++y)
+    for (int x = 0; x < s.box.width; ++x) {
+      const float a = s.alpha(s.box.y + y, s.box.x + x);
+      if (a > 0.f)
+        for (int c = 0; c < 3; ++c)
+          out(at.y + y, at.x + x)[c] = cv::saturate_cast<uchar>(
+              s.frame(s.box.y + y, s.box.x + x)[c] * a + 255.f * (1.f - a));
+    }
+  return out;
+}
+
+}  // namespace
+
+// Off (the default), the photos are the garment on pure white, exactly as before the option.
+TEST(ProductImages, WithoutShadowTheBackgroundIsPureWhite) {
+  const ShadowScene s = shadowScene({200, 400});
+  const ProductImages p = makeProductImages(s.frame, s.alpha, {});
+  for (const cv::Mat3b img : {p.square, p.portrait}) {
+    const cv::Mat3b expected = plainOnWhite(s, img.size());
+    EXPECT_EQ(cv::norm(img, expected, cv::NORM_INF), 0.0);
+  }
+}
+
+// On: the band just under the hem is darker than white, fading smoothly to pure white within the
+// bottom margin; the garment's fully covered pixels are as without the shadow; the margins to
+// the left, right and top are pure white. For a tall, a wide and a square garment (the square one
+// leaves the least margin in the square photo).
+TEST(ProductImages, SoftShadowFallsUnderTheGarmentOnly) {
+  for (const cv::Size size : {cv::Size(200, 400), cv::Size(460, 300), cv::Size(360, 360)}) {
+    SCOPED_TRACE(testing::Message() << size);
+    const ShadowScene s = shadowScene(size);
+    const ProductImages off = makeProductImages(s.frame, s.alpha, {});
+    const ProductImages on = makeProductImages(s.frame, s.alpha, {.shadow = true});
+    for (int which = 0; which < 2; ++which) {
+      SCOPED_TRACE(which == 0 ? "square" : "4:5");
+      const cv::Mat3b a = which == 0 ? off.square : off.portrait;
+      const cv::Mat3b b = which == 0 ? on.square : on.portrait;
+      ASSERT_EQ(a.size(), b.size());
+      const cv::Point at((b.cols - s.box.width) / 2, (b.rows - s.box.height) / 2);
+      // The garment's own pixels (fully covered) are untouched.
+      cv::Mat1b covered = cv::Mat1b::zeros(b.size());
+      cv::Mat1b(s.alpha(s.box) >= 1.0f).copyTo(covered(cv::Rect(at, s.box.size())));
+      ASSERT_GT(cv::countNonZero(covered), size.area() / 2);
+      cv::Mat3b diff;
+      cv::absdiff(a, b, diff);
+      cv::Mat1b differs;  // the largest difference of the three channels, per pixel
+      cv::reduce(diff.reshape(1, a.rows * a.cols), differs, 1, cv::REDUCE_MAX);
+      EXPECT_EQ(cv::countNonZero(differs.reshape(1, a.rows) & covered), 0);
+
+      cv::Mat1b grey;
+      cv::cvtColor(b, grey, cv::COLOR_BGR2GRAY);
+      // The band just under the lowest row any garment covers, across the garment's middle half.
+      const int hem = at.y + s.box.height;  // first row below the garment
+      const cv::Rect middle(at.x + s.box.width / 4, 0, s.box.width / 2, b.rows);
+      const int bandRows = std::max(2, size.height / 100);
+      const double band = cv::mean(grey(cv::Rect(middle.x, hem, middle.width, bandRows)))[0];
+      EXPECT_LT(band, 255.0 - 25.0) << "no shadow to see under the hem";
+      EXPECT_GT(band, 255.0 - 70.0) << "a dark band, not a soft shadow";
+      // Falling off smoothly: each row down the middle column is as light or lighter, with no
+      // step of more than a few grey levels, and pure white before the photo's edge.
+      const int mid = at.x + s.box.width / 2;
+      for (int y = hem + 1; y < b.rows; ++y) {
+        EXPECT_GE(grey(y, mid), grey(y - 1, mid)) << "row " << y;
+        EXPECT_LE(grey(y, mid) - grey(y - 1, mid), 6) << "row " << y;
+      }
+      EXPECT_EQ(cv::countNonZero(grey.row(b.rows - 1) != 255), 0) << "shadow cut at the edge";
+      // The margins (6 % of the photo's width to the left and right, of its height at the top):
+      // pure white.
+      const int mx = static_cast<int>(0.06 * b.cols), my = static_cast<int>(0.06 * b.rows);
+      for (const cv::Rect r : {cv::Rect(0, 0, mx, b.rows), cv::Rect(b.cols - mx, 0, mx, b.rows),
+                               cv::Rect(0, 0, b.cols, my)})
+        EXPECT_EQ(cv::countNonZero(grey(r) != 255), 0) << r;
+    }
+  }
+}
+
+TEST(ProductImages, DropShadowIsEmptyWithoutAGarment) {
+  EXPECT_EQ(cv::countNonZero(dropShadow(cv::Mat1f::zeros(50, 40))), 0);
+}

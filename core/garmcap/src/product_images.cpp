@@ -19,6 +19,17 @@ constexpr double kMaxUpscale = 1.5;      // at most this much up to minSidePx: b
 constexpr double kSpillBandCm = 2.5;     // green spill fades within ~1 cm of an edge; 2.5 cm is
                                          // where a studio's spill is down to a few percent
 
+// The drop shadow, in fractions of the garment's height (so it looks the same at any zoom and
+// any garment size) and its opacity. The outline is shrunk by 3.5 sigma, where the blur's tail
+// is under half a grey level, so nothing shows beside the garment or above it (the margins stay
+// pure white), and moved down by 1.5 % more than that: under the hem the shadow's own edge lies
+// 1 sigma below it, and its tail is white again 3.5 sigma further, inside the 6 % bottom margin.
+constexpr double kShadowSigma = 0.015;  // blur: a soft studio light, no hard edge to read as dirt
+constexpr double kShadowShrink = 3.5 * kShadowSigma;
+constexpr double kShadowDrop = kShadowShrink + kShadowSigma;
+constexpr double kShadowOpacity = 0.2;  // darkest: white to 204 grey; just under a straight hem
+                                        // about 0.17 (212): seen, not a dark band
+
 // CIELAB (L 0..100, a and b in their units) through OpenCV's 8-bit conversion: its tables make
 // it about ten times faster than the float one on a 12 MP garment's crop, and its steps (0.4 L,
 // 1 a* or b*) are well below the thresholds used here.
@@ -95,6 +106,39 @@ void unmixEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Mat3b& bare) {
 }
 
 }  // namespace
+
+cv::Mat1f dropShadow(const cv::Mat1f& canvasAlpha) {
+  cv::Mat1f shadow = cv::Mat1f::zeros(canvasAlpha.size());
+  const cv::Rect box = cv::boundingRect(canvasAlpha > 0.0f);
+  if (box.area() == 0)
+    return shadow;
+  const double h = box.height;
+  // All of it at reduced resolution (a third of the blur's sigma a pixel, as weightedBlur): the
+  // shadow has no detail finer than that, and at full resolution a 12 MP photo's canvases would
+  // cost over a second (distance transform, a kernel hundreds of px wide).
+  const double sigma = std::max(1.0, kShadowSigma * h);
+  const double f = std::max(1.0, sigma / 3.0);
+  const cv::Size small(std::max(1, static_cast<int>(std::lround(canvasAlpha.cols / f))),
+                       std::max(1, static_cast<int>(std::lround(canvasAlpha.rows / f))));
+  cv::Mat1f a;
+  cv::resize(canvasAlpha, a, small, 0, 0, cv::INTER_AREA);
+  // Shrunk from the half-covered outline (the soft edge's middle) by a distance transform: one
+  // pass, where an erosion would cost a kernel that wide.
+  const cv::Mat1b solid = a >= 0.5f;
+  const cv::Mat1f depth = depthInside(solid);
+  const cv::Mat1b core = depth > static_cast<float>(kShadowShrink * h / f);
+  const int drop = static_cast<int>(std::lround(kShadowDrop * h / f));
+  cv::Mat1f moved = cv::Mat1f::zeros(small);
+  if (drop < moved.rows) {
+    const cv::Rect from(0, 0, moved.cols, moved.rows - drop);
+    core(from).convertTo(moved(from + cv::Point(0, drop)), CV_32F, kShadowOpacity / 255.0);
+  }
+  // Beyond the canvas is white (no shadow), hence the zero border.
+  cv::Mat1f b;
+  cv::GaussianBlur(moved, b, cv::Size(), sigma / f, sigma / f, cv::BORDER_CONSTANT);
+  cv::resize(b, shadow, canvasAlpha.size(), 0, 0, cv::INTER_LINEAR);
+  return shadow;
+}
 
 cv::Mat makeCutout(const cv::Mat& bgr, const cv::Mat& mask, double featherPx) {
   if (bgr.empty() || bgr.type() != CV_8UC3)
@@ -299,21 +343,34 @@ void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screen
 namespace {
 
 // The garment's box centred on a white canvas of `size` (scaled so that the box fits with the
-// margin), composited through alpha.
+// margin), composited through alpha; with `shadow`, over its drop shadow. The shadow only darkens
+// the background: a fully covered garment pixel is its own colour either way, and a soft edge
+// pixel mixes with the shadowed white as it would with a real one.
 cv::Mat3b onWhite(const cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Rect& box,
-                  cv::Size canvas) {
+                  cv::Size canvas, bool shadow) {
   cv::Mat3b out(canvas, cv::Vec3b(255, 255, 255));
   const cv::Point offset((canvas.width - box.width) / 2, (canvas.height - box.height) / 2);
+  cv::Mat1f background;  // 0..255 per pixel; empty: white everywhere (as before the option)
+  if (shadow) {
+    cv::Mat1f canvasAlpha = cv::Mat1f::zeros(canvas);
+    alpha(box).copyTo(canvasAlpha(cv::Rect(offset, box.size())));
+    background = 255.f * (1.f - dropShadow(canvasAlpha));
+    cv::Mat1b grey;
+    background.convertTo(grey, CV_8U);
+    cv::cvtColor(grey, out, cv::COLOR_GRAY2BGR);
+  }
   for (int y = 0; y < box.height; ++y) {
     const cv::Vec3b* src = bgr.ptr<cv::Vec3b>(box.y + y) + box.x;
     const float* a = alpha.ptr<float>(box.y + y) + box.x;
+    const float* bg = background.empty() ? nullptr : background.ptr<float>(offset.y + y) + offset.x;
     cv::Vec3b* dst = out.ptr<cv::Vec3b>(offset.y + y) + offset.x;
     for (int x = 0; x < box.width; ++x) {
       const float al = a[x];
       if (al <= 0.f)
         continue;
+      const float under = bg ? bg[x] : 255.f;
       for (int c = 0; c < 3; ++c)
-        dst[x][c] = cv::saturate_cast<uchar>(src[x][c] * al + 255.f * (1.f - al));
+        dst[x][c] = cv::saturate_cast<uchar>(src[x][c] * al + under * (1.f - al));
     }
   }
   return out;
@@ -351,13 +408,14 @@ ProductImages makeProductImages(const cv::Mat3b& bgr, const cv::Mat1f& alpha,
   ProductImages out;
   out.garmentBox = box;
   const int side = static_cast<int>(std::ceil(std::max(box.width, box.height) / fill));
-  out.square = sized(onWhite(bgr, alpha, box, {side, side}), options.minSidePx, options.maxSidePx);
+  out.square = sized(onWhite(bgr, alpha, box, {side, side}, options.shadow), options.minSidePx,
+                     options.maxSidePx);
   // 4:5 (width:height), the garment fitting both ways with the margin.
   const int h = static_cast<int>(
       std::ceil(std::max(static_cast<double>(box.height), 1.25 * box.width) / fill));
   const int w = std::max(box.width, static_cast<int>(std::lround(0.8 * h)));
-  out.portrait = sized(onWhite(bgr, alpha, box, {w, std::max(h, box.height)}), options.minSidePx,
-                       options.maxSidePx);
+  out.portrait = sized(onWhite(bgr, alpha, box, {w, std::max(h, box.height)}, options.shadow),
+                       options.minSidePx, options.maxSidePx);
   // The transparent cut-out: the box with the margin, straight (not premultiplied) alpha.
   const int m =
       static_cast<int>(std::lround(options.marginFraction * std::max(box.width, box.height)));

@@ -56,7 +56,8 @@ void makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput& in,
                                           ? std::min(kShopZoomPx, options.productSizePx)
                                           : 0,
                          .marginFraction = 0.06,
-                         .pxPerCm = s});
+                         .pxPerCm = s,
+                         .shadow = options.productShadow});
       result.cutout = p.cutout;
       result.cutoutRect = p.cutoutRect + box.tl();
       result.product = p.square;

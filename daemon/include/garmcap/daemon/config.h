@@ -72,6 +72,7 @@ struct Config {
   bool makeProductImages = true;
   bool makeTexture = true;
   int productSizePx = 4096;
+  bool productShadow = false;  // a soft drop shadow on the white photos (docs/exports.md)
   std::string sizeChart = "korean_women";
   double reviewBelowConfidence = 0.8;  // items under this confidence wait for approval
   int workerThreads = 1;

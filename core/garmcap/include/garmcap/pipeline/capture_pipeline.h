@@ -47,6 +47,9 @@ struct CaptureOptions {
   // Longest side of the product photos; they are made at the camera frame's resolution and only
   // scaled down beyond this.
   int productSizePx = 4096;
+  // A soft drop shadow under the garment on the white photos (ProductImageOptions::shadow); off
+  // by default, as a marketplace's pure-white main image wants.
+  bool productShadow = false;
   // Frames larger than this are segmented on a downscaled copy; the outline against the screen
   // is then placed at full resolution. 2 MP keeps the 4 MP rig's errors within 0.1 cm of
   // full-resolution segmentation at a fraction of its time (docs/pipeline.md).

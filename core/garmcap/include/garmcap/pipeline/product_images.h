@@ -25,6 +25,11 @@ struct ProductImageOptions {
                          // fabric). The pipeline asks 2048 when the frame's long side has it.
   double marginFraction = 0.06;  // empty border around the garment, per side
   double pxPerCm = 0;            // frame px per cm (productPhotos: required, > 0)
+  // A soft drop shadow under the garment on the white photos (not the cut-out): its alpha
+  // shrunk, moved down and blurred, at a modest opacity, behind the garment. Off by default:
+  // marketplaces that ask for a pure white background (RGB 255) refuse a main image with one,
+  // and a theme that lays the photo on a tint shows its grey; docs/exports.md.
+  bool shadow = false;
 };
 
 /// BGRA cut-out of the whole frame: colour from `bgr`, alpha from `mask` (CV_8U, non-zero =
@@ -50,6 +55,12 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
 /// chroma near it (a blur of the chroma found deeper than `bandPx`) towards the screen's chroma.
 /// Lightness and chroma in other directions stay.
 void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screenBgr, double bandPx);
+
+/// The drop shadow's darkness (0 = none, 1 = black) on a canvas where the garment's alpha
+/// `canvasAlpha` (CV_32F 0..1) lies as composited: the alpha shrunk, moved down and blurred by
+/// fractions of the garment's height, times a modest opacity. It falls below 1/512 (rounds to
+/// white) within the photos' margin to the left, right and top, and below the hem within it.
+cv::Mat1f dropShadow(const cv::Mat1f& canvasAlpha);
 
 struct ProductImages {
   cv::Mat cutout;       // BGRA, the garment's box with a margin, full resolution (PNG)
