@@ -19,7 +19,7 @@
 int main(int argc, char** argv) {
   using namespace garmcap;
   CLI::App app{"garmcap-hub: the chain's catalog for several GarmCap stations"};
-  std::string configFile, db, listen, adminHash, logLevel = "info", token, tlsCert, tlsKey;
+  std::string configFile, db, listen, adminHash, logLevel = "info", token, tlsCert, tlsKey, webDir;
   std::vector<std::string> stations;
   app.add_option("-c,--config", configFile, "TOML configuration file")->check(CLI::ExistingFile);
   app.add_option("--db", db, "libpq connection string (overrides [database] url)");
@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   app.add_option("--tls-key", tlsKey, "PEM private key of --tls-cert ([tls] key_file)");
   app.add_option("--station", stations, "NAME=TOKEN_SHA256 of a station (repeatable)");
   app.add_option("--admin-token-sha256", adminHash, "sha256 of the admin token");
+  app.add_option("--web-dir", webDir, "the review UI's files ([http] web_dir)");
   app.add_option("--log-level", logLevel, "trace, debug, info, warn, error");
   auto* hash = app.add_subcommand("hash-token", "print the hash of a token for the config");
   hash->add_option("token", token, "the token")->required();
@@ -62,6 +63,8 @@ int main(int argc, char** argv) {
       config.tlsCertFile = tlsCert;
     if (!tlsKey.empty())
       config.tlsKeyFile = tlsKey;
+    if (!webDir.empty())
+      config.webDir = webDir;
     for (const auto& s : stations)
       hub::addStation(config, s, "--station");
     config.validate();

@@ -228,12 +228,96 @@ TEST_F(HubHttpTest, SessionSaysATokenIsRequiredAndWhoTheCallerIs) {
   const auto admin = call(http::verb::get, "/api/session", "admin-secret").json();
   EXPECT_EQ(admin["role"], "admin");
   EXPECT_EQ(admin["station"], nullptr);
-  // No log-in at the hub: no cookie is handed out for a token.
-  const auto post = call(http::verb::post, "/api/session", "", R"({"token": "admin-secret"})");
-  EXPECT_EQ(post.status, 405);
+  EXPECT_EQ(admin["login"], true);  // a browser may trade its token for a cookie (below)
+}
+
+// The web UI's log-in: a token for an HttpOnly cookie that stands for the token's caller, with
+// exactly its rights, until DELETE /api/session.
+TEST_F(HubHttpTest, ABrowserSessionStandsForTheTokenThatOpenedIt) {
+  const auto wrong = call(http::verb::post, "/api/session", "", R"({"token": "guess"})");
+  EXPECT_EQ(wrong.status, 401) << wrong.body;
+  EXPECT_EQ(call(http::verb::post, "/api/session", "", R"({"tok": "admin-secret"})").status, 400);
+  // The guard's rules: JSON only, same origin only.
+  EXPECT_EQ(call(http::verb::post, "/api/session", "", R"({"token": "admin-secret"})", "text/plain")
+                .status,
+            415);
+  // POST /api/session with its Set-Cookie (the harness's Reply has no such field).
+  struct LogIn {
+    int status = 0;
+    std::string body, setCookie;
+    Json json() const { return Json::parse(body, nullptr, false); }
+  };
+  auto login = [](const std::string& token, const std::string& origin = "") {
+    namespace asio = boost::asio;
+    asio::io_context io;
+    boost::beast::tcp_stream stream(io);
+    stream.connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), service_->port()));
+    http::request<http::string_body> req{http::verb::post, "/api/session", 11};
+    req.set("Host", "127.0.0.1");
+    req.set("Content-Type", "application/json");
+    if (!origin.empty())
+      req.set("Origin", origin);
+    req.body() = Json{{"token", token}}.dump();
+    req.prepare_payload();
+    http::write(stream, req);
+    boost::beast::flat_buffer buf;
+    http::response<http::string_body> res;
+    http::read(stream, buf, res);
+    return LogIn{static_cast<int>(res.result_int()), res.body(),
+                 std::string(res[http::field::set_cookie])};
+  };
+  EXPECT_EQ(login("admin-secret", "http://evil.example").status, 403);
+  auto cookieOf = [](const LogIn& r) {
+    EXPECT_NE(r.setCookie.find("HttpOnly"), std::string::npos) << r.setCookie;
+    EXPECT_NE(r.setCookie.find("SameSite=Strict"), std::string::npos) << r.setCookie;
+    EXPECT_EQ(r.setCookie.find("Secure"), std::string::npos) << "plain HTTP on loopback";
+    return r.setCookie.substr(0, r.setCookie.find(';'));
+  };
+  const auto admin = login("admin-secret");
+  ASSERT_EQ(admin.status, 200) << admin.body;
+  EXPECT_EQ(admin.json()["role"], "admin");
+  const std::string adminCookie = cookieOf(admin);
+  const auto shop = login("shop2-secret");
+  ASSERT_EQ(shop.status, 200) << shop.body;
+  EXPECT_EQ(shop.json()["station"], "shop2");
+  const std::string shopCookie = cookieOf(shop);
+  auto withCookie = [](http::verb verb, const std::string& target, const std::string& cookie,
+                       const std::string& body = "") {
+    std::vector<std::pair<std::string, std::string>> fields = {{"Host", "127.0.0.1"},
+                                                               {"Cookie", cookie}};
+    if (!body.empty())
+      fields.emplace_back("Content-Type", "application/json");
+    return e2e::httpCallWith(service_->port(), verb, target, fields, body);
+  };
+  EXPECT_EQ(withCookie(http::verb::get, "/api/session", adminCookie).json()["role"], "admin");
+  EXPECT_EQ(withCookie(http::verb::get, "/api/items", adminCookie).status, 200);
+  // The station's cookie: its own station's items and stations only, and no edits.
+  EXPECT_EQ(withCookie(http::verb::get, "/api/items?station=shop1", shopCookie).status, 403);
+  const auto stations = withCookie(http::verb::get, "/api/hub/stations", shopCookie);
+  ASSERT_EQ(stations.status, 200) << stations.body;
+  EXPECT_EQ(stations.json()["stations"].size(), 1u);
+  EXPECT_EQ(stations.json()["stations"][0]["id"], "shop2");
+  const auto all = withCookie(http::verb::get, "/api/hub/stations", adminCookie).json();
+  ASSERT_EQ(all["stations"].size(), 2u);
+  EXPECT_EQ(all["stations"][0]["id"], "shop1");
+  EXPECT_EQ(all["stations"][1]["id"], "shop2");
+  EXPECT_EQ(
+      withCookie(http::verb::patch, "/api/items/1", shopCookie, R"({"status":"approved"})").status,
+      401);
+  // A made-up cookie is nobody; a revoked one too.
+  EXPECT_EQ(
+      withCookie(http::verb::get, "/api/items", "garmcap_session=" + std::string(64, 'a')).status,
+      401);
+  const auto out = withCookie(http::verb::delete_, "/api/session", adminCookie);
+  EXPECT_EQ(out.status, 200);
+  EXPECT_EQ(withCookie(http::verb::get, "/api/items", adminCookie).status, 401);
+  EXPECT_EQ(withCookie(http::verb::get, "/api/items", shopCookie).status, 200);
+  EXPECT_EQ(call(http::verb::get, "/api/hub/stations", "").status, 401);
 }
 
 TEST_F(HubHttpTest, ListsValidateTheirQueryAndTheGuardApplies) {
+  EXPECT_EQ(call(http::verb::get, "/api/items?status=sold", "admin-secret").status, 400);
+  EXPECT_EQ(call(http::verb::get, "/api/items?status=approved", "admin-secret").status, 200);
   EXPECT_EQ(call(http::verb::get, "/api/items", "").status, 401);
   EXPECT_EQ(call(http::verb::get, "/api/items", "wrong").status, 401);
   EXPECT_EQ(call(http::verb::get, "/api/items?limit=0", "admin-secret").status, 400);

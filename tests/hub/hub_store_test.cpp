@@ -261,26 +261,28 @@ TEST_F(HubStoreTest, SearchPagesEqualAFullScanForCommonRareAndOldTerms) {
       SELECT 'shop' || (1 + g % 2), g, 'SKU-' || g,
              CASE WHEN g % 3 = 0 THEN 'Navy skirt ' ELSE 'Skirt ' END
              || CASE WHEN g <= 300 THEN 'Vintage ' ELSE '' END || md5(g::text),
-             'needs_review', 'skirt', CASE WHEN g % 97 = 0 THEN now() END
+             CASE WHEN g % 5 = 0 THEN 'approved' WHEN g % 7 = 0 THEN 'rejected'
+                  ELSE 'needs_review' END, 'skirt', CASE WHEN g % 97 = 0 THEN now() END
       FROM generate_series(1, 3000) g;
     ANALYZE items;)sql");
   struct Row {
     std::int64_t id;
     std::string station, text;
     bool deleted;
+    std::string status;
   };
   std::vector<Row> rows;  // newest first
   std::istringstream dump(pg_->psql(
       db_,
-      "SELECT id, station_id, lower(sku || ' ' || title), deleted_at IS NOT NULL FROM items "
-      "ORDER BY id DESC"));
+      "SELECT id, station_id, lower(sku || ' ' || title), deleted_at IS NOT NULL, status FROM "
+      "items ORDER BY id DESC"));
   for (std::string line; std::getline(dump, line);) {
     std::vector<std::string> f;
     std::istringstream fields(line);
     for (std::string x; std::getline(fields, x, '|');)
       f.push_back(x);
-    ASSERT_EQ(f.size(), 4u) << line;
-    rows.push_back({std::stoll(f[0]), f[1], f[2], f[3] == "t"});
+    ASSERT_EQ(f.size(), 5u) << line;
+    rows.push_back({std::stoll(f[0]), f[1], f[2], f[3] == "t", f[4]});
   }
   ASSERT_EQ(rows.size(), 3000u);
   const auto lower = [](std::string s) {
@@ -291,22 +293,37 @@ TEST_F(HubStoreTest, SearchPagesEqualAFullScanForCommonRareAndOldTerms) {
   struct Case {
     std::string term, station;
     int limit;
+    std::string status;  // the status filter (the hub UI's), "" = any
   };
   // md5("7") starts 8f14e45f; "1e45" and "e45f" occur in a few titles only.
-  const std::vector<Case> cases = {{"navy", "", 50},      {"NAVY SKIRT", "shop2", 7},
-                                   {"vintage", "", 50},   {"Vintage", "shop1", 7},
-                                   {"vintage", "", 500},  {"e45f", "", 3},
-                                   {"1e45", "shop2", 50}, {"SKU-29", "", 4},
-                                   {"skirt", "", 500},    {"no such thing", "", 50}};
+  const std::vector<Case> cases = {{"navy", "", 50, ""},
+                                   {"NAVY SKIRT", "shop2", 7, ""},
+                                   {"vintage", "", 50, ""},
+                                   {"Vintage", "shop1", 7, ""},
+                                   {"vintage", "", 500, ""},
+                                   {"e45f", "", 3, ""},
+                                   {"1e45", "shop2", 50, ""},
+                                   {"SKU-29", "", 4, ""},
+                                   {"skirt", "", 500, ""},
+                                   {"no such thing", "", 50, ""},
+                                   // The status filter, with and without a search term.
+                                   {"navy", "", 50, "approved"},
+                                   {"Vintage", "shop1", 7, "rejected"},
+                                   {"navy", "shop2", 3, "needs_review"},
+                                   {"skirt", "", 500, "approved"},
+                                   {"", "shop2", 50, "rejected"},
+                                   {"", "", 500, "approved"}};
   for (const auto& c : cases) {
     std::vector<std::int64_t> expected;
     for (const auto& r : rows)
       if (!r.deleted && (c.station.empty() || r.station == c.station) &&
+          (c.status.empty() || r.status == c.status) &&
           r.text.find(lower(c.term)) != std::string::npos)
         expected.push_back(r.id);
     HubQuery q;
     q.search = c.term;
     q.station = c.station;
+    q.status = c.status;
     q.limit = c.limit;
     std::vector<std::int64_t> got;
     for (int pages = 0; pages < 1000; ++pages) {
@@ -320,8 +337,8 @@ TEST_F(HubStoreTest, SearchPagesEqualAFullScanForCommonRareAndOldTerms) {
       EXPECT_EQ(*page.next, page.items.back().id);
       q.afterId = *page.next;
     }
-    EXPECT_EQ(got, expected) << "q='" << c.term << "' station='" << c.station
-                             << "' limit=" << c.limit;
+    EXPECT_EQ(got, expected) << "q='" << c.term << "' station='" << c.station << "' status='"
+                             << c.status << "' limit=" << c.limit;
     EXPECT_FALSE(expected.empty() && c.term != "no such thing") << c.term;
   }
 }

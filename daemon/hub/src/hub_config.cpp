@@ -46,6 +46,10 @@ nlohmann::json shopJson(const toml::value& v) {
 
 }  // namespace
 
+std::string defaultHubWebDir() {
+  return GARMCAP_HUB_WEB_DIR;
+}
+
 bool validStationId(const std::string& id) {
   return !id.empty() && id.size() <= 64 && std::all_of(id.begin(), id.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
@@ -161,6 +165,10 @@ HubConfig loadHubConfig(const std::filesystem::path& file, HubConfig c) {
         c.adminTokenSha256 = hashValue(v, name);
       } else if (section == "http" && key == "body_limit_bytes") {
         c.bodyLimitBytes = static_cast<std::size_t>(integer(1024, 1LL << 30));
+      } else if (section == "http" && key == "web_dir") {
+        if (!v.is_string() || v.as_string().str.empty())
+          bad(name, "must be the path of a folder");
+        c.webDir = v.as_string().str;
       } else if (section == "http" && key == "threads") {
         c.threads = static_cast<int>(integer(1, 64));
       } else if (section == "tls" && (key == "cert_file" || key == "key_file")) {

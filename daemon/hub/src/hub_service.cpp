@@ -12,6 +12,7 @@
 #include "garmcap/daemon/utf8.h"
 #include "garmcap/hub/hub_caller.h"
 #include "garmcap/hub/hub_exports.h"
+#include "garmcap/hub/hub_web_routes.h"
 
 namespace garmcap::hub {
 
@@ -118,10 +119,13 @@ const std::string& shaParam(const RouteMatch& m) {
 
 }  // namespace
 
-Caller callerOf(const Request& req, HubStore& store, const HubConfig& config) {
+Caller callerOf(const Request& req, HubStore& store, const HubConfig& config,
+                const HubLogins* logins) {
   Caller c;
   const auto auth = req[http::field::authorization];
   std::string_view a(auth.data(), auth.size());
+  if (a.empty() && logins)
+    return sessionCaller(req, *logins);
   // RFC 7235: the scheme is case-insensitive, one or more spaces follow.
   if (a.size() <= 7 || !boost::beast::iequals(boost::beast::string_view(a.data(), 6), "Bearer") ||
       a[6] != ' ')
@@ -159,8 +163,11 @@ std::optional<std::string> readScope(const Caller& c, const RouteMatch& m) {
   return *c.station;
 }
 
-void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& config) {
-  auto who = [&store, &config](const Request& req) { return callerOf(req, store, config); };
+void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& config,
+                  HubLogins* logins) {
+  auto who = [&store, &config, logins](const Request& req) {
+    return callerOf(req, store, config, logins);
+  };
 
   router.add(
       http::verb::get, "/api/hub/health", [&store](const Request&, const RouteMatch&, Reply reply) {
@@ -168,13 +175,14 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
       });
 
   // What the hub requires, in the fields of the station's /api/session: a bearer token on every
-  // request (a station's or the admin's). The hub has no log-in: no cookie, POST is not a route.
+  // request (a station's or the admin's), or the session cookie a browser gets for one (POST
+  // and DELETE, hub_web_routes.cpp; "login" says whether they are there).
   router.add(http::verb::get, "/api/session",
-             [who](const Request& req, const RouteMatch&, Reply reply) {
+             [who, logins](const Request& req, const RouteMatch&, Reply reply) {
                const Caller c = who(req);
                nlohmann::json body{{"authenticated", c.any()},
                                    {"token_required", true},
-                                   {"login", false},
+                                   {"login", logins != nullptr},
                                    {"role", c.admin     ? nlohmann::json("admin")
                                             : c.station ? nlohmann::json("station")
                                                         : nlohmann::json(nullptr)}};
@@ -269,6 +277,12 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
                                         "a station token lists only its own station's items; "
                                         "the admin token lists every station's"));
                q.station = *scope;
+               if (auto s = m.queryValue("status")) {
+                 if (!s->empty() && *s != "needs_review" && *s != "approved" && *s != "rejected")
+                   throw BadRequest("status must be needs_review, approved or rejected, got '" +
+                                    daemon::quoteInput(*s) + "'");
+                 q.status = *s;
+               }
                if (auto s = m.queryValue("q"))
                  q.search = s->substr(0, 200);
                q.afterId = queryInt(m, "after", 0, 0, std::numeric_limits<std::int64_t>::max());
@@ -342,8 +356,10 @@ HubService::HubService(const HubConfig& config) : config_(config) {
   config_.validate();
   store_ = std::make_unique<HubStore>(config_.databaseUrl, config_.connections);
   store_->setStations(config_.stationTokenSha256);
-  addHubRoutes(router_, *store_, config_);
-  files_ = std::make_unique<daemon::StaticFiles>("");
+  addHubRoutes(router_, *store_, config_, &logins_);
+  addHubWebRoutes(router_, *store_, config_, logins_);
+  // The review UI (daemon/hub/web/ with the station's common.js and app.css) at "/".
+  files_ = std::make_unique<daemon::StaticFiles>(config_.webDir);
 }
 
 HubService::~HubService() {

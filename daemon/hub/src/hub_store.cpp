@@ -143,9 +143,9 @@ void loadDetails(pqxx::transaction_base& w, HubItem& it) {
 }
 
 // The search's statement: the page's rows, newest first below $1 (station $2, ILIKE pattern $4,
-// $5 rows), found in two steps, because no single plan is quick for every term. Ordered by id
-// and limited, the planner either walks the primary key newest first and tests each row (quick
-// for a term many items hold, a walk through the whole table for a rare one) or takes the
+// $5 rows, status $6), found in two steps, because no single plan is quick for every term. Ordered
+// by id and limited, the planner either walks the primary key newest first and tests each row
+// (quick for a term many items hold, a walk through the whole table for a rare one) or takes the
 // trigram index's matches and sorts them (quick for a rare term, every matching row read for a
 // common one); it picks by an estimate of the term's frequency that was off by a factor of 20
 // to 30 for 4-letter terms, and a wrong pick cost 70 ms at 100,000 items (docs/hub.md, Scale).
@@ -169,17 +169,18 @@ const std::string& searchStatement() {
 WHERE id IN (
   WITH recent AS MATERIALIZED (
     SELECT id, sku, title FROM items WHERE deleted_at IS NULL AND id < $1
-      AND ($2 = '' OR station_id = $2) ORDER BY id DESC LIMIT $3),
+      AND ($2 = '' OR station_id = $2) AND ($6 = '' OR status = $6) ORDER BY id DESC LIMIT $3),
   head AS MATERIALIZED (
     SELECT id FROM recent WHERE (sku || ' ' || title) ILIKE $4 ORDER BY id DESC LIMIT $5),
   older AS MATERIALIZED (
-    SELECT id, station_id FROM items WHERE (sku || ' ' || title) ILIKE $4
+    SELECT id, station_id, status FROM items WHERE (sku || ' ' || title) ILIKE $4
       AND deleted_at IS NULL)
   SELECT id FROM head
   UNION ALL
   (SELECT id FROM older
      WHERE (SELECT count(*) FROM recent) = $3 AND (SELECT count(*) FROM head) < $5
        AND id < (SELECT min(id) FROM recent) AND ($2 = '' OR station_id = $2)
+       AND ($6 = '' OR status = $6)
      ORDER BY id DESC LIMIT $5))
 ORDER BY id DESC LIMIT $5)sql";
   return kSql;
@@ -497,6 +498,17 @@ PushOutcome HubStore::push(const std::string& station, const PushedItem& in) {
   });
 }
 
+std::vector<HubStation> HubStore::stations() {
+  return withConnection([](pqxx::connection& c) {
+    pqxx::work w(c);
+    std::vector<HubStation> out;
+    for (const auto& r : w.exec("SELECT s.id, (SELECT count(*) FROM items i WHERE i.station_id = "
+                                "s.id AND i.deleted_at IS NULL) FROM stations s ORDER BY s.id"))
+      out.push_back({r[0].c_str(), r[1].as<std::int64_t>()});
+    return out;
+  });
+}
+
 std::optional<HubItem> HubStore::item(std::int64_t id) {
   return withConnection([&](pqxx::connection& c) -> std::optional<HubItem> {
     pqxx::work w(c);
@@ -520,10 +532,11 @@ HubPage HubStore::list(const HubQuery& q) {
         q.search.empty()
             ? w.exec_params(itemColumns() +
                                 "WHERE deleted_at IS NULL AND id < $1 AND ($2 = '' OR "
-                                "station_id = $2) ORDER BY id DESC LIMIT $3",
-                            after, q.station, limit + 1)
+                                "station_id = $2) AND ($4 = '' OR status = $4) "
+                                "ORDER BY id DESC LIMIT $3",
+                            after, q.station, limit + 1, q.status)
             : w.exec_params(searchStatement(), after, q.station, kSearchWindowPerRow * (limit + 1),
-                            likePattern(q.search), limit + 1);
+                            likePattern(q.search), limit + 1, q.status);
     HubPage page;
     for (const auto& row : r) {
       if (static_cast<int>(page.items.size()) == limit) {

@@ -17,8 +17,12 @@ struct Caller {
   bool any() const { return admin || station.has_value(); }
 };
 
-/// The caller of `req` by its `Authorization: Bearer` token (RFC 7235: the scheme in any case).
-Caller callerOf(const daemon::Request& req, HubStore& store, const HubConfig& config);
+class HubLogins;  // hub_web_routes.h
+
+/// The caller of `req` by its `Authorization: Bearer` token (RFC 7235: the scheme in any case)
+/// or, without one and given `logins`, by its browser session cookie.
+Caller callerOf(const daemon::Request& req, HubStore& store, const HubConfig& config,
+                const HubLogins* logins = nullptr);
 
 /// 401 with the hub's WWW-Authenticate challenge.
 daemon::Response unauthorized(const std::string& what);

@@ -8,6 +8,7 @@
 //   listen = "127.0.0.1:8090"        # any address with [tls]; loopback only without
 //   admin_token_sha256 = "<64 hex>"   # reads and edits at the hub (garmcap-hub hash-token T)
 //   body_limit_bytes = 67108864       # the largest blob a station may send
+//   web_dir = "/usr/share/garmcap/hub-web"   # the review UI's files (default: the build's)
 //   [tls]                             # HTTPS (docs/hub.md, "TLS")
 //   cert_file = "/etc/garmcap-hub/tls/cert.pem"   # the certificate, then intermediates
 //   key_file = "/etc/garmcap-hub/tls/key.pem"     # its private key, unencrypted
@@ -35,6 +36,10 @@ class HubConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Where the build put the hub's web UI (daemon/hub/CMakeLists.txt), unless --web-dir or
+/// [http] web_dir say otherwise.
+std::string defaultHubWebDir();
+
 struct HubConfig {
   std::string databaseUrl;
   int connections = 4;
@@ -44,6 +49,7 @@ struct HubConfig {
   std::map<std::string, std::string> stationTokenSha256;  // station id -> token hash
   std::size_t bodyLimitBytes = 64u << 20;
   int threads = 4;
+  std::string webDir = defaultHubWebDir();  // the review UI's static files, served at "/"
   std::string tlsCertFile;  // both set: HTTPS; both empty: plain HTTP (loopback only)
   std::string tlsKeyFile;
   daemon::ShopConfig shop;  // [shop]: defaults of the chain's shop exports

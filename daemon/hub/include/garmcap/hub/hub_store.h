@@ -74,6 +74,7 @@ struct HubItem {
 struct HubQuery {
   std::string station;       // "" = every station
   std::string search;        // substring of sku or title, case-insensitive; "" = any
+  std::string status;        // needs_review, approved or rejected; "" = any
   std::int64_t afterId = 0;  // keyset: items with a smaller id than this (newest first); 0 = start
   int limit = 50;            // 1..500
 };
@@ -81,6 +82,12 @@ struct HubQuery {
 struct HubPage {
   std::vector<HubItem> items;
   std::optional<std::int64_t> next;  // pass as afterId for the next page
+};
+
+/// A station the hub knows (configured now or before) and its items that are not deleted.
+struct HubStation {
+  std::string id;
+  std::int64_t items = 0;
 };
 
 /// What PATCH /api/items/<id> may set at the hub.
@@ -116,6 +123,8 @@ class HubStore {
   /// The station whose token hash this is, if any. A lookup by hash: timing tells an attacker
   /// about hashes of his guesses, nothing about a token.
   std::optional<std::string> stationForToken(const std::string& tokenSha256);
+  /// Every station of the stations table, by name.
+  std::vector<HubStation> stations();
 
   bool hasBlob(const std::string& sha256);
   /// Stores bytes under their sha256 (the caller checked it). Idempotent.
