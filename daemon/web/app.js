@@ -349,7 +349,7 @@ async function loadItem(id) {
   badge.textContent = STATUS_NAMES[it.status] || it.status;
   $('#f-title').value = it.title || '';
   $('#f-sku').value = it.sku || '';
-  $('#f-price').value = it.price_cents == null ? '' : (it.price_cents / 100).toFixed(2);
+  $('#f-price').value = priceText(it.price_cents);
   $('#f-tags').value = (it.tags || []).join(', ');
   $('#f-notes').value = it.notes || '';
   $('#f-title').placeholder = it.default_title || '';
@@ -559,10 +559,9 @@ async function saveItem(ev) {
     if (sku && !/^[A-Za-z0-9._-]{1,64}$/.test(sku)) { toast('A SKU may hold only letters, digits, dot, dash and underscore.', true); return; }
     body.sku = sku;
   }
-  const price = $('#f-price').value.trim().replace(',', '.');
-  if (price === '') body.price_cents = null;
-  else if (!/^\d+(\.\d{1,2})?$/.test(price)) { toast('Price: a number like 49.90', true); return; }
-  else body.price_cents = Math.round(parseFloat(price) * 100);
+  const price = parsePrice($('#f-price').value);
+  if (price === undefined) { toast('Price: a number like 49.90', true); return; }
+  body.price_cents = price;
   try {
     await api('PATCH', '/api/items/' + it.id, body);
     $('#f-msg').textContent = 'Saved ✓';

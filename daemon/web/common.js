@@ -136,6 +136,17 @@ function reviewNote(it) {
   return null;
 }
 
+// A price in cents as the form shows it ("49.90"; "" for none).
+function priceText(cents) { return cents == null ? '' : (cents / 100).toFixed(2); }
+// What staff typed in a price field: cents, null for an empty field, undefined when it is not a
+// price ("49.90", "49,9", "49").
+function parsePrice(text) {
+  const price = String(text).trim().replace(',', '.');
+  if (price === '') return null;
+  if (!/^\d+(\.\d{1,2})?$/.test(price)) return undefined;
+  return Math.round(parseFloat(price) * 100);
+}
+
 // A size guide (the station's sizeguide.json, dsw/size_guide.h: chart, base_size, measurements,
 // rows of {size, garment}) as a table; without one, the garment's measurements as measured.
 function sizeGuideView(g, measurements) {
