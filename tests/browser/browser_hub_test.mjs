@@ -255,6 +255,26 @@ try {
   }, null, { timeout: 10000 });
   step('search "top": the 2 tops, one of each station');
 
+  // Keyset pages: 25 more items of shop2 make 30, a page is 24; "Show more" asks for the rest
+  // after the last id shown, and every item is listed once.
+  for (let local = 100; local < 125; local++) {
+    await call('POST', '/api/hub/push', TOKENS.shop2, { local_id: local, item: { sku: 'S2-' + local, title: 'Plain tee ' + local,
+      type: 'top', status: 'needs_review', price_cents: 1000 + local, measurements: {}, images: {} }, deleted: false });
+  }
+  await page.fill('#search', '');
+  await page.waitForFunction(() => document.querySelectorAll('#grid .tile').length === 24, null, { timeout: 10000 });
+  check(await page.isVisible('#more'), '"Show more" under the first page');
+  const pageAsks = [];
+  page.on('request', (r) => { if (r.url().includes('/api/items?')) pageAsks.push(new URL(r.url()).searchParams.get('after')); });
+  await page.click('#more');
+  await page.waitForFunction(() => document.querySelectorAll('#grid .tile').length === 30, null, { timeout: 10000 });
+  const listed = await page.$$eval('#grid .tile', (ts) => ts.map((t) => Number(t.dataset.id)));
+  check(new Set(listed).size === 30 && listed.every((v, k) => k === 0 || v < listed[k - 1]), 'ids once each, newest first: ' + listed);
+  check(pageAsks.length === 1 && Number(pageAsks[0]) === listed[23], 'the second page asked after=' + pageAsks + ', the 24th id is ' + listed[23]);
+  check(await page.isHidden('#more'), 'no "Show more" after the last page');
+  check(await page.$$eval('#station-filter option', (os) => os[2].textContent) === 'shop2 (27)', 'the station counts follow');
+  step('keyset pages: 24, then "Show more" after=' + pageAsks[0] + ' gives the other 6; 30 distinct items, newest first');
+
   // A station's token reads only its own items, and reviews nothing.
   const ctx2 = await browser.newContext({ viewport: { width: 768, height: 1024 } });
   const p2 = await ctx2.newPage();

@@ -1,8 +1,8 @@
 #!/bin/sh
 # The hub at the issue's scale, by hand (not in ctest: ~2 minutes): a throwaway PostgreSQL, a
 # garmcap-hub, 100,000 items of 3 stations with 300,000 images (small distinct blobs) loaded in
-# SQL, then 200 list pages (keyset, per station, deep cursors) and 200 searches through the
-# HTTP API, timed by curl. Prints p50 and p99 in ms.
+# SQL, then 200 list pages (keyset, per station, deep cursors), 200 searches and 2 x 200 pages
+# of the status filter through the HTTP API, timed by curl. Prints p50 and p99 in ms.
 #   tests/hub/hub_scale.sh build/bin/garmcap-hub [ITEMS [OTHER-GARMCAP-HUB]]
 # With a second binary (an older build, say) both serve the same database and each request goes
 # to one and then the other, so that both see the same load of a shared machine.
@@ -40,7 +40,9 @@ fi
 start=$(date +%s.%N)
 $psql -d scale <<SQL
 INSERT INTO items(station_id, local_id, sku, title, status, type, doc)
-  SELECT 'shop' || (1 + g % 3), g, 'SKU-' || g, 'Skirt ' || md5(g::text), 'needs_review', 'skirt', '{}'
+  SELECT 'shop' || (1 + g % 3), g, 'SKU-' || g, 'Skirt ' || md5(g::text),
+         CASE WHEN g % 1000 = 0 THEN 'rejected' WHEN g % 4 = 0 THEN 'approved' ELSE 'needs_review' END,
+         'skirt', '{}'
   FROM generate_series(1, $items) g;
 INSERT INTO measurements(item_id, name, value_cm) SELECT id, 'waist_circ', 60 + id % 30 FROM items;
 INSERT INTO images(sha256, bytes, size)
@@ -74,3 +76,14 @@ done | time_requests "list 50 per page (station, keyset)"
 for i in $(seq 200); do
   echo "/api/items?limit=50&q=$(echo "$i" | md5sum | cut -c1-4)"
 done | time_requests "search 50 (trigram, 4 hex chars)"
+# The review UI's status filter: a page of 24 of one station and status, from anywhere in the
+# list; rejected is 1 item in 1,000 (the worst: no index of its own, the station's rows are
+# walked newest first), approved 1 in 4.
+for i in $(seq 200); do
+  after=$(( (i * 7919) % maxid + 1 ))
+  echo "/api/items?limit=24&station=shop$((1 + i % 3))&status=rejected&after=$after"
+done | time_requests "status=rejected 24 (1 in 1,000; station, keyset)"
+for i in $(seq 200); do
+  after=$(( (i * 7919) % maxid + 1 ))
+  echo "/api/items?limit=24&status=approved&after=$after"
+done | time_requests "status=approved 24 (1 in 4; keyset)"

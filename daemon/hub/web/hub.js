@@ -8,7 +8,7 @@
 
 session.prompt = 'The hub needs a token: the admin token to review, or a station\'s to read its items:';
 session.noAnswer = 'The hub does not answer. Is garmcap-hub running?';
-session.onLogIn = () => { whoAmI(); loadStations(); };
+session.onLogIn = () => whoAmI();
 
 const PAGE = 24;
 const hub = {
@@ -27,6 +27,7 @@ function showBanner(title, detail) {
 }
 
 // Who this browser is at the hub: the admin reviews; a station token reads its own items only.
+// The session's answer, or null when the hub does not answer.
 async function whoAmI() {
   try {
     const s = await api('GET', '/api/session');
@@ -35,10 +36,12 @@ async function whoAmI() {
     $('#who').dataset.state = s.authenticated ? 'ready' : 'unknown';
     document.body.classList.toggle('read-only', s.role !== 'admin');
     $('#banner').hidden = true;
+    return s;
   } catch (e) {
     $('#who').dataset.state = 'offline';
     $('#who-text').textContent = 'Hub offline';
     showBanner('Hub offline.', e.message);
+    return null;
   }
 }
 
@@ -57,7 +60,8 @@ async function loadStations() {
 // --- catalog ---------------------------------------------------------------------------------
 async function loadCatalog(reset) {
   const c = hub.catalog;
-  if (reset) { c.next = null; c.shown = 0; }
+  // A new list also refreshes the stations and their counts (a station may have joined).
+  if (reset) { c.next = null; c.shown = 0; loadStations(); }
   const params = new URLSearchParams({ limit: String(PAGE) });
   if (!reset && c.next) params.set('after', String(c.next));
   if (c.q) params.set('q', c.q);
@@ -102,7 +106,6 @@ async function approvePicked() {
   else toast('Approved ' + done + (done === 1 ? ' item' : ' items'));
   updateBulk();
   loadCatalog(true);
-  loadStations();
 }
 
 function tile(it) {
@@ -246,9 +249,10 @@ async function init() {
   });
   $('#f-reject').addEventListener('click', () => patchItem({ status: 'rejected' }, 'Rejected: it will not be exported'));
   window.addEventListener('hashchange', route);
-  // Stations first (a 401 there asks for the token once), then who this is and the page.
-  await loadStations();
-  await whoAmI();
+  // Who this is first: a browser without a session is asked for the token once, before the
+  // page's calls would each meet a 401.
+  const s = await whoAmI();
+  if (s && !s.authenticated) await logIn();
   route();
 }
 
