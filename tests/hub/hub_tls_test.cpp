@@ -151,6 +151,28 @@ Answer httpsGet(std::uint16_t port, ssl::context& ctx, const std::string& target
   return {static_cast<int>(res.result_int()), res.body()};
 }
 
+// The browser log-in over TLS: POST /api/session's Set-Cookie.
+std::string httpsLogInCookie(std::uint16_t port, ssl::context& ctx, const std::string& token) {
+  asio::io_context io;
+  beast::ssl_stream<beast::tcp_stream> stream(io, ctx);
+  stream.set_verify_callback(ssl::host_name_verification("127.0.0.1"));
+  beast::get_lowest_layer(stream).connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
+  stream.handshake(ssl::stream_base::client);
+  http::request<http::string_body> req{http::verb::post, "/api/session", 11};
+  req.set(http::field::host, "127.0.0.1:" + std::to_string(port));
+  req.set(http::field::content_type, "application/json");
+  req.body() = nlohmann::json{{"token", token}}.dump();
+  req.prepare_payload();
+  http::write(stream, req);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> res;
+  http::read(stream, buffer, res);
+  EXPECT_EQ(res.result_int(), 200u) << res.body();
+  beast::error_code ec;
+  stream.shutdown(ec);
+  return std::string(res[http::field::set_cookie]);
+}
+
 // What a plain-HTTP client to the TLS port gets: the bytes the hub sends back before it closes
 // (no HTTP answer), or an empty string; fails the test if the connection stays open 5 s.
 std::string plainRequest(std::uint16_t port) {
@@ -190,6 +212,7 @@ TEST(HubTls, ServesHttpsAndTurnsAwayPlainHttpOldTlsAndSilentClients) {
   c.threads = 1;  // one thread: a client that hangs in its handshake would block everything
   c.tlsCertFile = certs.serverCert.string();
   c.tlsKeyFile = certs.serverKey.string();
+  c.adminTokenSha256 = tokenHash("tls-admin");
   c.validate();
   HubService service(c);
   service.start();
@@ -206,6 +229,11 @@ TEST(HubTls, ServesHttpsAndTurnsAwayPlainHttpOldTlsAndSilentClients) {
   const Answer health = httpsGet(port, trusting, "/api/hub/health");
   EXPECT_EQ(health.status, 200);
   EXPECT_EQ(nlohmann::json::parse(health.body).value("ok", false), true) << health.body;
+
+  // Over HTTPS the browser's session cookie is Secure: it never goes out in clear.
+  const std::string cookie = httpsLogInCookie(port, trusting, "tls-admin");
+  EXPECT_NE(cookie.find("; Secure"), std::string::npos) << cookie;
+  EXPECT_NE(cookie.find("HttpOnly"), std::string::npos) << cookie;
 
   const std::string plain = plainRequest(port);
   EXPECT_EQ(plain.find("HTTP/1.1 200"), std::string::npos) << plain;
