@@ -442,8 +442,8 @@ ProductImages makeProductImages(const cv::Mat3b& bgr, const cv::Mat1f& alpha,
   return out;
 }
 
-ProductImages productPhotos(const cv::Mat3b& dressed, const cv::Mat1b& mask, const cv::Mat3b& bare,
-                            const cv::Vec3b& screenBgr, const ProductImageOptions& options) {
+ProductLayer productLayer(const cv::Mat3b& dressed, const cv::Mat1b& mask, const cv::Mat3b& bare,
+                          const cv::Vec3b& screenBgr, const ProductImageOptions& options) {
   if (!(options.pxPerCm > 0))
     throw std::invalid_argument("product image: px per cm must be positive");
   if (mask.size() != dressed.size() || (!bare.empty() && bare.size() != dressed.size()))
@@ -463,7 +463,13 @@ ProductImages productPhotos(const cv::Mat3b& dressed, const cv::Mat1b& mask, con
   if (!bare.empty())
     unmixEdge(colour, alpha, bare);
   despillEdge(colour, alpha, screenBgr, std::max(3.0, kSpillBandCm * s));
-  return makeProductImages(colour, alpha, options);
+  return {colour, alpha};
+}
+
+ProductImages productPhotos(const cv::Mat3b& dressed, const cv::Mat1b& mask, const cv::Mat3b& bare,
+                            const cv::Vec3b& screenBgr, const ProductImageOptions& options) {
+  const ProductLayer layer = productLayer(dressed, mask, bare, screenBgr, options);
+  return makeProductImages(layer.colour, layer.alpha, options);
 }
 
 }  // namespace garmcap::pipeline

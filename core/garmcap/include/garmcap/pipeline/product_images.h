@@ -75,6 +75,18 @@ struct ProductImages {
 ProductImages makeProductImages(const cv::Mat3b& bgr, const cv::Mat1f& alpha,
                                 const ProductImageOptions& options = {});
 
+/// The garment as the photos composite it: its colour (edge unmixed and despilled) and its alpha
+/// (CV_32F 0..1), both of the input's size.
+struct ProductLayer {
+  cv::Mat3b colour;
+  cv::Mat1f alpha;
+};
+
+/// The chain before the photos (productPhotos without makeProductImages): refined alpha, form
+/// remains cut against `bare` (may be empty), edge unmixed and despilled against `screenBgr`.
+ProductLayer productLayer(const cv::Mat3b& dressed, const cv::Mat1b& mask, const cv::Mat3b& bare,
+                          const cv::Vec3b& screenBgr, const ProductImageOptions& options);
+
 /// The whole chain on the garment's part of the frame: refined alpha, form remains cut against
 /// `bare` (may be empty: no cut), edge despilled against `screenBgr`, the photos made.
 /// `bare` and `mask` must have `dressed`'s size. Band widths scale with options.pxPerCm.
