@@ -83,7 +83,7 @@ TEST(MirroredLayer, MapsColumnsAboutTheAxis) {
   const cv::Rect from(30, 20, 140, 190);
   ProductLayer back{cv::Mat3b(from.size(), cv::Vec3b(200, 0, 0)), cv::Mat1f(from.size(), 1.0f)};
   back.colour(cv::Rect(70, 0, 70, from.height)).setTo(cv::Vec3b(0, 200, 0));  // frame x >= 100
-  const cv::Rect to(35, 25, 130, 180);
+  const cv::Rect to(35, 25, 130, 195);                                        // frame rows 25-219
   const ProductLayer m = mirroredLayer(back, from, kAxis, to);
   ASSERT_EQ(m.colour.size(), to.size());
   // Frame column x shows the back's column 200 - x: x < 100 shows the right (green) half.
@@ -92,7 +92,9 @@ TEST(MirroredLayer, MapsColumnsAboutTheAxis) {
   EXPECT_FLOAT_EQ(m.alpha(50, 90 - to.x), 1.0f);
   // Frame column 162 mirrors to 38, inside the layer; column 40 to 160, inside too; row 212 of
   // the frame is below the layer (rows 20-209): alpha 0.
+  ASSERT_LT(212 - to.y, m.alpha.rows);
   EXPECT_FLOAT_EQ(m.alpha(212 - to.y, 60 - to.x), 0.0f);
+  EXPECT_FLOAT_EQ(m.alpha(205 - to.y, 60 - to.x), 1.0f);
 }
 
 TEST(ComposeGhostFront, FillsTheOpeningWithTheDarkenedBackAndNothingElse) {

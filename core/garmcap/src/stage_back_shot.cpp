@@ -111,6 +111,10 @@ void makeBackShotImages(const CaptureContext& ctx, const BareFrame& bare, const 
     result.ghostProductPortrait = gp.portrait;
     result.backShot["neck_opening_px"] = cv::countNonZero(opening.region);
     result.backShot["ghost_px"] = changed;
+    if (changed == 0)
+      result.warnings.push_back(
+          "the ghost-mannequin photo is the plain front: the back shot's garment does not reach "
+          "into the front's neck opening");
   }
   timer.done("back");
 }
