@@ -1,7 +1,7 @@
 #pragma once
 // Product photos from a garment mask: the garment cut out with a soft alpha edge (form and
-// background removed, the "ghost mannequin" look), centred and cropped, on white and on
-// transparent, at the camera frame's own resolution.
+// background removed; the inside of the neck from a back shot: ghost_mannequin.h), centred and
+// cropped, on white and on transparent, at the camera frame's own resolution.
 //
 // The mask comes from segmentation (placed to the pixel against the screen, upsampled from the
 // work frame against the form). Here, at full resolution and only in a narrow band along its
