@@ -221,6 +221,7 @@ TEST(GhostMannequinRig, NeckOpeningFilledWithTheBackAndNothingElseChanges) {
               0.01);
   const cv::Vec3b centre = cv::Mat3b(r.backProduct)(r.backProduct.rows / 2, r.backProduct.cols / 2);
   EXPECT_GT(centre[0], centre[2] + 40) << "the back photo is not of the blue back";
+  std::printf("back shot: %s\n", r.backShot.dump().c_str());
   EXPECT_NEAR(r.backShot.at("area_ratio").get<double>(), 1.0, 0.05);
 }
 
@@ -252,4 +253,5 @@ TEST(GhostMannequinRig, BadBackShotsAreRefusedByName) {
   EXPECT_EQ(reasonOf(empty, dressed, dress.renderDressed(), front.calibration(), message),
             pipeline::CaptureError::Reason::kOtherGarment);
   EXPECT_NE(message.find("same garment"), std::string::npos) << message;
+  std::printf("%s\n", message.c_str());
 }
