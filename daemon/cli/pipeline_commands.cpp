@@ -61,8 +61,17 @@ void writeCaptureOutputs(const fs::path& out, const pipeline::CaptureResult& r) 
   }
   // Encoded as the station stores them (image_files.h): the shop photos as JPEG and WebP.
   const std::pair<const char*, const cv::Mat&> images[] = {
-      {"cutout", r.cutout},         {"product", r.product}, {"product_4x5", r.productPortrait},
-      {"silhouette", r.silhouette}, {"overlay", r.overlay}, {"texture", r.texture}};
+      {"cutout", r.cutout},
+      {"product", r.product},
+      {"product_4x5", r.productPortrait},
+      {"silhouette", r.silhouette},
+      {"overlay", r.overlay},
+      {"texture", r.texture},
+      {"cutout_back", r.backCutout},
+      {"product_back", r.backProduct},
+      {"product_back_4x5", r.backProductPortrait},
+      {"product_ghost", r.ghostProduct},
+      {"product_ghost_4x5", r.ghostProductPortrait}};
   for (const auto& [kind, image] : images)
     for (const pipeline::EncodedImage& e : pipeline::encodeImageFiles(kind, image))
       drafts::writeFileAtomic(out / e.fileName, e.bytes);
@@ -381,7 +390,7 @@ void rigCrop(const fs::path& rigDir, const fs::path& outDir, double atCm, double
 
 void addPipelineCommands(CLI::App& app, CLI::App& rigGroup) {
   auto* cap = app.add_subcommand("capture", "Run GarmCap on a bare-form and a dressed frame");
-  static fs::path empty, dressed, calibration, out;
+  static fs::path empty, dressed, calibration, out, back;
   static std::string captureChart = pipeline::kDefaultSizeChart;
   static bool productShadow = false;
   cap->add_option("--empty", empty, "bare-form frame (PNG/JPEG)")->required();
@@ -391,6 +400,10 @@ void addPipelineCommands(CLI::App& app, CLI::App& rigGroup) {
   cap->add_option("--size-chart", captureChart,
                   "size chart completing the form's body for drafting (default korean_women, as "
                   "the daemon's [pipeline] size_chart)");
+  cap->add_option("--back", back,
+                  "back shot: the same garment turned back to front on the form, same camera; "
+                  "adds the back photos (product_back*, cutout_back) and the ghost-mannequin "
+                  "front (product_ghost*)");
   cap->add_flag("--product-shadow", productShadow,
                 "a soft drop shadow under the garment on the white photos (product, product_4x5; "
                 "as the daemon's [pipeline] product_shadow)");
@@ -401,6 +414,8 @@ void addPipelineCommands(CLI::App& app, CLI::App& rigGroup) {
     pipeline::CaptureOptions options;
     options.sizeChart = captureChart;
     options.productShadow = productShadow;
+    if (!back.empty())
+      options.backFrame = readImage(back, "back shot");
     const auto r = pipeline::runCapture(e, d, cal, options);
     writeCaptureOutputs(out, r);
     std::cout << r.toJson().dump(2) << "\n";

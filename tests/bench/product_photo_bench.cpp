@@ -1,6 +1,6 @@
 // Product photos before and after issue 17, in one run on the same inputs.
 //
-//   build/bin/product_photo_bench [--sizes 864x1152,3000x4000] [--reps 3]
+//   build/bin/product_photo_bench [--sizes 864x1152,3000x4000] [--reps 3] [--fresh-pages]
 //
 // For each size a simulated dress scene is rendered and segmented by the pipeline once (its
 // silhouette is the mask both methods get). "before" is the method the pipeline used until
@@ -10,13 +10,18 @@
 // "after" is pipeline::productPhotos (guided-filter edge, bare-frame cut, chroma despill) with
 // the square and the 4:5 crop stored as JPEG (quality 90, as the daemon now does) and the cut-out
 // as PNG; from a frame of 2048 px or more the photos are at least 2048 px (as the pipeline asks).
-// Freed frame memory stays mapped, as in garmcapd. The table gives the median wall time of making
-// and of encoding, the photo's side and the stored bytes. Wall-clock: compare the two rows of one
-// run, not times between machines. A second table compares the square photo stored as JPEG
-// (quality 90) and as WebP at qualities 80-95: encoding time, bytes, SSIM and PSNR against the
-// lossless photo. A third compares the PNGs the station stores (the camera frame, the cut-out,
-// the review overlay, the silhouette) at level 1 with every row filter, as it stored them until
-// now, against pipeline::encodePng (image_files.h): median encoding time, bytes, time ratio.
+// Freed frame memory stays mapped, as in garmcapd and the CLI (--fresh-pages: returned to the
+// kernel, the library's default without keepFrameMemoryMapped, where page faults dominate the
+// full-size passes). The first table gives the median wall time of making and of encoding, the
+// photo's side and the stored bytes. Wall-clock: compare the rows of one run, not times between
+// machines. A second table compares the square photo stored as JPEG (quality 90) and as WebP at
+// qualities 80-95: encoding time, bytes, SSIM and PSNR against the lossless photo. A third gives
+// the soft shadow's cost (ms the two white photos, unscaled, take with it minus without it) by
+// the code before it was made cheaper (kept below as the reference) and by makeProductImages now,
+// their ratio (new / old), and the grey levels between the two shadowed squares. A fourth compares
+// the PNGs the station stores (the camera frame, the cut-out, the review overlay, the silhouette)
+// at level 1 with every row filter, as it stored them until now, against pipeline::encodePng
+// (image_files.h): median encoding time, bytes, time ratio.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -93,6 +98,112 @@ Before before(const cv::Mat3b& cropIn, const cv::Mat1b& mask) {
   return {bgra, white};
 }
 
+// The soft shadow as it was made before it was made cheaper (core/garmcap/src/product_images.cpp
+// at the branch point of h/ghost17), kept as the reference: the garment's alpha copied into a
+// float canvas, the shadow made at reduced resolution from the whole canvas and scaled back up as
+// a float image, 255 (1 - shadow) as a float background, then the garment composited over it.
+cv::Mat1f oldDropShadow(const cv::Mat1f& canvasAlpha) {
+  cv::Mat1f shadow = cv::Mat1f::zeros(canvasAlpha.size());
+  const cv::Rect box = cv::boundingRect(canvasAlpha > 0.0f);
+  if (box.area() == 0)
+    return shadow;
+  const double h = box.height;
+  const double sigma = std::max(1.0, 0.015 * h);
+  const double f = std::max(1.0, sigma / 3.0);
+  const cv::Size small(std::max(1, static_cast<int>(std::lround(canvasAlpha.cols / f))),
+                       std::max(1, static_cast<int>(std::lround(canvasAlpha.rows / f))));
+  cv::Mat1f a;
+  cv::resize(canvasAlpha, a, small, 0, 0, cv::INTER_AREA);
+  const cv::Mat1b solid = a >= 0.5f;
+  cv::Mat1f depth;
+  cv::distanceTransform(solid, depth, cv::DIST_L2, cv::DIST_MASK_3);
+  const cv::Mat1b core = depth > static_cast<float>(3.5 * 0.015 * h / f);
+  const int drop = static_cast<int>(std::lround(4.5 * 0.015 * h / f));
+  cv::Mat1f moved = cv::Mat1f::zeros(small);
+  if (drop < moved.rows) {
+    const cv::Rect from(0, 0, moved.cols, moved.rows - drop);
+    core(from).convertTo(moved(from + cv::Point(0, drop)), CV_32F, 0.2 / 255.0);
+  }
+  cv::Mat1f b;
+  cv::GaussianBlur(moved, b, cv::Size(), sigma / f, sigma / f, cv::BORDER_CONSTANT);
+  cv::resize(b, shadow, canvasAlpha.size(), 0, 0, cv::INTER_LINEAR);
+  return shadow;
+}
+
+cv::Mat3b oldOnWhite(const cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Rect& box,
+                     cv::Size canvas, bool shadow) {
+  cv::Mat3b out(canvas, cv::Vec3b(255, 255, 255));
+  const cv::Point offset((canvas.width - box.width) / 2, (canvas.height - box.height) / 2);
+  cv::Mat1f background;
+  if (shadow) {
+    cv::Mat1f canvasAlpha = cv::Mat1f::zeros(canvas);
+    alpha(box).copyTo(canvasAlpha(cv::Rect(offset, box.size())));
+    background = 255.f * (1.f - oldDropShadow(canvasAlpha));
+    cv::Mat1b grey;
+    background.convertTo(grey, CV_8U);
+    cv::cvtColor(grey, out, cv::COLOR_GRAY2BGR);
+  }
+  for (int y = 0; y < box.height; ++y) {
+    const cv::Vec3b* src = bgr.ptr<cv::Vec3b>(box.y + y) + box.x;
+    const float* a = alpha.ptr<float>(box.y + y) + box.x;
+    const float* bg = background.empty() ? nullptr : background.ptr<float>(offset.y + y) + offset.x;
+    cv::Vec3b* dst = out.ptr<cv::Vec3b>(offset.y + y) + offset.x;
+    for (int x = 0; x < box.width; ++x) {
+      const float al = a[x];
+      if (al <= 0.f)
+        continue;
+      const float under = bg ? bg[x] : 255.f;
+      for (int c = 0; c < 3; ++c)
+        dst[x][c] = cv::saturate_cast<uchar>(src[x][c] * al + under * (1.f - al));
+    }
+  }
+  return out;
+}
+
+// The shadow's cost: the two photos on white (square and 4:5, unscaled) with the shadow and
+// without, by the old code above and by pipeline::makeProductImages now, medians of `reps`; and
+// how far the new shadowed square is from the old one (grey levels, largest and mean).
+void compareShadow(const garmcap::pipeline::ProductLayer& layer, int w, int h, int reps) {
+  const cv::Rect box = cv::boundingRect(layer.alpha > 0.0f);
+  const int side = static_cast<int>(std::ceil(std::max(box.width, box.height) / 0.88));
+  const int ph = static_cast<int>(
+      std::ceil(std::max(static_cast<double>(box.height), 1.25 * box.width) / 0.88));
+  const cv::Size square(side, side),
+      portrait(std::max(box.width, static_cast<int>(std::lround(0.8 * ph))),
+               std::max(ph, box.height));
+  std::vector<double> oldOff, oldOn, newOff, newOn;
+  cv::Mat3b oldSquare, newSquare;
+  for (int r = 0; r < reps; ++r) {
+    auto t0 = Clock::now();
+    oldOnWhite(layer.colour, layer.alpha, box, square, false);
+    oldOnWhite(layer.colour, layer.alpha, box, portrait, false);
+    oldOff.push_back(msSince(t0));
+    t0 = Clock::now();
+    oldSquare = oldOnWhite(layer.colour, layer.alpha, box, square, true);
+    oldOnWhite(layer.colour, layer.alpha, box, portrait, true);
+    oldOn.push_back(msSince(t0));
+    garmcap::pipeline::ProductImageOptions o{
+        .maxSidePx = 1 << 20, .minSidePx = 0, .marginFraction = 0.06, .pxPerCm = 1};
+    // makeProductImages also makes the cut-out: timed without a shadow and with one, the
+    // shadow's cost is the difference.
+    t0 = Clock::now();
+    garmcap::pipeline::makeProductImages(layer.colour, layer.alpha, o);
+    newOff.push_back(msSince(t0));
+    o.shadow = true;
+    t0 = Clock::now();
+    newSquare = garmcap::pipeline::makeProductImages(layer.colour, layer.alpha, o).square;
+    newOn.push_back(msSince(t0));
+  }
+  cv::Mat diff;
+  cv::absdiff(oldSquare, newSquare, diff);
+  double maxDiff = 0;
+  cv::minMaxLoc(diff.reshape(1), nullptr, &maxDiff);
+  const double oldCost = median(oldOn) - median(oldOff), newCost = median(newOn) - median(newOff);
+  std::printf("%4dx%-5d %7d %9.0f %9.0f %9.0f %9.0f %9.0f %9.0f %6.2f %8.0f %8.3f\n", w, h, side,
+              median(oldOff), median(oldOn), oldCost, median(newOff), median(newOn), newCost,
+              newCost / oldCost, maxDiff, cv::mean(diff)[0]);
+}
+
 // Mean SSIM (Wang et al. 2004: 11x11 Gaussian window, sigma 1.5, K1 0.01, K2 0.03) of the
 // luma of two 8-bit BGR images of one size.
 double ssim(const cv::Mat& a, const cv::Mat& b) {
@@ -163,18 +274,23 @@ int main(int argc, char** argv) {
   using namespace garmcap;
   std::string sizesArg = "864x1152,3000x4000";
   int reps = 3;
+  bool freshPages = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sizes" && i + 1 < argc) {
       sizesArg = argv[++i];
+    } else if (a == "--fresh-pages") {
+      freshPages = true;
     } else if (a == "--reps" && i + 1 < argc) {
       reps = std::max(1, std::atoi(argv[++i]));
     } else {
-      std::fprintf(stderr, "usage: product_photo_bench [--sizes WxH,...] [--reps N]\n");
+      std::fprintf(stderr,
+                   "usage: product_photo_bench [--sizes WxH,...] [--reps N] [--fresh-pages]\n");
       return 2;
     }
   }
-  pipeline::keepFrameMemoryMapped();  // as garmcapd does
+  if (!freshPages)
+    pipeline::keepFrameMemoryMapped();  // as garmcapd and the CLI do
   try {
     const std::string formPath =
         std::string(GARMCAP_SHARED_DIR) + "/data/forms/garmentcode_mean_female/form.json";
@@ -192,6 +308,11 @@ int main(int argc, char** argv) {
       cv::Mat image;
     };
     std::vector<StoredPng> pngs;
+    struct Layer {
+      int w, h;
+      pipeline::ProductLayer layer;
+    };
+    std::vector<Layer> layers;
     std::stringstream ss(sizesArg);
     std::string item;
     while (std::getline(ss, item, ',')) {
@@ -256,6 +377,11 @@ int main(int argc, char** argv) {
       std::printf("%4dx%-5d %-6s %9.0f %9.0f %9.0f %7d %10zu\n", w, h, "after", median(aMake),
                   median(aEnc), median(aMake) + median(aEnc), aSide, aBytes);
       squares.push_back({w, h, lastSquare});
+      layers.push_back(
+          {w, h,
+           pipeline::productLayer(
+               crop, mask, bareCrop, screen,
+               {.maxSidePx = 4096, .minSidePx = 0, .marginFraction = 0.06, .pxPerCm = s})});
       const pipeline::CaptureResult full =
           pipeline::runCapture(empty, dressed, renderer.calibration(), pipeline::CaptureOptions{});
       pngs.push_back({w, h, "frame", cv::Mat(dressed)});
@@ -267,6 +393,11 @@ int main(int argc, char** argv) {
                 "bytes", "ssim", "psnr");
     for (const auto& sq : squares)
       compareFormats(sq.photo, sq.w, sq.h);
+    std::printf("\n%-10s %7s %9s %9s %9s %9s %9s %9s %6s %8s %8s\n", "size", "side", "old_off",
+                "old_on", "old_cost", "new_off", "new_on", "new_cost", "ratio", "max_diff",
+                "mean_diff");
+    for (const auto& l : layers)
+      compareShadow(l.layer, l.w, l.h, reps);
     std::printf("\n%-10s %-10s %9s %9s %10s %10s %6s %6s\n", "size", "png", "level1_ms", "fast_ms",
                 "level1_b", "fast_b", "t", "bytes");
     for (const auto& p : pngs)

@@ -11,6 +11,7 @@
 #include "frame_ops.h"
 #include "garmcap/pipeline/capture_context.h"
 #include "leg_gap.h"
+#include "stage_back_shot.h"
 #include "stage_draft.h"
 #include "stage_images.h"
 #include "stage_masks.h"
@@ -89,8 +90,12 @@ CaptureResult runPrepared(const PreparedCapture& prepared, const cv::Mat& dresse
   }
 
   // 8. Images, from the garment's part of the full frame only.
-  makeCaptureImages(ctx, {dressedFull, garment, gm, bare, dressed.key.screenBgr}, options, timer,
-                    result);
+  const PhotoLayer front = makeCaptureImages(
+      ctx, {dressedFull, garment, gm, bare, dressed.key.screenBgr}, options, timer, result);
+
+  // 9. The optional back shot: back photos and the ghost-mannequin front.
+  if (!options.backFrame.empty())
+    makeBackShotImages(ctx, bare, options.backFrame, garment, front, options, timer, result);
   return result;
 }
 
@@ -115,6 +120,8 @@ nlohmann::json CaptureResult::toJson() const {
   j["warnings"] = warnings;
   if (!corrections.empty())
     j["corrections"] = corrections;
+  if (!backShot.is_null())
+    j["back_shot"] = backShot;
   nlohmann::json t = nlohmann::json::object();
   double total = 0;
   for (const auto& s : timings) {

@@ -10,7 +10,8 @@ namespace {
 // The photos shops show are JPEG on white (full resolution PNGs run to tens of MB, and shops
 // recompress them anyway); the cut-out keeps its alpha in PNG, the review masks stay lossless.
 bool isShopPhoto(const std::string& kind) {
-  return kind == "product" || kind == "product_4x5";
+  return kind == "product" || kind == "product_4x5" || kind == "product_back" ||
+         kind == "product_back_4x5" || kind == "product_ghost" || kind == "product_ghost_4x5";
 }
 
 std::string encode(const char* ext, const cv::Mat& image, const std::vector<int>& params,

@@ -107,21 +107,37 @@ void unmixEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Mat3b& bare) {
 
 }  // namespace
 
-cv::Mat1f dropShadow(const cv::Mat1f& canvasAlpha) {
-  cv::Mat1f shadow = cv::Mat1f::zeros(canvasAlpha.size());
-  const cv::Rect box = cv::boundingRect(canvasAlpha > 0.0f);
-  if (box.area() == 0)
-    return shadow;
-  const double h = box.height;
-  // All of it at reduced resolution (a third of the blur's sigma a pixel, as weightedBlur): the
-  // shadow has no detail finer than that, and at full resolution a 12 MP photo's canvases would
-  // cost over a second (distance transform, a kernel hundreds of px wide).
+namespace {
+
+// The drop shadow at reduced resolution (a third of the blur's sigma a pixel, as weightedBlur):
+// the shadow has no detail finer than that. The garment's alpha `boxAlpha` lies at `offset` on a
+// canvas of `canvas` size; only its box is scaled down (straight onto the small canvas, at its
+// exact sub-pixel place), so no canvas-sized float image is made: at 12 MP those full-size passes
+// (a float canvas, its copy, the float shadow scaled back up, 255 (1 - shadow)) were nine tenths of
+// the shadow's cost (tests/bench/product_photo_bench, third table).
+struct SmallShadow {
+  cv::Mat1f darkness;  // 0..kShadowOpacity on the small canvas
+};
+
+SmallShadow smallShadow(const cv::Mat1f& boxAlpha, cv::Point offset, cv::Size canvas) {
+  const double h = boxAlpha.rows;
   const double sigma = std::max(1.0, kShadowSigma * h);
   const double f = std::max(1.0, sigma / 3.0);
-  const cv::Size small(std::max(1, static_cast<int>(std::lround(canvasAlpha.cols / f))),
-                       std::max(1, static_cast<int>(std::lround(canvasAlpha.rows / f))));
+  const cv::Size small(std::max(1, static_cast<int>(std::lround(canvas.width / f))),
+                       std::max(1, static_cast<int>(std::lround(canvas.height / f))));
+  const cv::Size smallBox(std::max(1, static_cast<int>(std::lround(boxAlpha.cols / f))),
+                          std::max(1, static_cast<int>(std::lround(boxAlpha.rows / f))));
+  cv::Mat1f boxSmall;
+  cv::resize(boxAlpha, boxSmall, smallBox, 0, 0, cv::INTER_AREA);
+  // Small-box pixel u (centre at u + 0.5 in edge coordinates) lies at canvas edge coordinate
+  // offset + (u + 0.5) w / w', that is small-canvas centre coordinate
+  // (offset + (u + 0.5) w / w') / f - 0.5.
+  const double kx = static_cast<double>(boxAlpha.cols) / smallBox.width / f;
+  const double ky = static_cast<double>(boxAlpha.rows) / smallBox.height / f;
+  const cv::Matx23d toCanvas(kx, 0.0, offset.x / f + 0.5 * kx - 0.5, 0.0, ky,
+                             offset.y / f + 0.5 * ky - 0.5);
   cv::Mat1f a;
-  cv::resize(canvasAlpha, a, small, 0, 0, cv::INTER_AREA);
+  cv::warpAffine(boxSmall, a, toCanvas, small, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0.0);
   // Shrunk from the half-covered outline (the soft edge's middle) by a distance transform: one
   // pass, where an erosion would cost a kernel that wide.
   const cv::Mat1b solid = a >= 0.5f;
@@ -134,9 +150,30 @@ cv::Mat1f dropShadow(const cv::Mat1f& canvasAlpha) {
     core(from).convertTo(moved(from + cv::Point(0, drop)), CV_32F, kShadowOpacity / 255.0);
   }
   // Beyond the canvas is white (no shadow), hence the zero border.
-  cv::Mat1f b;
-  cv::GaussianBlur(moved, b, cv::Size(), sigma / f, sigma / f, cv::BORDER_CONSTANT);
-  cv::resize(b, shadow, canvasAlpha.size(), 0, 0, cv::INTER_LINEAR);
+  SmallShadow out;
+  cv::GaussianBlur(moved, out.darkness, cv::Size(), sigma / f, sigma / f, cv::BORDER_CONSTANT);
+  return out;
+}
+
+// The white background with the shadow, 8-bit grey at the canvas's size: scaled up from the
+// small canvas in 8 bits (within a grey level of scaling the float darkness up and rounding).
+cv::Mat1b shadowedWhite(const cv::Mat1f& boxAlpha, cv::Point offset, cv::Size canvas) {
+  const SmallShadow s = smallShadow(boxAlpha, offset, canvas);
+  cv::Mat1b smallGrey, grey;
+  s.darkness.convertTo(smallGrey, CV_8U, -255.0, 255.0);
+  cv::resize(smallGrey, grey, canvas, 0, 0, cv::INTER_LINEAR);
+  return grey;
+}
+
+}  // namespace
+
+cv::Mat1f dropShadow(const cv::Mat1f& canvasAlpha) {
+  cv::Mat1f shadow = cv::Mat1f::zeros(canvasAlpha.size());
+  const cv::Rect box = cv::boundingRect(canvasAlpha > 0.0f);
+  if (box.area() == 0)
+    return shadow;
+  const SmallShadow s = smallShadow(canvasAlpha(box), box.tl(), canvasAlpha.size());
+  cv::resize(s.darkness, shadow, canvasAlpha.size(), 0, 0, cv::INTER_LINEAR);
   return shadow;
 }
 
@@ -348,27 +385,26 @@ namespace {
 // pixel mixes with the shadowed white as it would with a real one.
 cv::Mat3b onWhite(const cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Rect& box,
                   cv::Size canvas, bool shadow) {
-  cv::Mat3b out(canvas, cv::Vec3b(255, 255, 255));
   const cv::Point offset((canvas.width - box.width) / 2, (canvas.height - box.height) / 2);
-  cv::Mat1f background;  // 0..255 per pixel; empty: white everywhere (as before the option)
+  cv::Mat3b out;
+  cv::Mat1b background;  // 0..255 per pixel; empty: white everywhere (as before the option)
   if (shadow) {
-    cv::Mat1f canvasAlpha = cv::Mat1f::zeros(canvas);
-    alpha(box).copyTo(canvasAlpha(cv::Rect(offset, box.size())));
-    background = 255.f * (1.f - dropShadow(canvasAlpha));
-    cv::Mat1b grey;
-    background.convertTo(grey, CV_8U);
-    cv::cvtColor(grey, out, cv::COLOR_GRAY2BGR);
+    background = shadowedWhite(alpha(box), offset, canvas);
+    cv::cvtColor(background, out, cv::COLOR_GRAY2BGR);
+  } else {
+    out.create(canvas);
+    out.setTo(cv::Scalar::all(255));
   }
   for (int y = 0; y < box.height; ++y) {
     const cv::Vec3b* src = bgr.ptr<cv::Vec3b>(box.y + y) + box.x;
     const float* a = alpha.ptr<float>(box.y + y) + box.x;
-    const float* bg = background.empty() ? nullptr : background.ptr<float>(offset.y + y) + offset.x;
+    const uchar* bg = background.empty() ? nullptr : background.ptr(offset.y + y) + offset.x;
     cv::Vec3b* dst = out.ptr<cv::Vec3b>(offset.y + y) + offset.x;
     for (int x = 0; x < box.width; ++x) {
       const float al = a[x];
       if (al <= 0.f)
         continue;
-      const float under = bg ? bg[x] : 255.f;
+      const float under = bg ? static_cast<float>(bg[x]) : 255.f;
       for (int c = 0; c < 3; ++c)
         dst[x][c] = cv::saturate_cast<uchar>(src[x][c] * al + under * (1.f - al));
     }
@@ -442,8 +478,8 @@ ProductImages makeProductImages(const cv::Mat3b& bgr, const cv::Mat1f& alpha,
   return out;
 }
 
-ProductImages productPhotos(const cv::Mat3b& dressed, const cv::Mat1b& mask, const cv::Mat3b& bare,
-                            const cv::Vec3b& screenBgr, const ProductImageOptions& options) {
+ProductLayer productLayer(const cv::Mat3b& dressed, const cv::Mat1b& mask, const cv::Mat3b& bare,
+                          const cv::Vec3b& screenBgr, const ProductImageOptions& options) {
   if (!(options.pxPerCm > 0))
     throw std::invalid_argument("product image: px per cm must be positive");
   if (mask.size() != dressed.size() || (!bare.empty() && bare.size() != dressed.size()))
@@ -463,7 +499,13 @@ ProductImages productPhotos(const cv::Mat3b& dressed, const cv::Mat1b& mask, con
   if (!bare.empty())
     unmixEdge(colour, alpha, bare);
   despillEdge(colour, alpha, screenBgr, std::max(3.0, kSpillBandCm * s));
-  return makeProductImages(colour, alpha, options);
+  return {colour, alpha};
+}
+
+ProductImages productPhotos(const cv::Mat3b& dressed, const cv::Mat1b& mask, const cv::Mat3b& bare,
+                            const cv::Vec3b& screenBgr, const ProductImageOptions& options) {
+  const ProductLayer layer = productLayer(dressed, mask, bare, screenBgr, options);
+  return makeProductImages(layer.colour, layer.alpha, options);
 }
 
 }  // namespace garmcap::pipeline

@@ -32,8 +32,28 @@ void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeas
 
 }  // namespace
 
-void makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput& in,
-                       const CaptureOptions& options, StageTimer& timer, CaptureResult& result) {
+ProductImageOptions productImageOptions(const CaptureOptions& options, cv::Size frame,
+                                        double pxPerCm) {
+  return {.maxSidePx = options.productSizePx,
+          .minSidePx = std::max(frame.width, frame.height) >= kShopZoomPx
+                           ? std::min(kShopZoomPx, options.productSizePx)
+                           : 0,
+          .marginFraction = 0.06,
+          .pxPerCm = pxPerCm,
+          .shadow = options.productShadow};
+}
+
+cv::Rect photoBox(const cv::Mat& garment, double pxPerCm) {
+  const int margin = static_cast<int>(std::ceil(2.0 * pxPerCm));
+  const cv::Rect box = cv::boundingRect(garment);
+  return cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
+         cv::Rect(0, 0, garment.cols, garment.rows);
+}
+
+PhotoLayer makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput& in,
+                             const CaptureOptions& options, StageTimer& timer,
+                             CaptureResult& result) {
+  PhotoLayer front;
   const cv::Mat& dressedFull = in.dressedFull;
   const cv::Mat& garment = in.garment;
   const double s = ctx.calibration.pose.pxPerCm;
@@ -41,23 +61,14 @@ void makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput& in,
   result.overlay = dressedFull.clone();
   drawOverlay(result.overlay, garment, in.measurement, ctx.calibration);
   if (options.makeProductImages || options.makeTexture) {
-    const int margin = static_cast<int>(std::ceil(2.0 * s));
-    cv::Rect box = cv::boundingRect(garment);
-    box =
-        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
-        cv::Rect(0, 0, garment.cols, garment.rows);
+    const cv::Rect box = photoBox(garment, s);
     const cv::Mat3b crop = dressedFull(box);
     const cv::Mat1b maskCrop = garment(box);
     if (options.makeProductImages) {
-      const ProductImages p =
-          productPhotos(crop, maskCrop, in.bare.uprightFull(box), in.screenBgr,
-                        {.maxSidePx = options.productSizePx,
-                         .minSidePx = std::max(dressedFull.cols, dressedFull.rows) >= kShopZoomPx
-                                          ? std::min(kShopZoomPx, options.productSizePx)
-                                          : 0,
-                         .marginFraction = 0.06,
-                         .pxPerCm = s,
-                         .shadow = options.productShadow});
+      const ProductImageOptions po = productImageOptions(options, dressedFull.size(), s);
+      front.layer = productLayer(crop, maskCrop, in.bare.uprightFull(box), in.screenBgr, po);
+      front.box = box;
+      const ProductImages p = makeProductImages(front.layer.colour, front.layer.alpha, po);
       result.cutout = p.cutout;
       result.cutoutRect = p.cutoutRect + box.tl();
       result.product = p.square;
@@ -77,6 +88,7 @@ void makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput& in,
   } else {
     timer.done("images");
   }
+  return front;
 }
 
 }  // namespace garmcap::pipeline

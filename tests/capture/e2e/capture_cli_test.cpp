@@ -247,3 +247,32 @@ TEST(CaptureCli, WritesThePhotosAsTheStationStoresThem) {
   }
   EXPECT_FALSE(std::filesystem::exists(out + "/product_webp.webp"));
 }
+
+// `garmcap capture --back`: a second shot of the same garment adds the back photos and the
+// ghost-mannequin front (here the dressed frame again stands for the back: the same garment, so
+// it is taken); a back shot of the bare form is refused by name and nothing is written.
+TEST(CaptureCli, BackShotAddsTheBackAndGhostPhotosOrIsRefused) {
+  const TempDir d("capture_cli_back");
+  const std::string scene = d / "scene";
+  const CliResult made = runGarmcap("render --type top --size 66 --chart korean_women --form " +
+                                    kForm + " --seed 3 --width 480 --height 640 --out " + scene);
+  ASSERT_EQ(made.status, 0) << made.err;
+  const std::string common = "capture --empty " + scene + "/empty.png --dressed " + scene +
+                             "/dressed.png --calibration " + scene + "/calibration.json";
+  const std::string out = d / "out";
+  const CliResult r = runGarmcap(common + " --back " + scene + "/dressed.png --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* jpg :
+       {"product_back.jpg", "product_back_4x5.jpg", "product_ghost.jpg", "product_ghost_4x5.jpg"})
+    EXPECT_EQ(head(out + "/" + jpg, 3), "\xff\xd8\xff") << jpg;
+  EXPECT_EQ(head(out + "/cutout_back.png", 8), "\x89PNG\r\n\x1a\n");
+  const auto result = nlohmann::json::parse(readText(out + "/result.json"));
+  ASSERT_TRUE(result.contains("back_shot")) << result.dump();
+  EXPECT_DOUBLE_EQ(result["back_shot"]["area_ratio"].get<double>(), 1.0);
+
+  const std::string refusedOut = d / "refused";
+  const CliResult bad = runGarmcap(common + " --back " + scene + "/empty.png --out " + refusedOut);
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.err.find("the back shot"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(refusedOut));
+}

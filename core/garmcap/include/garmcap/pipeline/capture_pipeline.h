@@ -22,11 +22,12 @@ namespace garmcap::pipeline {
 class CaptureError : public std::runtime_error {
  public:
   enum class Reason {
-    kBadInput,     // wrong frame size, unreadable image, bad calibration
-    kNoGarment,    // the dressed frame shows the bare form
-    kOffForm,      // the garment hangs off the form or is cut off by the frame
-    kCameraMoved,  // camera or form moved beyond what re-registration can absorb
-    kUnknownType,  // no garment type matches well enough (never forced)
+    kBadInput,      // wrong frame size, unreadable image, bad calibration
+    kNoGarment,     // the dressed frame shows the bare form
+    kOffForm,       // the garment hangs off the form or is cut off by the frame
+    kCameraMoved,   // camera or form moved beyond what re-registration can absorb
+    kUnknownType,   // no garment type matches well enough (never forced)
+    kOtherGarment,  // the back shot shows another garment than the front (outline area differs)
   };
   CaptureError(Reason reason, const std::string& message)
       : std::runtime_error(message), reason_(reason) {}
@@ -64,6 +65,10 @@ struct CaptureOptions {
   // The size chart that completes the form's body for drafting, when runCapture builds the
   // context itself (the one-off overload below); a PreparedCapture's context names its own.
   std::string sizeChart = kDefaultSizeChart;
+  // The optional back shot: the same garment turned back to front on the form, same camera and
+  // bare-form frame (calibration size, 8-bit BGR). It gives the back photos and the ghost-mannequin
+  // front photo (ghost_mannequin.h); empty: none, and every other output is as without it.
+  cv::Mat backFrame;
 };
 
 /// Makes the C allocator keep the freed memory of frame-sized buffers for the next one instead
@@ -94,6 +99,17 @@ struct CaptureResult {
   cv::Mat silhouette;       // CV_8U garment mask, frame size
   cv::Mat overlay;          // BGR review image with landmarks
   cv::Mat texture;          // BGR one-repeat tile or mean-colour swatch
+  // With CaptureOptions::backFrame: the back photos (as cutout, product, productPortrait, from the
+  // back shot), and the ghost-mannequin front photos (product and productPortrait with the inside
+  // of the back in the neck opening; empty when the garment has no neck opening, said in
+  // warnings); backShot: {area_ratio, neck_opening_px, ghost_px} for result.json.
+  cv::Mat backCutout;
+  cv::Rect backCutoutRect;
+  cv::Mat backProduct;
+  cv::Mat backProductPortrait;
+  cv::Mat ghostProduct;
+  cv::Mat ghostProductPortrait;
+  nlohmann::json backShot;  // null without a back shot
 
   nlohmann::json toJson() const;  // result.json content (no images)
 };

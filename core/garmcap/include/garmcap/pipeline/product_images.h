@@ -1,7 +1,7 @@
 #pragma once
 // Product photos from a garment mask: the garment cut out with a soft alpha edge (form and
-// background removed, the "ghost mannequin" look), centred and cropped, on white and on
-// transparent, at the camera frame's own resolution.
+// background removed; the inside of the neck from a back shot: ghost_mannequin.h), centred and
+// cropped, on white and on transparent, at the camera frame's own resolution.
 //
 // The mask comes from segmentation (placed to the pixel against the screen, upsampled from the
 // work frame against the form). Here, at full resolution and only in a narrow band along its
@@ -74,6 +74,18 @@ struct ProductImages {
 /// same size). Throws std::invalid_argument when the alpha is empty or sizes differ.
 ProductImages makeProductImages(const cv::Mat3b& bgr, const cv::Mat1f& alpha,
                                 const ProductImageOptions& options = {});
+
+/// The garment as the photos composite it: its colour (edge unmixed and despilled) and its alpha
+/// (CV_32F 0..1), both of the input's size.
+struct ProductLayer {
+  cv::Mat3b colour;
+  cv::Mat1f alpha;
+};
+
+/// The chain before the photos (productPhotos without makeProductImages): refined alpha, form
+/// remains cut against `bare` (may be empty), edge unmixed and despilled against `screenBgr`.
+ProductLayer productLayer(const cv::Mat3b& dressed, const cv::Mat1b& mask, const cv::Mat3b& bare,
+                          const cv::Vec3b& screenBgr, const ProductImageOptions& options);
 
 /// The whole chain on the garment's part of the frame: refined alpha, form remains cut against
 /// `bare` (may be empty: no cut), edge despilled against `screenBgr`, the photos made.
