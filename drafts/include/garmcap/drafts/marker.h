@@ -25,8 +25,8 @@ class MarkerLimitError : public MarkerError {
 
 /// Pieces one marker lays at most unless told otherwise (MarkerOptions::maxPieces, `garmcap
 /// marker --max-pieces`, the station's `[marker] max_pieces`). libnest2d's time grows faster
-/// than the piece count (a dress in five sizes, 35 pieces: about 4 s on the station); 60 holds
-/// eight sizes of a dress or fifteen of trousers.
+/// than the piece count (a dress in five sizes, 40 pieces: about 4 s on the station); 60 holds
+/// seven sizes of a dress (8 pieces each) or fifteen of trousers (4 each).
 inline constexpr int kDefaultMarkerMaxPieces = 60;
 
 struct MarkerOptions {
