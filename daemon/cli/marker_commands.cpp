@@ -26,6 +26,7 @@ struct MarkerOptions {
   std::vector<std::string> sizes;
   double widthCm = 150.0;
   double gapCm = 0.2;
+  int maxPieces = gd::kDefaultMarkerMaxPieces;
   std::string svg, pdf, dxf;
   std::string title;
 };
@@ -49,7 +50,7 @@ void runMarker(const MarkerOptions& o) {
     for (const auto& s : o.sizes)
       sized.push_back({s, gd::draftGarment(o.type, chart.body(s))});
   }
-  const gd::Marker m = gd::layMarker(sized, {o.widthCm, o.gapCm});
+  const gd::Marker m = gd::layMarker(sized, {o.widthCm, o.gapCm, o.maxPieces});
   std::string title = o.title;
   if (title.empty()) {
     title = sized.front().pattern.type + " size";
@@ -81,6 +82,11 @@ void addMarkerCommands(CLI::App& app) {
   cmd->add_option("--size", o->sizes, "Size of --chart (repeatable)");
   cmd->add_option("--width", o->widthCm, "Usable fabric width in cm (default 150)");
   cmd->add_option("--gap", o->gapCm, "Least distance between pieces in cm (default 0.2)");
+  cmd->add_option("--max-pieces", o->maxPieces,
+                  "Most pieces to lay, cut counts and sizes included (default " +
+                      std::to_string(gd::kDefaultMarkerMaxPieces) +
+                      "); more is refused before nesting")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--svg", o->svg, "Marker SVG to write (1:1 mm)");
   cmd->add_option("--pdf", o->pdf, "Marker PDF to write (one page, 1:1)");
   cmd->add_option("--dxf", o->dxf, "Marker DXF to write (R12, mm, one layer per size)");

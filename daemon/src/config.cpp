@@ -196,6 +196,7 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
        {{"keep_deleted_days", intKey(&Config::keepDeletedDays, 0, 3650)},
         {"keep_failed_frames_days", intKey(&Config::keepFailedFramesDays, 0, 3650)}}},
       {"naming", {{"template", stringKey(&Config::namingTemplate)}}},
+      {"marker", {{"max_pieces", intKey(&Config::markerMaxPieces, 1, 1000)}}},
       {"shop",
        {{"brand", shopString(&ShopConfig::brand, 150)},
         {"store_url", shopUrl(&ShopConfig::storeUrl)},

@@ -171,16 +171,15 @@ const char* paperFileTag(drafts::Paper p) {
 // that the number is a typing error (150 typed as 15 or 1500), not a fabric.
 constexpr double kMinFabricWidthCm = 50.0;
 constexpr double kMaxFabricWidthCm = 400.0;
-// Sizes in one marker: a size run of the charts (5) plus the piece as measured, with room. The
-// nesting time grows with the pieces (a dress in five sizes: about 4 s).
-constexpr std::size_t kMaxMarkerSizes = 8;
 
 // The queries of the marker routes: `width` in cm (default 150) and `sizes`, a comma list of
 // the item's sizes (default: none given, the item's own size). Only their form is checked here;
-// whether the item has the sizes is checked against its patterns.
+// whether the item has the sizes is checked against its patterns. How many pieces it may lay
+// is the station's ([marker] max_pieces), checked by drafts::layMarker before nesting.
 struct MarkerQuery {
   double widthCm = 150.0;
   std::vector<std::string> sizes;
+  int maxPieces = 0;
 };
 
 MarkerQuery markerQuery(const RouteMatch& m) {
@@ -213,9 +212,6 @@ MarkerQuery markerQuery(const RouteMatch& m) {
         break;
       at = comma + 1;
     }
-    if (q.sizes.size() > kMaxMarkerSizes)
-      throw BadRequest("query 'sizes' names " + std::to_string(q.sizes.size()) +
-                       " sizes; a marker takes at most " + std::to_string(kMaxMarkerSizes));
   }
   return q;
 }
@@ -635,7 +631,14 @@ Response markerFile(MarkerFile format, const MarkerQuery& q, const Item& it,
     sized.push_back({both ? s : sizeLabel(it, s), *onePattern(it, pats, s)});
     labels += (labels.empty() ? "" : "-") + sized.back().size;
   }
-  const drafts::Marker laid = drafts::layMarker(sized, {q.widthCm});
+  drafts::Marker laid;
+  try {
+    laid = drafts::layMarker(sized, {q.widthCm, drafts::MarkerOptions{}.gapCm, q.maxPieces});
+  } catch (const drafts::MarkerLimitError& e) {
+    return jsonError(http::status::unprocessable_entity,
+                     std::string(e.what()) + " (the station's [marker] max_pieces is " +
+                         std::to_string(q.maxPieces) + ")");
+  }
   std::string title = style(it) + " " + sized.front().pattern.type + " size";
   for (const auto& sp : sized)
     title += " " + sp.size;
@@ -660,7 +663,8 @@ Response markerFile(MarkerFile format, const MarkerQuery& q, const Item& it,
 // dropped).
 Handler markerRoute(RouteContext* c, std::shared_ptr<MarkerSlots> markerSlots, MarkerFile format) {
   return [=](const Request& req, const RouteMatch& m, Reply reply) {
-    const MarkerQuery q = markerQuery(m);
+    MarkerQuery q = markerQuery(m);
+    q.maxPieces = c->markerMaxPieces();
     const auto slot = markerSlots->tryAcquire();
     if (!slot)
       return reply(markerBusy());

@@ -103,6 +103,7 @@ Station::Station(asio::io_context& io, Config config, std::unique_ptr<capture::C
       processor_(std::move(processor)),
       unplugged_(std::make_shared<std::atomic<bool>>(false)),
       stillDelayMs_(std::make_shared<std::atomic<int>>(0)),
+      markerMaxPieces_(std::make_shared<std::atomic<int>>(config_.markerMaxPieces)),
       ledTimer_(strand_),
       buttonTimer_(strand_),
       previewTimer_(strand_),
@@ -596,6 +597,8 @@ void Station::reload(const Config& c) {
   postToStrand([this, c] {
     config_.reviewBelowConfidence = c.reviewBelowConfidence;
     config_.namingTemplate = c.namingTemplate;
+    config_.markerMaxPieces = c.markerMaxPieces;
+    markerMaxPieces_->store(c.markerMaxPieces);
     {
       std::lock_guard lock(shopMutex_);
       config_.shop = c.shop;

@@ -31,7 +31,12 @@ constexpr double kFitTolCm = 0.02;        // a cubic edge follows the draft with
 constexpr double kStraightTolCm = 0.002;  // closer than this to the chord: a straight edge
 constexpr double kMinEdgeCm = 0.3;        // no refinement below this length
 constexpr double kSameUTol = 1e-6;        // fractions this close are one break
-constexpr double kSnapCm = 1e-4;          // a break this close to a vertex is on it
+// Breaks of the two sides of a seam this close along the sewn seam are one break: a dress's
+// bodice and skirt darts meet on the waist seam to within a few micrometres (the sewn lengths of
+// curves sampled differently), and a stitch between them would be an edge of no length that
+// crosses a dart.
+constexpr double kSameBreakCm = 0.005;
+constexpr double kSnapCm = 1e-4;  // a break this close to a vertex is on it
 
 // ---------------------------------------------------------------------------------------------
 // Cubic fit: least squares on the two inner control points, chord-length parameters.
@@ -201,6 +206,14 @@ double posAtU(const Loop& l, const SeamSide& s, double u, bool leaving) {
   for (auto [a, b] : pieces)
     total += b - a;
   double sigma = (s.zeroAtStart ? u : 1 - u) * total;
+  // A position this near a dart (a boundary of the sewn pieces) is at the dart: the break the
+  // other side of the seam has there (kSameBreakCm).
+  double end = 0;
+  for (size_t k = 0; k + 1 < pieces.size(); ++k) {
+    end += pieces[k].second - pieces[k].first;
+    if (std::abs(sigma - end) <= kSameBreakCm)
+      sigma = end;
+  }
   // Walking from `start`, a "leaving" position in u is an "arriving" one in arc offset when u
   // counts from the end.
   const bool far = s.zeroAtStart ? leaving : !leaving;
@@ -491,13 +504,14 @@ class Builder {
     };
     addUs(la, st.a);
     addUs(lb, st.b);
-    // Merge fractions closer than kSameUTol.
+    // Merge fractions closer than kSameUTol, or than kSameBreakCm along the seam.
+    const double lenA = sewnLength(la, st.a), lenB = sewnLength(lb, st.b);
+    const double sameU = std::max(kSameUTol, kSameBreakCm / std::max(lenA, lenB));
     std::vector<double> u;
     for (double v : us)
-      if (u.empty() || v - u.back() > kSameUTol)
+      if (u.empty() || v - u.back() > sameU)
         u.push_back(v);
     u.back() = 1.0;
-    const double lenA = sewnLength(la, st.a), lenB = sewnLength(lb, st.b);
     auto sub = [&](const Loop& l, const SeamSide& s, double u0, double u1) {
       // In loop order a side's piece runs from its smaller-offset end.
       double q0 = posAtU(l, s, u0, true), q1 = posAtU(l, s, u1, false);

@@ -113,6 +113,9 @@ Marker layMarker(const std::vector<SizedPattern>& sizes, const MarkerOptions& op
     throw MarkerError("marker: no pattern given");
   if (!(options.fabricWidthCm > 0) || !(options.gapCm >= 0))
     throw MarkerError("marker: fabric width must be > 0 and the gap >= 0");
+  if (options.maxPieces < 1)
+    throw MarkerError("marker: the piece limit must be at least 1, got " +
+                      std::to_string(options.maxPieces));
   std::vector<MarkerPiece> pieces;
   for (const auto& sized : sizes) {
     checkPatternForMarker(sized.pattern);
@@ -150,6 +153,12 @@ Marker layMarker(const std::vector<SizedPattern>& sizes, const MarkerOptions& op
       }
     }
   }
+  // The limit is checked before nesting, which is where the time goes.
+  if (pieces.size() > static_cast<std::size_t>(options.maxPieces))
+    throw MarkerLimitError("marker: " + std::to_string(pieces.size()) + " pieces to lay (" +
+                           std::to_string(sizes.size()) + " size" + (sizes.size() == 1 ? "" : "s") +
+                           "), more than the limit of " + std::to_string(options.maxPieces) +
+                           " pieces (max_pieces); lay fewer sizes per marker or raise the limit");
   // Turning by 180 degrees keeps a piece's extent across the grain: one wider than the fabric
   // cannot be laid at all. Said here, where the piece has its name (the nester knows rings).
   for (const auto& p : pieces) {

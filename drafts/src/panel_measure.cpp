@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <optional>
 #include <stdexcept>
 
 #include "garmcap/drafts/geometry.h"
@@ -115,6 +116,74 @@ class Measurer {
       h += len * (timesPieces ? pieces(panel) : 1.0);
     }
     return h;
+  }
+  // The panel's hem edge as the outline vertices it runs between, in outline order: `first`
+  // starts the first hem edge, `last` ends the last one. A panel whose hem edges are not one run
+  // (or that has none) is refused: its hem ends cannot be told.
+  struct HemEnds {
+    int first = 0, last = 0;
+  };
+  HemEnds hemEnds(const Panel& panel) const {
+    const std::vector<EdgeRole> roles = edgeRoles(panel, p_);
+    const int n = static_cast<int>(roles.size());
+    auto isHem = [&](int i) {
+      return roles[static_cast<std::size_t>((i % n + n) % n)] == EdgeRole::Hem;
+    };
+    std::optional<HemEnds> ends;
+    for (int i = 0; i < n; ++i) {
+      if (!isHem(i) || isHem(i - 1))
+        continue;
+      if (ends)
+        throw DraftError("measure: panel '" + panel.name + "' of type '" + p_.type +
+                         "' has a hem in more than one piece");
+      int last = i;
+      while (isHem(last + 1) && (last + 1) % n != i)
+        ++last;
+      ends = HemEnds{i, (last + 1) % n};
+    }
+    if (!ends)
+      throw DraftError("measure: panel '" + panel.name + "' of type '" + p_.type +
+                       "' has no hem edge");
+    return *ends;
+  }
+  // The edge of `panelName` in the seam `seamName`, and the vertex where it meets the panel's
+  // hem: the real end of a side seam at the hem, wherever a design moved it.
+  struct SeamToHem {
+    EdgeRef edge;
+    int hemVertex = 0;
+  };
+  SeamToHem seamToHem(const std::string& seamName, const std::string& panelName) const {
+    const Panel& panel = needPanel(panelName);
+    const HemEnds hem = hemEnds(panel);
+    for (const auto& s : p_.seams) {
+      if (s.name != seamName)
+        continue;
+      for (const EdgeRef* e : {&s.a, &s.b}) {
+        if (e->panel != panelName)
+          continue;
+        for (const int v : {e->from, e->to})
+          if (v == hem.first || v == hem.last)
+            return {*e, v};
+      }
+    }
+    throw DraftError("measure: panel '" + panelName + "' of type '" + p_.type + "' has no seam '" +
+                     seamName + "' ending at its hem");
+  }
+  // Where the hem edge of `panel` crosses the vertical x (a sleeve's centre line): the lowest
+  // crossing, or nullopt when the hem does not span x.
+  std::optional<double> hemYAt(const Panel& panel, double x) const {
+    const HemEnds hem = hemEnds(panel);
+    const int n = static_cast<int>(panel.outline.size());
+    Polyline run;
+    for (int i = hem.first;; i = (i + 1) % n) {
+      run.push_back(panel.outline[static_cast<std::size_t>(i)]);
+      if (i == hem.last)
+        break;
+    }
+    std::optional<double> y;
+    for (const auto& h : intersectPolylineLine(run, Line::vertical(x)))
+      y = y ? std::max(*y, h.point.y()) : h.point.y();
+    return y;
   }
   double design(const std::string& name, double dflt) const {
     auto it = p_.design.find(name);
@@ -291,28 +360,35 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
   if (t == "blouse") {
     out["hem_circ"] = m.hem({"bodice_back", "bodice_front"}, true);
   }
+  // Trouser lengths end where the in- and outseam edges meet the front's hem edge (not at the
+  // draft's hem corners, which a design that lengthens, tapers or flares the leg leaves behind).
   if (t == "pants") {
     const Panel& f = m.needPanel("pants_front");
-    out["pants_length"] =
-        std::abs(f.outline[static_cast<std::size_t>(m.vertex(f, "hem_out_front"))].y() -
-                 m.point("level_waist").y());
-    out["inseam_length"] = m.along("pants_front", "crotch_point_front", "hem_in_front");
-    out["outseam_length"] = m.along("pants_front", "waist_side_front", "hem_out_front");
+    const auto outseam = m.seamToHem("outseam", "pants_front");
+    const auto inseam = m.seamToHem("inseam", "pants_front");
+    out["pants_length"] = std::abs(f.outline[static_cast<std::size_t>(outseam.hemVertex)].y() -
+                                   m.point("level_waist").y());
+    out["inseam_length"] = sewnEdgeLength(f, inseam.edge);
+    out["outseam_length"] = sewnEdgeLength(f, outseam.edge);
     out["crotch_length"] = m.along("pants_front", "waist_cf", "crotch_point_front") +
                            m.along("pants_back", "waist_cb", "crotch_point_back");
     out["hem_circ"] = m.hem({"pants_front", "pants_back"}, false);
   }
+  // The hem of the body of a sweater (no darts, cut on the fold at CB and CF).
+  if (t == "sweater")
+    out["hem_circ"] = m.hem({"body_back", "body_front"}, true);
   // Sleeve.
   if (const Panel* s = m.panel("sleeve")) {
     const Point2 topV = s->outline[static_cast<std::size_t>(m.vertex(*s, "sleeve_cap_top"))];
-    const double hemY = m.point("level_sleeve_hem").y();
-    out["sleeve_length"] = hemY - topV.y();
     // A cap sleeve (no underarm seam) ends on the cap: its cap is the part from hem to hem
     // over the top, and its ease is what that part eases into the armhole it is sewn to.
     const bool capOnly =
         std::none_of(pattern.seams.begin(), pattern.seams.end(),
                      [](const SeamPair& x) { return x.name == "sleeve_underarm"; });
     if (capOnly) {
+      // Its hem is the straight cut across the cap, read at the draft's hem corners: a cap
+      // sleeve drafted alone has no seam to tell its hem from a cap that ends level with it.
+      out["sleeve_length"] = m.point("level_sleeve_hem").y() - topV.y();
       out["sleeve_cap_length"] = m.along("sleeve", "sleeve_hem_front", "sleeve_cap_top") +
                                  m.along("sleeve", "sleeve_cap_top", "sleeve_hem_back");
       const int top = m.vertex(*s, "sleeve_cap_top");
@@ -338,12 +414,20 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
                                m.along("sleeve", "sleeve_cap_top", "sleeve_underarm_back");
     out["sleeve_biceps_circ"] =
         panelWidthAtLevel(*s, m.point("sleeve_underarm_front").y() + kLevelOffsetCm);
-    out["sleeve_hem_circ"] = m.along("sleeve", "sleeve_hem_front", "sleeve_hem_back");
+    // A sleeve with an underarm seam is read at its own hem edge (the free edge between the
+    // ends of the underarm seam): its length down the centre line from the cap top, its opening
+    // along the hem, so a design that tapers, flares or lengthens the hem is read as made.
+    const auto hemY = m.hemYAt(*s, topV.x());
+    if (!hemY)
+      throw DraftError("measure: the sleeve's hem of type '" + t +
+                       "' does not cross its centre line");
+    out["sleeve_length"] = *hemY - topV.y();
+    out["sleeve_hem_circ"] = m.hem({"sleeve"}, false);
     if (out.count("armscye_circ"))
       out["sleeve_cap_ease"] = out["sleeve_cap_length"] - out["armscye_circ"];
     if (auto arm = pattern.measurements.find("arm_shoulder_tip_to_wrist")) {
       const double wristY = topV.y() + *arm;
-      if (wristY <= hemY + 1e-6)
+      if (wristY <= *hemY + 1e-6)
         out["arm_wrist_circ"] = panelWidthAtLevel(*s, wristY - kLevelOffsetCm);
     }
   }

@@ -68,6 +68,15 @@ struct SkirtOptions {
   double hemFlare = 0;    // cm added at the hem per side seam edge (negative: tapered)
   double waistRaise = 0;  // high-waist: top edge this far above the waist line
   std::optional<std::vector<double>> backDartX, frontDartX;  // dart centres (high waist)
+  // Darts of the piece sewn above at the waist seam (a dress's bodice), which the skirt's darts
+  // must meet: per dart its centre's length along the waist from the seam's start (back: from
+  // CB, front: from the side) and its intake. Given both, the skirt takes these darts and
+  // solves its side intake and the side line's place at the hip so that its waist keeps
+  // waistBack / waistFront sewn.
+  struct MatchedDart {
+    double centreS = 0, width = 0;
+  };
+  std::optional<std::vector<MatchedDart>> backDartsAbove, frontDartsAbove;
   const BodiceDraft* bodice = nullptr;  // high waist: lines above the waist follow it
   std::string prefix = "skirt";
 };

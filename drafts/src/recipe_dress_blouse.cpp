@@ -52,9 +52,19 @@ void recipeDress(DraftBuilder& b) {
   s.waistBack = bodiceWaistBack(d);
   s.waistFront = bodiceWaistFront(d);
   s.hemFlare = b.design("hem_flare");
-  // Skirt darts under the bodice darts (back under e and d, front under b and a).
+  // Skirt darts meet the bodice darts at the waist seam (back e and d, front b and a): the same
+  // intakes at the same lengths along the seam, so each pair runs on through it. Bunka's bodice
+  // darts often take in more than the skirt over the hip needs; the skirt then takes less at
+  // its side seams (down to a side that runs a little out above the hip) rather than the darts
+  // kinking at the seam.
   s.backDartX = std::vector<double>{d.backDarts[0].x, d.backDarts[1].x};
   s.frontDartX = std::vector<double>{d.frontDarts[0].x, d.frontDarts[1].x};
+  s.backDartsAbove.emplace();
+  for (const auto& x : d.backDarts)
+    s.backDartsAbove->push_back({x.x - d.cbWaist.x(), x.width});
+  s.frontDartsAbove.emplace();
+  for (const auto& x : d.frontDarts)
+    s.frontDartsAbove->push_back({x.x - d.sideWaistFront.x(), x.width});
   const SkirtDraft sk = draftSkirt(b, s);
   Pattern& p = b.pattern();
   addSeam(p, "waist_back", "bodice_back", d.cbWaist, d.sideWaistBack, "skirt_back", sk.cbWaist,

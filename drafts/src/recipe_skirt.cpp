@@ -24,6 +24,86 @@ struct Piece {
   Polyline hem;   // left to right
 };
 
+// The waist of a skirt whose side intake is `s` (per side seam edge) with the side line moved
+// `shift` toward the front at the hip (the back `shift` wider there, the front as much
+// narrower).
+struct SkirtWaist {
+  Point2 hipB, hipF, swb, swf;
+  Polyline sideB, sideF, waistBFine, waistFFine;
+};
+
+SkirtWaist skirtWaist(const SkirtOptions& o, double s, double shift) {
+  const bool isHigh = o.waistRaise > 0;
+  const double raise = isHigh ? 0 : o.sideRaise, drop = isHigh ? 0 : o.cbDrop;
+  const double y0 = o.waistY, yH = o.waistY + o.hipLength;
+  const Point2 cbw(o.cbX, y0 + drop), cfw(o.cfX, y0);
+  SkirtWaist w;
+  w.hipB = Point2(o.cbX + o.hipBack + shift, yH);
+  w.hipF = Point2(o.cfX - o.hipFront + shift, yH);
+  w.swb = Point2(w.hipB.x() - s, y0 - raise);
+  w.swf = Point2(w.hipF.x() + s, y0 - raise);
+  // Side curves (convex, vertical where they meet the hip line).
+  w.sideB = sampleByArcLength(smoothCurve(Polyline{w.swb, w.hipB}, std::nullopt, Point2(0, 1)),
+                              kSideCurveCount);
+  w.sideF = sampleByArcLength(smoothCurve(Polyline{w.swf, w.hipF}, std::nullopt, Point2(0, 1)),
+                              kSideCurveCount);
+  // Waist curves, perpendicular to CB/CF and to the side curves.
+  const Point2 tB = w.sideB[1] - w.sideB[0];
+  const Point2 tF = w.sideF[1] - w.sideF[0];
+  Point2 wB(tB.y(), -tB.x());
+  if (wB.x() < 0)
+    wB = -wB;
+  Point2 wF(tF.y(), -tF.x());
+  if (wF.x() < 0)
+    wF = -wF;
+  w.waistBFine = isHigh ? Polyline{cbw, w.swb} : curve({{cbw, Point2(1, 0)}, {w.swb, wB}}, kFine);
+  w.waistFFine = isHigh ? Polyline{w.swf, cfw} : curve({{w.swf, wF}, {cfw, Point2(1, 0)}}, kFine);
+  return w;
+}
+
+// A skirt that takes the darts of the piece above (SkirtOptions::backDartsAbove and
+// frontDartsAbove): the side intake per side seam edge and the side line's shift at the hip
+// that give each waist its sewn length plus those darts. nullopt when no such skirt exists.
+struct SkirtSideFit {
+  double sideIntake = 0, shift = 0;
+};
+
+std::optional<SkirtSideFit> fitSkirtSide(const SkirtOptions& o) {
+  if (!o.backDartsAbove || !o.frontDartsAbove)
+    return std::nullopt;
+  // The skirt takes the darts of the piece above, so each waist must be the sewn waist plus
+  // those intakes. The side intake (one for both pieces, so the side seams still match) and the
+  // side line's place at the hip are solved for that by Newton's method; the hip girth is kept.
+  auto total = [](const std::vector<SkirtOptions::MatchedDart>& ds) {
+    double t = 0;
+    for (const auto& d : ds)
+      t += d.width;
+    return t;
+  };
+  const double wantB = o.waistBack + total(*o.backDartsAbove);
+  const double wantF = o.waistFront + total(*o.frontDartsAbove);
+  auto residual = [&](double si, double sh) {
+    const SkirtWaist w = skirtWaist(o, si, sh);
+    return Point2(polylineLength(w.waistBFine) - wantB, polylineLength(w.waistFFine) - wantF);
+  };
+  SkirtSideFit fit;
+  fit.sideIntake = std::min(o.hipBack - o.waistBack, o.hipFront - o.waistFront) / 3;
+  for (int it = 0; it < 20; ++it) {
+    const Point2 r0 = residual(fit.sideIntake, fit.shift);
+    if (r0.norm() < 1e-7)
+      return std::abs(fit.shift) < 4 ? std::optional(fit) : std::nullopt;
+    constexpr double h = 1e-4;
+    const Point2 ds = (residual(fit.sideIntake + h, fit.shift) - r0) / h;
+    const Point2 dh = (residual(fit.sideIntake, fit.shift + h) - r0) / h;
+    const double det = ds.x() * dh.y() - dh.x() * ds.y();
+    if (std::abs(det) < 1e-9 || !std::isfinite(det))
+      return std::nullopt;
+    fit.sideIntake -= (r0.x() * dh.y() - dh.x() * r0.y()) / det;
+    fit.shift -= (ds.x() * r0.y() - r0.x() * ds.y()) / det;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 SkirtDraft draftSkirt(DraftBuilder& b, const SkirtOptions& o, bool addSideSeam) {
@@ -36,45 +116,41 @@ SkirtDraft draftSkirt(DraftBuilder& b, const SkirtOptions& o, bool addSideSeam) 
                                             std::to_string(o.hipLength) + " cm)");
   const double high = o.waistRaise;
   const bool isHigh = high > 0;
-  const double raise = isHigh ? 0 : o.sideRaise, drop = isHigh ? 0 : o.cbDrop;
-  // Frame.
-  const Point2 hipB = b.point(px + "_hip_side_back", Point2(o.cbX + o.hipBack, yH));
-  const Point2 hipF = b.point(px + "_hip_side_front", Point2(o.cfX - o.hipFront, yH));
-  b.point("level_hip", Point2(o.cbX, yH));
-  b.construction(px + "_hip_line", Point2(o.cbX, yH), Point2(o.cfX, yH));
-  b.construction(px + "_hem_line", Point2(o.cbX, yHem), Point2(o.cfX, yHem));
-  b.construction(px + "_waist_line", Point2(o.cbX, y0), Point2(o.cfX, y0));
-  b.construction(px + "_side_back_guide", Point2(hipB.x(), y0), Point2(hipB.x(), yHem));
-  b.construction(px + "_side_front_guide", Point2(hipF.x(), y0), Point2(hipF.x(), yHem));
+  const double drop = isHigh ? 0 : o.cbDrop;
   // Suppression: side intake the same on both pieces so the side seams match.
   const double xb = o.hipBack - o.waistBack, xf = o.hipFront - o.waistFront;
   b.require(xb > 0.8 && xf > 0.8,
             "waist_circ + ease_waist leaves no waist suppression against hip_circ + ease_hip "
             "(back " +
                 std::to_string(xb) + " cm, front " + std::to_string(xf) + " cm)");
-  const double s = std::min(xb, xf) / 3;
-  const Point2 swb = b.point(px + "_waist_side_back", Point2(hipB.x() - s, y0 - raise));
-  const Point2 swf = b.point(px + "_waist_side_front", Point2(hipF.x() + s, y0 - raise));
-  const Point2 cbw = b.point(px + "_waist_cb", Point2(o.cbX, y0 + drop));
-  const Point2 cfw = b.point(px + "_waist_cf", Point2(o.cfX, y0));
-  // Side curves (convex, vertical where they meet the hip line).
-  const BezierPath sideBPath = smoothCurve(Polyline{swb, hipB}, std::nullopt, Point2(0, 1));
-  const BezierPath sideFPath = smoothCurve(Polyline{swf, hipF}, std::nullopt, Point2(0, 1));
-  const Polyline sideB = sampleByArcLength(sideBPath, kSideCurveCount);
-  const Polyline sideF = sampleByArcLength(sideFPath, kSideCurveCount);
-  // Waist curves, perpendicular to CB/CF and to the side curves.
-  const Point2 tB = sideB[1] - sideB[0];
-  const Point2 tF = sideF[1] - sideF[0];
-  Point2 wB(tB.y(), -tB.x());
-  if (wB.x() < 0)
-    wB = -wB;
-  Point2 wF(tF.y(), -tF.x());
-  if (wF.x() < 0)
-    wF = -wF;
-  const Polyline waistBFine =
-      isHigh ? Polyline{cbw, swb} : curve({{cbw, Point2(1, 0)}, {swb, wB}}, kFine);
-  const Polyline waistFFine =
-      isHigh ? Polyline{swf, cfw} : curve({{swf, wF}, {cfw, Point2(1, 0)}}, kFine);
+  double sideIntake = std::min(xb, xf) / 3, shift = 0;
+  const bool matched = o.backDartsAbove.has_value() && o.frontDartsAbove.has_value();
+  if (matched) {
+    const auto fit = fitSkirtSide(o);
+    b.require(fit.has_value(),
+              "the skirt cannot take the bodice's waist darts (the waist does not fit the hip)");
+    sideIntake = fit->sideIntake;
+    shift = fit->shift;
+  }
+  const Point2 cbw(o.cbX, y0 + drop), cfw(o.cfX, y0);
+  const SkirtWaist w = skirtWaist(o, sideIntake, shift);
+  // Frame.
+  const Point2 hipB = b.point(px + "_hip_side_back", w.hipB);
+  const Point2 hipF = b.point(px + "_hip_side_front", w.hipF);
+  b.point("level_hip", Point2(o.cbX, yH));
+  b.construction(px + "_hip_line", Point2(o.cbX, yH), Point2(o.cfX, yH));
+  b.construction(px + "_hem_line", Point2(o.cbX, yHem), Point2(o.cfX, yHem));
+  b.construction(px + "_waist_line", Point2(o.cbX, y0), Point2(o.cfX, y0));
+  b.construction(px + "_side_back_guide", Point2(hipB.x(), y0), Point2(hipB.x(), yHem));
+  b.construction(px + "_side_front_guide", Point2(hipF.x(), y0), Point2(hipF.x(), yHem));
+  const Point2 swb = b.point(px + "_waist_side_back", w.swb);
+  const Point2 swf = b.point(px + "_waist_side_front", w.swf);
+  b.point(px + "_waist_cb", cbw);
+  b.point(px + "_waist_cf", cfw);
+  const Polyline& sideB = w.sideB;
+  const Polyline& sideF = w.sideF;
+  const Polyline& waistBFine = w.waistBFine;
+  const Polyline& waistFFine = w.waistFFine;
   // Darts: widths so that the waist seam without darts is exactly the target.
   const double dartB = polylineLength(waistBFine) - o.waistBack;
   const double dartF = polylineLength(waistFFine) - o.waistFront;
@@ -85,12 +161,29 @@ SkirtDraft draftSkirt(DraftBuilder& b, const SkirtOptions& o, bool addSideSeam) 
   std::vector<double> fx =
       o.frontDartX.value_or(std::vector<double>{o.cfX - 2 * frontW / 3, o.cfX - frontW / 3});
   const double apexB = y0 + 0.72 * o.hipLength, apexF = y0 + 0.5 * o.hipLength;
-  auto back =
-      openDarts(waistBFine, {{px + "_back_1", arcAtX(waistBFine, bx[0]), dartB / 2, apexB},
-                             {px + "_back_2", arcAtX(waistBFine, bx[1]), dartB / 2, apexB - 1}});
-  auto front =
-      openDarts(waistFFine, {{px + "_front_side", arcAtX(waistFFine, fx[0]), 0.55 * dartF, apexF},
-                             {px + "_front_cf", arcAtX(waistFFine, fx[1]), 0.45 * dartF, apexF}});
+  std::vector<DartSpec> specsB = {
+      {px + "_back_1", arcAtX(waistBFine, bx[0]), dartB / 2, apexB},
+      {px + "_back_2", arcAtX(waistBFine, bx[1]), dartB / 2, apexB - 1}};
+  std::vector<DartSpec> specsF = {
+      {px + "_front_side", arcAtX(waistFFine, fx[0]), 0.55 * dartF, apexF},
+      {px + "_front_cf", arcAtX(waistFFine, fx[1]), 0.45 * dartF, apexF}};
+  if (matched) {
+    // Each dart where its bodice dart is, at the same length from the seam's start: with equal
+    // intakes before it, the legs then close at the same sewn distance on both pieces.
+    b.require(
+        o.backDartsAbove->size() == specsB.size() && o.frontDartsAbove->size() == specsF.size(),
+        "the skirt takes two back and two front darts from the bodice");
+    for (std::size_t i = 0; i < specsB.size(); ++i) {
+      specsB[i].centreS = (*o.backDartsAbove)[i].centreS;
+      specsB[i].width = (*o.backDartsAbove)[i].width;
+    }
+    for (std::size_t i = 0; i < specsF.size(); ++i) {
+      specsF[i].centreS = (*o.frontDartsAbove)[i].centreS;
+      specsF[i].width = (*o.frontDartsAbove)[i].width;
+    }
+  }
+  auto back = openDarts(waistBFine, specsB);
+  auto front = openDarts(waistFFine, specsF);
   if (!back || !front)
     b.refuse("the skirt darts do not fit in the waist");
 

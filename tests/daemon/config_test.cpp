@@ -80,6 +80,11 @@ TEST(Config, RefusesWithKeyAndReason) {
   EXPECT_NE(errorOf(dir, "[pipeline]\nproduct_shadow = \"yes\"\n")
                 .find("[pipeline] product_shadow: must be true or false"),
             std::string::npos);
+  // The marker piece limit: 60 unless set, 1 to 1000.
+  EXPECT_EQ(loadConfig(write(dir, "[marker]\n")).markerMaxPieces, 60);
+  EXPECT_EQ(loadConfig(write(dir, "[marker]\nmax_pieces = 120\n")).markerMaxPieces, 120);
+  EXPECT_NE(errorOf(dir, "[marker]\nmax_pieces = 0\n").find("[marker] max_pieces"),
+            std::string::npos);
   EXPECT_NE(errorOf(dir, "[gpio]\ndebounce_ms = \"x\"\n").find("must be an integer"),
             std::string::npos);
   EXPECT_NE(errorOf(dir, "[http]\nlisten = \"0.0.0.0:8080\"\n").find("token"), std::string::npos);

@@ -112,6 +112,7 @@ class CatalogOnlyStation : public RouteContext {
   void offload(std::function<void()> fn, Reply) override { fn(); }
   const ContentStore& store() const override { return store_; }
   std::string namingTemplate() const override { return "{sku}"; }
+  int markerMaxPieces() const override { return 60; }
   ShopConfig shopConfig() const override { return {}; }
   nlohmann::json savedShopSettings() const override { return nlohmann::json::object(); }
   ShopConfig saveShopSettings(Catalog&, const nlohmann::json&) override { return {}; }

@@ -120,6 +120,37 @@ TEST(Station, MarkersAreLaidOneAtATime) {
   EXPECT_EQ(rig.call(http::verb::get, marker).result(), http::status::ok);
 }
 
+// Issue 18: the pieces a marker may lay are the station's [marker] max_pieces; a marker over it
+// is refused 422 before nesting, naming the count and the limit, and takes no slot for long.
+TEST(Station, MarkerPieceLimitIsTheConfigsAndIsNamedWhenExceeded) {
+  Rig rig;
+  rig.stop();
+  rig.config.markerMaxPieces = 1;
+  rig.start();
+  addExportRoutes(rig.router, *rig.station);
+  EXPECT_EQ(rig.station->markerMaxPieces(), 1);
+  rig.processor->draftedPattern = true;
+  ASSERT_EQ(rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"])["state"],
+            "done");
+  const auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  const std::string marker =
+      "/api/items/" + std::to_string(job["item_id"].get<std::int64_t>()) + "/marker.json";
+  const auto refused = rig.call(http::verb::get, marker);
+  ASSERT_EQ(refused.result(), http::status::unprocessable_entity) << refused.body();
+  const std::string error = rig.json(refused)["error"];
+  EXPECT_NE(error.find("limit of 1 pieces"), std::string::npos) << error;
+  EXPECT_NE(error.find("[marker] max_pieces is 1"), std::string::npos) << error;
+  // Raised by a reload, the same marker is laid.
+  Config raised = rig.config;
+  raised.markerMaxPieces = 60;
+  rig.station->reload(raised);
+  ASSERT_TRUE(rig.runUntil([&] { return rig.station->markerMaxPieces() == 60; }, 5s));
+  const auto laid = rig.call(http::verb::get, marker);
+  ASSERT_EQ(laid.result(), http::status::ok) << laid.body();
+  EXPECT_LE(rig.json(laid)["piece_count"].get<int>(), 60);
+}
+
 TEST(StoreBasePattern, AFailedDraftStoresNoPatternAndSaysWhy) {
   ProcessedCapture out;
   out.warnings = {"no pattern: recipe 'dress': sleeve of 1.1 cm, shorter than 2 cm"};

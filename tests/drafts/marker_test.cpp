@@ -15,6 +15,33 @@
 namespace garmcap::drafts {
 namespace {
 
+// Issue 18: the piece limit is a parameter (default kDefaultMarkerMaxPieces), checked before
+// any nesting, and its refusal names the count and the limit.
+TEST(Marker, MorePiecesThanTheLimitAreRefusedNamingIt) {
+  const Pattern pat = draftGarment("skirt_h", sizeChart("korean_women").body("66"));
+  int perSize = 0;
+  for (const auto& p : pat.panels)
+    perSize += std::max(1, p.cutCount);
+  ASSERT_GE(perSize, 2);
+  EXPECT_EQ(MarkerOptions{}.maxPieces, kDefaultMarkerMaxPieces);
+  // Exactly at the limit: laid.
+  EXPECT_EQ(layMarker({{"66", pat}}, {150.0, 0.2, perSize}).pieces.size(),
+            static_cast<size_t>(perSize));
+  // One over: refused, whatever the sizes.
+  try {
+    layMarker({{"55", pat}, {"66", pat}}, {150.0, 0.2, 2 * perSize - 1});
+    FAIL() << "no MarkerLimitError";
+  } catch (const MarkerLimitError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(std::to_string(2 * perSize) + " pieces"), std::string::npos) << what;
+    EXPECT_NE(what.find("limit of " + std::to_string(2 * perSize - 1)), std::string::npos) << what;
+    EXPECT_NE(what.find("max_pieces"), std::string::npos) << what;
+  }
+  // The default holds a five-size run of the skirt; a limit below 1 is refused.
+  EXPECT_LE(5 * perSize, kDefaultMarkerMaxPieces);
+  EXPECT_THROW(layMarker({{"66", pat}}, {150.0, 0.2, 0}), MarkerError);
+}
+
 TEST(Marker, CutCountsFoldsAndMirrorsOfASkirt) {
   const Pattern pat = draftGarment("skirt_a", sizeChart("korean_women").body("66"));
   const Marker m = layMarker({{"66", pat}}, {150.0, 0.2});

@@ -133,6 +133,70 @@ TEST(Notches, DressWaistSeamNotchesSitAtEqualSewnDistances) {
   std::printf("waist-seam notches: sewn distances differ by at most %.4f mm\n", largest * 10);
 }
 
+// A dart met on a seam: where its legs close (sewn distance from the seam's start, earlier
+// darts closed) and its intake (the distance between its legs).
+struct DartOnSeam {
+  double at = 0;
+  double intake = 0;
+};
+
+// The darts opened in the outline between vertices `from` and `to`, walking by `step` (+1 or
+// -1): a vertex that is a dart's apex is passed with both its legs, the rest summed as sewn.
+std::vector<DartOnSeam> dartsAlong(const Panel& p, int from, int to, int step) {
+  const int n = static_cast<int>(p.outline.size());
+  auto at = [&](int i) { return p.outline[static_cast<size_t>(((i % n) + n) % n)]; };
+  auto isApex = [&](const Point2& q) {
+    return std::any_of(p.darts.begin(), p.darts.end(),
+                       [&](const auto& d) { return (d.apex - q).norm() < 1e-6; });
+  };
+  std::vector<DartOnSeam> out;
+  double s = 0;
+  for (int i = from, k = 0; ((i % n) + n) % n != to && k < n; ++k) {
+    if (isApex(at(i + step))) {
+      out.push_back({s, (at(i + 2 * step) - at(i)).norm()});
+      i += 2 * step;
+      continue;
+    }
+    s += (at(i + step) - at(i)).norm();
+    i += step;
+  }
+  return out;
+}
+
+// Issue 18: where a dress's bodice and skirt meet at the waist seam, each bodice dart meets a
+// skirt dart of the same intake at the same place on the sewn seam (a pattern maker's rule: the
+// darts run on through the seam). Measured from the outlines alone, every size of both charts.
+TEST(Notches, DressWaistSeamDartsMeetDartToDart) {
+  double worstAt = 0, worstIntake = 0;
+  for (const std::string chart : {"korean_women", "italian_women", "french_women"}) {
+    const auto& c = garmcap::drafts::sizeChart(chart);
+    for (std::size_t i = 0; i < c.sizes.size(); ++i) {
+      const Pattern p = garmcap::drafts::draftGarment("dress", c.bodies[i], {});
+      for (const char* seamName : {"waist_back", "waist_front"}) {
+        const auto seam = std::find_if(p.seams.begin(), p.seams.end(),
+                                       [&](const auto& s) { return s.name == seamName; });
+        ASSERT_NE(seam, p.seams.end()) << seamName;
+        const Panel& a = p.panel(seam->a.panel);
+        const Panel& b = p.panel(seam->b.panel);
+        // a.from meets b.to: walk a forward from a.from, b backward from b.to.
+        const auto da = dartsAlong(a, seam->a.from, seam->a.to, +1);
+        const auto db = dartsAlong(b, seam->b.to, seam->b.from, -1);
+        const std::string what = chart + " " + c.sizes[i] + " " + seamName;
+        ASSERT_EQ(da.size(), 2u) << what;
+        ASSERT_EQ(db.size(), da.size()) << what;
+        for (std::size_t k = 0; k < da.size(); ++k) {
+          EXPECT_NEAR(da[k].at, db[k].at, 0.1) << what << " dart " << k;
+          EXPECT_NEAR(da[k].intake, db[k].intake, 0.1) << what << " dart " << k;
+          worstAt = std::max(worstAt, std::abs(da[k].at - db[k].at));
+          worstIntake = std::max(worstIntake, std::abs(da[k].intake - db[k].intake));
+        }
+      }
+    }
+  }
+  std::printf("waist-seam darts: places differ by at most %.3f mm, intakes by %.3f mm\n",
+              worstAt * 10, worstIntake * 10);
+}
+
 TEST(Notches, EveryNotchIsInTheDxfAndSvg) {
   for (const char* type : {"dress", "bodice", "sweater", "skirt_a", "pants", "sleeve"}) {
     const Pattern p = draft(type, "66");

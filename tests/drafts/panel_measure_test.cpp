@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "garmcap/drafts/recipes.h"
@@ -152,20 +154,19 @@ TEST(PanelMeasure, HemIsThePanelsHemEdgeForEveryTypeWithAHem) {
       {"dress", {{"hem_flare", 8}}, {"skirt_back", "skirt_front"}, true},
       {"blouse", {}, {"bodice_back", "bodice_front"}, true},
       {"pants", {}, {"pants_back", "pants_front"}, false},
+      {"sweater", {}, {"body_back", "body_front"}, true},
   };
   for (const std::string size : {"44", "66", "88"}) {
     const Measurements body = sizeChart("korean_women").body(size);
     for (const auto& c : cases) {
       for (const bool redesigned : {false, true}) {
-        // Trousers are not redesigned here: their lengths are read at the hem's draft corners.
-        if (redesigned && c.recipe == "pants")
-          continue;
         Pattern pat = draftGarment(c.recipe, body, c.design);
         if (redesigned) {
-          // Flare below the hip (the blouse below its waist), away from the centre line; the
-          // draft points stay where the draft put them.
-          const double yFrom = c.recipe == "blouse" ? pat.points.at("level_waist").y()
-                                                    : pat.points.at("level_hip").y();
+          // Flare below the hip (tops below the waist: a sweater's hem may lie just under the
+          // hip), away from the centre line; the draft points stay where the draft put them.
+          const bool top = c.recipe == "blouse" || c.recipe == "sweater";
+          const double yFrom =
+              top ? pat.points.at("level_waist").y() : pat.points.at("level_hip").y();
           for (const auto& name : c.panels) {
             const Panel& panel = pat.panel(name);
             double xMin = 1e9, xMax = -1e9;
@@ -186,6 +187,142 @@ TEST(PanelMeasure, HemIsThePanelsHemEdgeForEveryTypeWithAHem) {
         const std::string what = c.recipe + " size " + size + (redesigned ? " flared" : "");
         ASSERT_GT(expected, 20) << what;
         EXPECT_NEAR(measurePattern(pat).at("hem_circ"), expected, 0.01) << what;
+      }
+    }
+  }
+}
+
+namespace {
+
+// Reshapes the part of a panel below `yFrom`: lengthened by `longerCm` and widened about the
+// vertical x = centre by `widen` (0.3: 30 % wider, -0.3: tapered), both growing linearly to
+// the panel's lowest vertex. The draft points stay where the draft put them.
+void reshapeBelow(Pattern& pat, const std::string& panelName, double yFrom, double centre,
+                  double longerCm, double widen) {
+  for (auto& panel : pat.panels) {
+    if (panel.name != panelName)
+      continue;
+    double yLow = yFrom;
+    for (const auto& v : panel.outline)
+      yLow = std::max(yLow, v.y());
+    for (auto& v : panel.outline) {
+      if (v.y() <= yFrom)
+        continue;
+      const double f = (v.y() - yFrom) / (yLow - yFrom);
+      v.x() = centre + (v.x() - centre) * (1 + widen * f);
+      v.y() += longerCm * f;
+    }
+  }
+}
+
+// The two lowest vertices of an outline (a straight hem's corners), by index.
+std::pair<int, int> lowestTwo(const Polyline& o) {
+  int a = -1, b = -1;
+  for (int i = 0; i < static_cast<int>(o.size()); ++i) {
+    const auto y = [&](int k) { return o[static_cast<std::size_t>(k)].y(); };
+    if (a < 0 || y(i) > y(a)) {
+      b = a;
+      a = i;
+    } else if (b < 0 || y(i) > y(b)) {
+      b = i;
+    }
+  }
+  return {a, b};
+}
+
+// Length of the outline from vertex a to vertex b, the shorter way round (plain vertex sums).
+double walk(const Polyline& o, int a, int b) {
+  const int n = static_cast<int>(o.size());
+  double fwd = 0, bwd = 0;
+  for (int i = a; i != b; i = (i + 1) % n)
+    fwd += (o[static_cast<std::size_t>((i + 1) % n)] - o[static_cast<std::size_t>(i)]).norm();
+  for (int i = a; i != b; i = (i + n - 1) % n)
+    bwd += (o[static_cast<std::size_t>((i + n - 1) % n)] - o[static_cast<std::size_t>(i)]).norm();
+  return std::min(fwd, bwd);
+}
+
+int nearest(const Polyline& o, const Point2& p) {
+  int best = 0;
+  for (int i = 1; i < static_cast<int>(o.size()); ++i)
+    if ((o[static_cast<std::size_t>(i)] - p).norm() <
+        (o[static_cast<std::size_t>(best)] - p).norm())
+      best = i;
+  return best;
+}
+
+}  // namespace
+
+// Issue 18: trouser lengths and hems are read where the in- and outseams really meet the hem,
+// so a leg lengthened, tapered or flared after drafting (its hem vertices several cm off the
+// draft's hem corners) is measured as made. Expected values walk the outline independently.
+TEST(PanelMeasure, TrouserLengthsFollowAReshapedLeg) {
+  for (const std::string size : {"44", "66", "88"}) {
+    for (const auto& [longer, widen] : {std::pair{0.0, 0.0}, {6.0, -0.3}, {4.0, 0.4}}) {
+      Pattern pat = draftGarment("pants", sizeChart("korean_women").body(size));
+      const double yKnee = pat.points.at("knee_in_front").y();
+      for (const std::string side : {"front", "back"}) {
+        const double crease =
+            (pat.points.at("hem_in_" + side).x() + pat.points.at("hem_out_" + side).x()) / 2;
+        reshapeBelow(pat, "pants_" + side, yKnee, crease, longer, widen);
+      }
+      const std::string what =
+          "size " + size + " +" + std::to_string(longer) + " cm, widen " + std::to_string(widen);
+      const Polyline& f = pat.panel("pants_front").outline;
+      const auto [c1, c2] = lowestTwo(f);
+      // Front frame: +x toward CF, so the inseam's corner is the one further right.
+      const int inner =
+          f[static_cast<std::size_t>(c1)].x() > f[static_cast<std::size_t>(c2)].x() ? c1 : c2;
+      const int outer = inner == c1 ? c2 : c1;
+      if (longer > 0) {  // the draft's corner is far from the panel's: the old reading's defect
+        ASSERT_GT((f[static_cast<std::size_t>(outer)] - pat.points.at("hem_out_front")).norm(), 3.0)
+            << what;
+      }
+      const auto m = measurePattern(pat);
+      EXPECT_NEAR(m.at("inseam_length"),
+                  walk(f, nearest(f, pat.points.at("crotch_point_front")), inner), 1e-6)
+          << what;
+      EXPECT_NEAR(m.at("outseam_length"),
+                  walk(f, nearest(f, pat.points.at("waist_side_front")), outer), 1e-6)
+          << what;
+      EXPECT_NEAR(m.at("pants_length"),
+                  f[static_cast<std::size_t>(outer)].y() - pat.points.at("level_waist").y(), 1e-6)
+          << what;
+      const Polyline& b = pat.panel("pants_back").outline;
+      const auto [b1, b2] = lowestTwo(b);
+      const double legOpening =
+          (f[static_cast<std::size_t>(c1)] - f[static_cast<std::size_t>(c2)]).norm() +
+          (b[static_cast<std::size_t>(b1)] - b[static_cast<std::size_t>(b2)]).norm();
+      EXPECT_NEAR(m.at("hem_circ"), legOpening, 1e-6) << what;
+    }
+  }
+}
+
+// Issue 18: a sleeve with an underarm seam is read at its own hem edge: a sleeve lengthened,
+// flared or tapered after drafting gives its real length (cap top down to the hem on the centre
+// line) and opening (between its two lowest corners).
+TEST(PanelMeasure, SleeveHemAndLengthFollowAReshapedSleeve) {
+  for (const std::string recipe : {"sleeve", "blouse", "sweater", "dress"}) {
+    for (const std::string size : {"44", "88"}) {
+      for (const auto& [longer, widen] : {std::pair{0.0, 0.0}, {4.0, 0.35}, {5.0, -0.3}}) {
+        Pattern pat =
+            draftGarment(recipe, sizeChart("korean_women").body(size), {{"sleeve_length", 1.0}});
+        const Point2 top = pat.points.at("sleeve_cap_top");
+        reshapeBelow(pat, "sleeve", pat.points.at("sleeve_underarm_front").y() + 6, top.x(), longer,
+                     widen);
+        const std::string what = recipe + " size " + size + " +" + std::to_string(longer) +
+                                 " cm, widen " + std::to_string(widen);
+        const Polyline& s = pat.panel("sleeve").outline;
+        const auto [h1, h2] = lowestTwo(s);
+        double topY = 1e9;
+        for (const auto& v : s)
+          topY = std::min(topY, v.y());
+        const auto m = measurePattern(pat);
+        EXPECT_NEAR(m.at("sleeve_hem_circ"),
+                    (s[static_cast<std::size_t>(h1)] - s[static_cast<std::size_t>(h2)]).norm(),
+                    1e-6)
+            << what;
+        EXPECT_NEAR(m.at("sleeve_length"), s[static_cast<std::size_t>(h1)].y() - topY, 1e-6)
+            << what;
       }
     }
   }

@@ -55,7 +55,7 @@ SizeGuide guideFor(const Case& c) {
 }
 
 TEST(SizeGuide, BaseSizeIsTheBodyTheGarmentFitsNotItsOwnCircumference) {
-  for (const std::string recipe : {"skirt_a", "skirt_h", "dress", "blouse", "pants"}) {
+  for (const std::string recipe : {"skirt_a", "skirt_h", "dress", "blouse", "pants", "sweater"}) {
     const Case c = drafted(recipe, "66");
     const auto fitted = bodyFittedBy(recipe, c.item);
     ASSERT_TRUE(fitted) << recipe;
@@ -105,7 +105,7 @@ TEST(SizeGuide, SampleSizeIsTheDraftsBodyWhateverTheEase) {
 }
 
 TEST(SizeGuide, ItemRowIsTheItemAndOtherRowsFollowTheDraftOfThatSize) {
-  for (const std::string recipe : {"skirt_a", "dress", "blouse", "pants"}) {
+  for (const std::string recipe : {"skirt_a", "dress", "blouse", "pants", "sweater"}) {
     Case c = drafted(recipe, "55");
     // A garment a little off the chart, as a real one is: its own row must still be exactly it.
     for (auto& [n, v] : c.item)
@@ -156,6 +156,51 @@ TEST(SizeGuide, TrouserHemGrowsWithTheHipAndTheItemKeepsItsOwn) {
     // In proportion to the body's hip, within what DSW warping adds at the hem's ends.
     const double expected = leg55 * chart().body(row.size).get("hip_circ") / hip55;
     EXPECT_NEAR(row.garmentCm.at("leg_opening_circ"), expected, 0.02 * expected) << row.size;
+  }
+}
+
+// Issue 18: a sweater's guide has its hem. Expected values come from the outline alone: each
+// body piece is cut on the fold, its hem the straight edge between its lowest corners, so the
+// garment's hem is twice the width of the back and of the front at their lowest level.
+double sweaterHemFromOutline(const drafts::Pattern& p) {
+  double hem = 0;
+  for (const std::string name : {"body_back", "body_front"}) {
+    const auto& o = p.panel(name).outline;
+    double yLow = -1e9;
+    for (const auto& v : o)
+      yLow = std::max(yLow, v.y());
+    double xMin = 1e9, xMax = -1e9;
+    for (const auto& v : o) {
+      if (v.y() > yLow - 1e-6) {
+        xMin = std::min(xMin, v.x());
+        xMax = std::max(xMax, v.x());
+      }
+    }
+    hem += 2 * (xMax - xMin);
+  }
+  return hem;
+}
+
+TEST(SizeGuide, ASweaterShowsItsHemInEveryRow) {
+  const Case c = drafted("sweater", "66");
+  ASSERT_TRUE(c.item.count("hem_circ"));
+  EXPECT_NEAR(c.item.at("hem_circ"), sweaterHemFromOutline(c.pattern), 1e-6);
+  const SizeGuide g = guideFor(c);
+  ASSERT_EQ(g.itemSize(), "66");
+  EXPECT_NE(std::find(g.measurements.begin(), g.measurements.end(), "hem_circ"),
+            g.measurements.end());
+  EXPECT_EQ(measurementLabel("hem_circ"), "Hem");
+  EXPECT_NEAR(g.item().garmentCm.at("hem_circ"), c.item.at("hem_circ"), 1e-9);
+  for (std::size_t i = 0; i < g.rows.size(); ++i) {
+    const auto& row = g.rows[i];
+    ASSERT_TRUE(row.garmentCm.count("hem_circ")) << row.size;
+    // The graded row and the sweater drafted for that size directly agree within what DSW
+    // grading and drafting differ by.
+    const drafts::Pattern direct = drafts::draftGarment("sweater", chart().body(row.size));
+    EXPECT_NEAR(row.garmentCm.at("hem_circ"), sweaterHemFromOutline(direct), 1.0) << row.size;
+    if (i > 0) {
+      EXPECT_GT(row.garmentCm.at("hem_circ"), g.rows[i - 1].garmentCm.at("hem_circ")) << row.size;
+    }
   }
 }
 

@@ -151,6 +151,18 @@ TEST(DraftCli, BadOptionsAreRefused) {
                 {d / "file/p.json"});
 }
 
+// Issue 18: `garmcap marker --max-pieces` sets the piece limit; more pieces are refused before
+// nesting, naming the count and the limit; a limit that is no number of pieces is refused.
+TEST(MarkerCli, MaxPiecesIsAnOptionAndItsRefusalNamesTheLimit) {
+  const std::string skirt = "marker --type skirt_h --chart korean_women --size 66";
+  expectRefused(runGarmcap(skirt + " --size 77 --max-pieces 2"),
+                {"pieces to lay", "limit of 2 pieces", "max_pieces"});
+  expectRefused(runGarmcap(skirt + " --max-pieces 0"), {"--max-pieces"});
+  const CliResult ok = runGarmcap(skirt + " --max-pieces 3");
+  ASSERT_EQ(ok.status, 0) << ok.err;
+  EXPECT_EQ(nlohmann::json::parse(ok.out)["piece_count"], 3);
+}
+
 TEST(DraftCli, BadMeasurementFilesNameTheFileAndThePlace) {
   const TempDir d("draft_cli_bodies");
   const std::string out = " --out " + (d / "p.json");

@@ -74,6 +74,8 @@ struct Config {
   int productSizePx = 4096;
   bool productShadow = false;  // a soft drop shadow on the white photos (docs/exports.md)
   std::string sizeChart = "korean_women";
+  // [marker]
+  int markerMaxPieces = 60;  // drafts::kDefaultMarkerMaxPieces: pieces one marker lays at most
   double reviewBelowConfidence = 0.8;  // items under this confidence wait for approval
   int workerThreads = 1;
   int queueLimit = 32;  // pending captures; more are refused with 503

@@ -145,6 +145,8 @@ class RouteContext {
   virtual const ContentStore& store() const = 0;
   /// The file-naming template from the config, e.g. "{sku}_{kind}" (see naming.h).
   virtual std::string namingTemplate() const = 0;
+  /// Pieces one marker may lay (the config's [marker] max_pieces); more is a 422 naming it.
+  virtual int markerMaxPieces() const = 0;
   /// The shop settings in force (brand, links, size labels): the config's [shop] section with
   /// what the shop saved from the setup screen over it, a copy.
   virtual ShopConfig shopConfig() const = 0;

@@ -123,6 +123,7 @@ class Station : public RouteContext {
   void offload(std::function<void()> fn, Reply failed) override;
   const ContentStore& store() const override { return *store_; }
   std::string namingTemplate() const override { return config_.namingTemplate; }
+  int markerMaxPieces() const override { return markerMaxPieces_->load(); }
   ShopConfig shopConfig() const override;
   nlohmann::json savedShopSettings() const override;
   ShopConfig saveShopSettings(Catalog& catalog, const nlohmann::json& changes) override;
@@ -247,6 +248,8 @@ class Station : public RouteContext {
   bool cameraOpen_ = false;
   std::shared_ptr<std::atomic<bool>> unplugged_;
   std::shared_ptr<std::atomic<int>> stillDelayMs_;
+  // [marker] max_pieces: read on the worker pool by the marker routes, set on reload.
+  std::shared_ptr<std::atomic<int>> markerMaxPieces_;
   std::vector<std::weak_ptr<StreamSink>> eventSinks_;
   std::vector<std::weak_ptr<StreamSink>> previewSinks_;
   bool previewInFlight_ = false;

@@ -16,9 +16,23 @@ class MarkerError : public PatternExportError {
   using PatternExportError::PatternExportError;
 };
 
+/// A marker asked to lay more pieces than MarkerOptions::maxPieces; the message names the count
+/// and the limit.
+class MarkerLimitError : public MarkerError {
+ public:
+  using MarkerError::MarkerError;
+};
+
+/// Pieces one marker lays at most unless told otherwise (MarkerOptions::maxPieces, `garmcap
+/// marker --max-pieces`, the station's `[marker] max_pieces`). libnest2d's time grows faster
+/// than the piece count (a dress in five sizes, 40 pieces: about 4 s on the station); 60 holds
+/// seven sizes of a dress (8 pieces each) or fifteen of trousers (4 each).
+inline constexpr int kDefaultMarkerMaxPieces = 60;
+
 struct MarkerOptions {
-  double fabricWidthCm = 150.0;  // usable width between the selvedges
-  double gapCm = 0.2;            // least distance between two pieces
+  double fabricWidthCm = 150.0;             // usable width between the selvedges
+  double gapCm = 0.2;                       // least distance between two pieces
+  int maxPieces = kDefaultMarkerMaxPieces;  // pieces laid at most (cut counts and sizes included)
 };
 
 /// One piece as laid: its cut line in marker cm (x along the fabric's length from the marker's
@@ -53,7 +67,8 @@ struct SizedPattern {
 /// copies, every second one mirrored (a "cut 2" is a left and a right). Laid by libnest2d
 /// turning pieces only by 0 or 180 degrees. Throws MarkerError naming the panel when a piece
 /// cannot be prepared (no grain line, a fold that is not a straight run of the cut line), or
-/// is wider than the fabric.
+/// is wider than the fabric; MarkerLimitError, before any nesting, when there are more pieces
+/// than options.maxPieces.
 Marker layMarker(const std::vector<SizedPattern>& sizes, const MarkerOptions& options);
 
 /// SVG in mm (1 user unit = 1 mm, 1:1): the fabric (selvedges), each piece with its grain arrow
