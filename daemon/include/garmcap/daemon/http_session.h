@@ -20,6 +20,7 @@
 #include <boost/asio/socket_base.hpp>
 #include <boost/asio/write.hpp>
 #include <boost/beast/core.hpp>
+#include <boost/beast/core/detect_ssl.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl/ssl_stream.hpp>
 #include <chrono>
@@ -230,22 +231,71 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
 
   // A client that connects and never completes the handshake (a plain-HTTP request, a port
   // scan, a slow client) is dropped after header_timeout_s, or sooner when its slot is needed.
+  // The first bytes are looked at before the handshake (as nginx does for its 497): a TLS client
+  // opens with a handshake record, and anything else, such as a plain-HTTP request typed as
+  // http://, is told in plain text that the port speaks HTTPS instead of a silent close.
   void doHandshake() {
     expiresAfter(std::chrono::seconds(shared_->config.headerTimeoutS));
     waitingHandle_ =
         shared_->waiting.add(this->weak_from_this(), client_ ? client_->address() : std::string());
+    beast::async_detect_ssl(
+        lowest(), buffer_, beast::bind_front_handler(&Session::onDetect, this->shared_from_this()));
+  }
+  void onDetect(beast::error_code ec, bool tls) {
+    if (ec) {
+      spdlog::debug("http: {} left before its TLS handshake: {}",
+                    client_ ? client_->address() : std::string("a client"), ec.message());
+      return;
+    }
+    if (!tls)
+      return refusePlainHttp();
+    // The bytes read to decide are the start of the ClientHello: the handshake takes them.
     stream_.async_handshake(
-        asio::ssl::stream_base::server,
+        asio::ssl::stream_base::server, buffer_.data(),
         beast::bind_front_handler(&Session::onHandshake, this->shared_from_this()));
   }
-  void onHandshake(beast::error_code ec) {
+  void onHandshake(beast::error_code ec, std::size_t used) {
     if (ec) {
-      // Not an error of the server: a client that speaks plain HTTP, trusts another CA, or left.
+      // Not an error of the server: a client that trusts another CA, offers only old TLS, or left.
       spdlog::debug("http: TLS handshake with {} failed: {}",
                     client_ ? client_->address() : std::string("a client"), ec.message());
       return;  // the stream closes with the session
     }
+    buffer_.consume(used);
     doRead();
+  }
+  // A 400 in plain text on the bare TCP stream, then the sending side is shut and what the
+  // client still sends is read and dropped for a moment (a close with unread bytes would reset
+  // the connection, and the client could lose the answer), then the socket closes.
+  void refusePlainHttp() {
+    stopWaiting();
+    spdlog::debug("http: {} spoke plain HTTP to the TLS port; answered 400",
+                  client_ ? client_->address() : std::string("a client"));
+    static const std::string kBody =
+        "400 Bad Request: this port speaks HTTPS only. Use an https:// URL.\n";
+    auto answer = std::make_shared<std::string>(
+        "HTTP/1.1 400 Bad Request\r\nContent-Type: text/plain; charset=utf-8\r\n"
+        "Content-Length: " +
+        std::to_string(kBody.size()) + "\r\nConnection: close\r\n\r\n" + kBody);
+    expiresAfter(std::chrono::seconds(2));
+    asio::async_write(lowest(), asio::buffer(*answer),
+                      [self = this->shared_from_this(), answer](beast::error_code ec, std::size_t) {
+                        if (ec)
+                          return;
+                        beast::error_code ignored;
+                        self->lowest().socket().shutdown(asio::socket_base::shutdown_send, ignored);
+                        self->drainThenClose();
+                      });
+  }
+  void drainThenClose() {
+    auto buf = std::make_shared<std::array<char, 1024>>();
+    lowest().async_read_some(asio::buffer(*buf), [self = this->shared_from_this(), buf](
+                                                     beast::error_code ec, std::size_t) {
+      if (!ec)
+        return self->drainThenClose();
+      beast::error_code ignored;
+      self->lowest().socket().close(ignored);
+    });
   }
 
   // A request is read in two steps: the header within header_timeout_s of the connection (or of
