@@ -1,8 +1,9 @@
 #pragma once
 // The hub's catalog on PostgreSQL (libpqxx 6.4): items of several stations, each keyed by
-// (station, station-local id), their measurements, and the images content-addressed by sha256 in
-// a bytea column. Schema versions are rows of schema_migrations, applied in order, each in its
-// own transaction under an advisory lock (two hubs starting on one database do not race).
+// (station, station-local id), their measurements, patterns (schema 2), and the images
+// content-addressed by sha256 in a bytea column. Schema versions are rows of schema_migrations,
+// applied in order, each in its own transaction under an advisory lock (two hubs starting on one
+// database do not race).
 //
 // Ownership (docs/hub.md): the station owns every field of an item until the item is approved;
 // from then on the hub owns title, price and status. A push of an approved item keeps the hub's
@@ -16,6 +17,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -32,7 +34,7 @@ class HubStoreError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr int kHubSchemaVersion = 1;
+inline constexpr int kHubSchemaVersion = 2;
 
 /// One image of a pushed item: the blob must be at the hub already.
 struct PushedImage {
@@ -48,6 +50,9 @@ struct PushedItem {
   std::vector<PushedImage> images;
   bool deleted = false;
   nlohmann::json doc;  // the station's whole item JSON, kept for reading and exports
+  // The item's patterns (size -> the drafts library's pattern JSON, "base" = as measured);
+  // none: the push left them out (a station from before patterns were sent), kept as they are.
+  std::optional<std::map<std::string, nlohmann::json>> patterns;
 };
 
 struct PushOutcome {
@@ -66,6 +71,8 @@ struct HubItem {
   std::map<std::string, double> measurementsCm;
   std::vector<PushedImage> images;
   nlohmann::json doc;
+  std::vector<std::string> patternSizes;           // item(id) only
+  std::map<std::string, nlohmann::json> patterns;  // approvedItems(..., true) only
   std::string createdAt, updatedAt;
   std::optional<std::string> deletedAt;
   nlohmann::json toJson() const;
@@ -132,7 +139,13 @@ class HubStore {
   HubPage list(const HubQuery& query);
   /// The approved items that are not deleted, of `station` ("" = every station), oldest first,
   /// with their measurements and images: what the chain's shop exports take. One snapshot.
-  std::vector<HubItem> approvedItems(const std::string& station);
+  /// With `withPatterns`, each item's patterns too (catalog.zip); at most `limit` items.
+  std::vector<HubItem> approvedItems(const std::string& station, bool withPatterns = false,
+                                     std::size_t limit = std::numeric_limits<std::size_t>::max());
+  /// An item's stored pattern of `size`, if any.
+  std::optional<nlohmann::json> pattern(std::int64_t itemId, const std::string& size);
+  /// An item's stored patterns, size -> pattern JSON.
+  std::map<std::string, nlohmann::json> patterns(std::int64_t itemId);
   PatchResult patch(std::int64_t id, const HubPatch& patch);
   /// Changes for `station` after `since`, oldest first.
   std::vector<HubChange> changes(const std::string& station, std::int64_t since, int limit);
