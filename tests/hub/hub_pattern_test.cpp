@@ -5,6 +5,7 @@
 // and zipfile, ezdxf's audit (Debian's python3-ezdxf), poppler's pdfinfo.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -309,6 +310,94 @@ TEST_F(HubPatternTest, TheChainsCatalogZipHoldsEveryStationsPatternsPhotosAndSho
               std::to_string(b) + "/55.dxf 2>&1",
           st);
   EXPECT_EQ(same, "True\n") << same;
+}
+
+// A CSV or TSV read back by Python's csv module (strict, every row as long as the header).
+std::vector<std::vector<std::string>> csvRows(const fs::path& file, char delimiter) {
+  int st = 0;
+  const std::string out =
+      run(std::string("/usr/bin/python3 -c 'import csv, json, sys\n") +
+              "rows = list(csv.reader(open(sys.argv[1], newline=\"\", encoding=\"utf-8\"), "
+              "delimiter=sys.argv[2], strict=True))\n"
+              "assert all(len(r) == len(rows[0]) for r in rows), \"ragged rows\"\n"
+              "print(json.dumps(rows))' " +
+              quoted(file) + " '" + (delimiter == '\t' ? std::string("\t") : std::string(",")) +
+              "' 2>&1",
+          st);
+  if (st != 0)
+    throw std::runtime_error("python3 csv (strict) refused " + file.string() + ": " + out);
+  return Json::parse(out).get<std::vector<std::vector<std::string>>>();
+}
+
+std::size_t columnOf(const std::vector<std::string>& header, const std::string& name) {
+  const auto at = std::find(header.begin(), header.end(), name);
+  if (at == header.end())
+    throw std::runtime_error("no column " + name);
+  return static_cast<std::size_t>(at - header.begin());
+}
+
+// The chain's shop files are written in pages of 500 items from one snapshot (the hub holds a
+// page, not the file): 1,234 items give one header and every item once, in id order, and a
+// measurement that only the last page's items have still gets its WooCommerce column.
+TEST_F(HubPatternTest, TheChainsShopFilesAreWrittenInPagesAndHoldEveryItemOnce) {
+  const int n = 1234;
+  pg_->psql("hub_patterns",
+            "INSERT INTO items(station_id, local_id, sku, title, price_cents, status, type, "
+            "hub_owned) SELECT 'shop2', 100000 + g, 'BULK-' || g, 'Bulk skirt ' || g, 1000 + g, "
+            "'approved', 'skirt', true FROM generate_series(1, " +
+                std::to_string(n) + ") g");
+  pg_->psql("hub_patterns",
+            "INSERT INTO measurements(item_id, name, value_cm) SELECT id, 'waist_circ', 70 FROM "
+            "items WHERE sku LIKE 'BULK-%'");
+  pg_->psql("hub_patterns",
+            "INSERT INTO measurements(item_id, name, value_cm) SELECT id, 'hem_circ', 123.5 FROM "
+            "items WHERE sku = 'BULK-" +
+                std::to_string(n) + "'");
+  const std::string q =
+      "?station=shop2&base_url=https://files.example/chain&brand=Chain&store_url=https://"
+      "shop.example";
+
+  const auto shopify = call(http::verb::get, "/api/export/shopify.csv" + q, "admin-secret");
+  ASSERT_EQ(shopify.status, 200) << shopify.body;
+  auto rows = csvRows(save("s.csv", shopify.body), ',');
+  std::size_t sku = columnOf(rows.at(0), "SKU");
+  std::vector<std::string> bulk;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    EXPECT_NE(rows[r], rows[0]) << "a header repeated at row " << r;
+    if (rows[r][sku].rfind("BULK-", 0) == 0)
+      bulk.push_back(rows[r][sku]);
+  }
+  ASSERT_EQ(bulk.size(), static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i)
+    EXPECT_EQ(bulk[static_cast<std::size_t>(i)], "BULK-" + std::to_string(i + 1));
+
+  const auto woo = call(http::verb::get, "/api/export/woocommerce.csv" + q, "admin-secret");
+  ASSERT_EQ(woo.status, 200) << woo.body;
+  rows = csvRows(save("w.csv", woo.body), ',');
+  sku = columnOf(rows.at(0), "SKU");
+  const std::size_t hem = columnOf(rows[0], "Meta: hem_circ_cm");
+  std::size_t wooBulk = 0;
+  for (std::size_t r = 1; r < rows.size(); ++r)
+    if (rows[r][sku].rfind("BULK-", 0) == 0) {
+      ++wooBulk;
+      EXPECT_EQ(rows[r][hem], rows[r][sku] == "BULK-" + std::to_string(n) ? "123.5" : "")
+          << rows[r][sku];
+    }
+  EXPECT_EQ(wooBulk, static_cast<std::size_t>(n));
+
+  const auto merchant = call(http::verb::get, "/api/export/merchant.tsv" + q, "admin-secret");
+  ASSERT_EQ(merchant.status, 200) << merchant.body;
+  rows = csvRows(save("m.tsv", merchant.body), '\t');
+  const std::size_t id = columnOf(rows.at(0), "id");
+  EXPECT_EQ(std::count_if(rows.begin() + 1, rows.end(),
+                          [&](const auto& r) { return r[id].rfind("BULK-", 0) == 0; }),
+            n);
+
+  // Refusals are still plain answers, not downloads.
+  EXPECT_EQ(call(http::verb::get, "/api/export/shopify.csv" + q, "").status, 401);
+  EXPECT_EQ(call(http::verb::get, "/api/export/shopify.csv" + q, "shop1-secret").status, 403);
+  EXPECT_EQ(call(http::verb::get, "/api/export/merchant.tsv?station=shop2", "admin-secret").status,
+            422);
 }
 
 }  // namespace

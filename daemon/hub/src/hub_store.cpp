@@ -602,6 +602,40 @@ std::vector<HubItem> HubStore::approvedItems(const std::string& station, bool wi
   });
 }
 
+namespace {
+
+class PgApprovedReader : public ApprovedReader {
+ public:
+  PgApprovedReader(const std::string& connectionString, std::string station)
+      : connection_(connectionString), tx_(connection_), station_(std::move(station)) {}
+  std::vector<HubItem> next(int limit) override {
+    std::vector<HubItem> page;
+    for (const auto& row :
+         tx_.exec_params(itemColumns() + "WHERE status = 'approved' AND deleted_at IS NULL "
+                                         "AND id > $1 AND ($2 = '' OR station_id = $2) "
+                                         "ORDER BY id LIMIT $3",
+                         after_, station_, std::clamp(limit, 1, 10000)))
+      page.push_back(readItem(row));
+    if (!page.empty())
+      after_ = page.back().id;
+    loadDetails(tx_, page);
+    return page;
+  }
+  void rewind() override { after_ = 0; }
+
+ private:
+  pqxx::connection connection_;
+  pqxx::transaction<pqxx::repeatable_read, pqxx::read_only> tx_;
+  std::string station_;
+  std::int64_t after_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<ApprovedReader> HubStore::readApproved(const std::string& station) {
+  return std::make_unique<PgApprovedReader>(connectionString_, station);
+}
+
 std::optional<nlohmann::json> HubStore::pattern(std::int64_t itemId, const std::string& size) {
   return withConnection([&](pqxx::connection& c) -> std::optional<nlohmann::json> {
     pqxx::work w(c);

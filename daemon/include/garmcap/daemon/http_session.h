@@ -13,6 +13,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <boost/asio/dispatch.hpp>
@@ -30,9 +31,11 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "garmcap/daemon/client_connections.h"
 #include "garmcap/daemon/config.h"
+#include "garmcap/daemon/download_sink.h"
 #include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
 #include "garmcap/daemon/http_server.h"
@@ -156,19 +159,30 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   }
 
   // Stream mode ----------------------------------------------------------------------------
-  void queueRaw(std::string data, std::size_t maxQueued) {
-    asio::post(stream_.get_executor(),
-               [self = this->shared_from_this(), data = std::move(data), maxQueued]() mutable {
-                 if (self->streamClosed_)
-                   return;
-                 self->rawQueue_.push_back(std::move(data));
-                 // Drop the oldest unsent chunk (never the one being written) when a client is
-                 // slow: a preview or event stream must not back up into the station.
-                 while (self->rawQueue_.size() > maxQueued + (self->rawWriting_ ? 1 : 0))
-                   self->rawQueue_.erase(self->rawQueue_.begin() + (self->rawWriting_ ? 1 : 0));
-                 if (!self->rawWriting_)
-                   self->writeRaw();
-               });
+  // `drained` set: a download's piece (DownloadSink), never dropped; called once written, or
+  // at once when the peer is gone.
+  void queueRaw(std::string data, std::size_t maxQueued, std::function<void()> drained = {}) {
+    asio::post(stream_.get_executor(), [self = this->shared_from_this(), data = std::move(data),
+                                        maxQueued, drained = std::move(drained)]() mutable {
+      if (self->streamClosed_) {
+        if (drained)
+          drained();
+        return;
+      }
+      self->rawQueue_.push_back({std::move(data), std::move(drained)});
+      // Drop the oldest unsent chunk (never the one being written, nor a download's piece) when
+      // a client is slow: a preview or event stream must not back up into the station.
+      while (self->rawQueue_.size() > maxQueued + (self->rawWriting_ ? 1 : 0)) {
+        auto droppable =
+            std::find_if(self->rawQueue_.begin() + (self->rawWriting_ ? 1 : 0),
+                         self->rawQueue_.end(), [](const RawPiece& p) { return !p.drained; });
+        if (droppable == self->rawQueue_.end())
+          break;
+        self->rawQueue_.erase(droppable);
+      }
+      if (!self->rawWriting_)
+        self->writeRaw();
+    });
   }
   void closeStream() {
     asio::post(stream_.get_executor(), [self = this->shared_from_this()] {
@@ -179,7 +193,7 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   }
 
  private:
-  class Sink : public SessionSinkBase {
+  class Sink : public SessionSinkBase, public DownloadSink {
    public:
     Sink(std::shared_ptr<Session> session, std::size_t maxQueued)
         : session_(session), maxQueued_(maxQueued) {}
@@ -200,6 +214,12 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
       if (!s || !open_)
         return;
       s->queueRaw(std::move(chunk), maxQueued_);
+    }
+    void writeThen(std::string piece, std::function<void()> drained) override {
+      auto s = session_.lock();
+      if (!s || !open_)
+        return drained();
+      s->queueRaw(std::move(piece), maxQueued_, std::move(drained));
     }
     void close() override {
       open_ = false;
@@ -525,17 +545,28 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
       return;
     }
     rawWriting_ = true;
-    asio::async_write(stream_, asio::buffer(rawQueue_.front()),
+    asio::async_write(stream_, asio::buffer(rawQueue_.front().data),
                       [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
                         self->rawWriting_ = false;
+                        auto drained = std::move(self->rawQueue_.front().drained);
                         self->rawQueue_.pop_front();
                         if (ec) {
                           self->streamClosed_ = true;
                           if (self->sink_)
                             self->sink_->markClosed();
+                          std::vector<std::function<void()>> waiting;
+                          for (auto& p : self->rawQueue_)
+                            if (p.drained)
+                              waiting.push_back(std::move(p.drained));
                           self->rawQueue_.clear();
+                          if (drained)
+                            drained();
+                          for (auto& w : waiting)
+                            w();
                           return;
                         }
+                        if (drained)
+                          drained();
                         self->writeRaw();
                       });
   }
@@ -574,7 +605,11 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   beast::flat_buffer buffer_;
   std::shared_ptr<ServerShared> shared_;
   std::optional<http::request_parser<http::string_body>> parser_;
-  std::deque<std::string> rawQueue_;
+  struct RawPiece {
+    std::string data;
+    std::function<void()> drained;  // set for a download's piece
+  };
+  std::deque<RawPiece> rawQueue_;
   bool rawWriting_ = false;
   bool streamClosed_ = false;
   std::shared_ptr<Sink> sink_;

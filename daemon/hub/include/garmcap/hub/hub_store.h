@@ -107,6 +107,18 @@ struct HubChange {
   nlohmann::json toJson() const;
 };
 
+/// The approved items that are not deleted, of a station or of all, oldest first, read in
+/// keyset pages from one snapshot: a repeatable-read transaction on a connection of its own
+/// (outside the pool), for an export written as it is read. rewind() starts again on the same
+/// snapshot.
+class ApprovedReader {
+ public:
+  virtual ~ApprovedReader() = default;
+  /// The next page (with measurements and images); empty at the end.
+  virtual std::vector<HubItem> next(int limit) = 0;
+  virtual void rewind() = 0;
+};
+
 class HubStore {
  public:
   /// Connects (libpq connection string) and migrates. Throws pqxx or HubStoreError.
@@ -142,6 +154,8 @@ class HubStore {
   /// With `withPatterns`, each item's patterns too (catalog.zip); at most `limit` items.
   std::vector<HubItem> approvedItems(const std::string& station, bool withPatterns = false,
                                      std::size_t limit = std::numeric_limits<std::size_t>::max());
+  /// approvedItems page by page: `station` "" = every station.
+  std::unique_ptr<ApprovedReader> readApproved(const std::string& station);
   /// An item's stored pattern of `size`, if any.
   std::optional<nlohmann::json> pattern(std::int64_t itemId, const std::string& size);
   /// An item's stored patterns, size -> pattern JSON.
