@@ -173,16 +173,6 @@ Response accepted(const SubmitResult& r) {
 
 }  // namespace
 
-std::string patternSizeParam(const RouteMatch& m) {
-  auto size = m.queryValue("size").value_or("base");
-  if (size.empty() || size.size() > 16 || !std::all_of(size.begin(), size.end(), [](char c) {
-        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-      }))
-    throw BadRequest("query 'size' must be a size name like 55 or M, got '" + quoteInput(size) +
-                     "'");
-  return size;
-}
-
 Response noPatternForSize(const Item& item, const std::string& size) {
   if (item.sizes.empty())
     return noDraftedPattern(item, size);

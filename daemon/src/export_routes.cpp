@@ -1,6 +1,7 @@
 // HTTP routes of the exports (issue 8): shop files of the approved catalog, pattern files of one
 // item, and the image files the shop CSVs link to. Catalog reads run on the station strand, file
-// building on the worker pool; the pure builders live in export_shop/export_zip and, for
+// building on the worker pool; the pure builders live in export_shop/export_zip/export_catalog
+// (shared with the hub) and, for
 // pattern files, in drafts/ (export_dxf_aama, export_rul, export_garmentcode, export_pdf).
 //
 //   GET /api/export/shopify.csv?base_url=&legacy=1   GET /api/export/woocommerce.csv?base_url=
@@ -28,6 +29,7 @@
 #include "garmcap/daemon/api_routes.h"
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/export_catalog.h"
 #include "garmcap/daemon/export_items.h"
 #include "garmcap/daemon/export_shop.h"
 #include "garmcap/daemon/export_zip.h"
@@ -53,16 +55,8 @@ using drafts::GradedRun;
 using drafts::PieceText;
 
 constexpr int kMaxExportItems = 2000;
-// The images catalog.zip holds: the shop photo, and the same photo as WebP for shops that take
-// it (the CSVs keep linking the JPEG, which every shop imports).
-const std::vector<std::string> kZipImageKinds = {"product", "product_webp"};
-
 // What the export needs from the catalog, copied on the strand.
-struct CatalogSnapshot {
-  std::vector<Item> items;
-  std::vector<std::optional<nlohmann::json>> sizeGuides;
-  std::vector<std::map<std::string, nlohmann::json>> patterns;  // size -> pattern JSON
-};
+using CatalogSnapshot = CatalogContent;
 
 CatalogSnapshot snapshot(Catalog& c, bool withPatterns) {
   CatalogSnapshot s;
@@ -92,79 +86,6 @@ CatalogSnapshot snapshot(Catalog& c, bool withPatterns) {
 // How an export's warnings name a station's item.
 std::string itemLabel(const Item& it) {
   return "item " + std::to_string(it.id);
-}
-
-std::string sizeLabel(const Item& it, const std::string& size) {
-  return size == "base" && !it.baseSize.empty() ? it.baseSize : size;
-}
-
-// The graded run of an item: every stored size but "base", in size-guide order when there is
-// one; the sample size is the one the garment was measured as.
-std::optional<GradedRun> gradedRun(const Item& it, const std::optional<nlohmann::json>& guide,
-                                   const std::map<std::string, nlohmann::json>& patterns) {
-  std::vector<std::string> sizes;
-  if (const auto g = storedSizeGuide(it, guide))
-    for (const auto& row : g->rows)
-      sizes.push_back(row.size);
-  if (sizes.empty())
-    for (const auto& s : it.sizes)
-      if (s != "base")
-        sizes.push_back(s);
-  GradedRun run;
-  run.style = it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
-  for (const auto& s : sizes) {
-    auto p = patterns.find(s);
-    if (p == patterns.end())
-      continue;
-    run.sizes.push_back(s);
-    run.patterns.push_back(
-        drafts::patternFromJsonValue(p->second, "item " + std::to_string(it.id) + " size " + s));
-  }
-  if (run.sizes.size() < 2)
-    return std::nullopt;
-  run.sampleSize = std::find(run.sizes.begin(), run.sizes.end(), it.baseSize) != run.sizes.end()
-                       ? it.baseSize
-                       : run.sizes[run.sizes.size() / 2];
-  return run;
-}
-
-// The body measurements for Valentina: the pattern's (the body it was drafted for), else the
-// item's measurements that are Valentina known names.
-drafts::Measurements vitMeasurements(const Item& it, const std::optional<nlohmann::json>& base) {
-  if (base) {
-    auto p = drafts::patternFromJsonValue(*base, "item " + std::to_string(it.id) + " pattern");
-    if (!p.measurements.empty())
-      return p.measurements;
-  }
-  drafts::Measurements m;
-  for (const auto& [n, v] : it.measurementsCm)
-    if (drafts::isKnownMeasurement(n))
-      m.set(n, v);
-  return m;
-}
-
-// The `paper` query of pattern.pdf: A4 (the default, as before the query), US Letter or A0.
-drafts::Paper paperParam(const RouteMatch& m) {
-  const auto v = m.queryValue("paper");
-  if (!v || v->empty())
-    return drafts::Paper::kA4;
-  try {
-    return drafts::parsePaper(*v);
-  } catch (const std::invalid_argument&) {
-    throw BadRequest("query 'paper' must be a4, letter or a0, got '" + quoteInput(*v) + "'");
-  }
-}
-
-const char* paperFileTag(drafts::Paper p) {
-  switch (p) {
-    case drafts::Paper::kA4:
-      return "A4";
-    case drafts::Paper::kLetter:
-      return "Letter";
-    case drafts::Paper::kA0:
-      return "A0";
-  }
-  return "paper";
 }
 
 // Fabric widths a marker is laid on: from a narrow lining to the widest wide goods; outside
@@ -325,83 +246,12 @@ void getCatalogZip(RouteContext* c, const Request&, const RouteMatch& m, Reply r
         c->offload(
             [c, reply, o, snap] {
               try {
-                std::vector<std::string> notes;
-                const std::vector<ExportItem> items =
-                    shopItems(snap->items, snap->sizeGuides, notes, itemLabel);
-                std::vector<ZipEntry> files;
-                for (size_t i = 0; i < snap->items.size(); ++i) {
-                  const Item& it = snap->items[i];
-                  const std::string style =
-                      it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
-                  for (const auto& im : it.images) {
-                    const std::string ext = imageExtension(im.mediaType);
-                    if (ext.empty() || std::find(kZipImageKinds.begin(), kZipImageKinds.end(),
-                                                 im.kind) == kZipImageKinds.end())
-                      continue;
-                    auto bytes = c->store().read(im.sha256);
-                    if (!bytes)
-                      throw ExportError("image " + im.sha256 + " is missing from the store");
-                    files.push_back(
-                        {exportImagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
-                  }
-                  const std::string dir = "patterns/" + std::to_string(it.id) + "/";
-                  const auto& pats = snap->patterns[i];
-                  for (const auto& [size, json] : pats) {
-                    try {
-                      auto p = drafts::patternFromJsonValue(json, "item " + std::to_string(it.id));
-                      const PieceText t{style, sizeLabel(it, size)};
-                      files.push_back({dir + size + ".dxf", patternDxf(p, t)});
-                      files.push_back({dir + size + ".svg", patternSvg(p, t)});
-                      if (size == "base")
-                        files.push_back({dir + "garmentcode.json", garmentCodeJson(p, t)});
-                    } catch (const std::exception& e) {
-                      notes.push_back("item " + std::to_string(it.id) + " size " + size + ": " +
-                                      e.what());
-                    }
-                  }
-                  try {
-                    if (auto run = gradedRun(it, snap->sizeGuides[i], pats)) {
-                      files.push_back({dir + "graded.dxf", gradedDxf(*run)});
-                      files.push_back({dir + "graded.rul", gradeRuleTable(*run)});
-                    }
-                    auto base = pats.find("base");
-                    auto vm = vitMeasurements(
-                        it, base == pats.end() ? std::nullopt : std::optional(base->second));
-                    if (!vm.empty())
-                      files.push_back({dir + "measurements.vit", drafts::measurementsToVit(vm)});
-                  } catch (const std::exception& e) {
-                    notes.push_back("item " + std::to_string(it.id) + ": " + e.what());
-                  }
-                }
-                for (auto [file, build] : {std::pair{"shopify.csv", &shopifyCsv},
-                                           std::pair{"woocommerce.csv", &wooCommerceCsv},
-                                           std::pair{"merchant.tsv", &merchantTsv}}) {
-                  // A shop file the settings cannot make yet (no public address) is left
-                  // out with the reason; the patterns and photos are still worth having.
-                  try {
-                    ShopFile f = build(items, o);
-                    for (const auto& w : f.warnings)
-                      notes.push_back(std::string(file) + ": " + w);
-                    files.push_back({file, std::move(f.bytes)});
-                  } catch (const ExportError& e) {
-                    notes.push_back(std::string(file) + " left out: " + e.what());
-                  }
-                }
-                std::string readme =
-                    "GarmCap Station catalog export: " + std::to_string(items.size()) +
-                    " approved items.\n" +
-                    (o.publicBaseUrl.empty()
-                         ? std::string("No public address is set ([shop] public_base_url), "
-                                       "so the shop files cannot link the images yet.\n")
-                         : "Upload the folder so that images/ is reachable at " + o.publicBaseUrl +
-                               "/images/ before importing the CSVs.\n") +
-                    "Patterns: patterns/<item id>/ (DXF in mm, SVG 1:1, GarmentCode JSON, "
-                    "Valentina .vit, graded DXF + RUL when graded).\n";
-                for (const auto& n : notes)
-                  readme += "Note: " + n + "\n";
-                files.push_back({"README.txt", readme});
-                Response r = downloadResponse("application/zip", storeZip(files), "catalog.zip");
-                setExportWarnings(r, notes);
+                CatalogZip zip = catalogZip(
+                    *snap, o, [c](const std::string& sha) { return c->store().read(sha); },
+                    itemLabel, "GarmCap Station catalog export");
+                Response r =
+                    downloadResponse("application/zip", std::move(zip.bytes), "catalog.zip");
+                setExportWarnings(r, zip.notes);
                 reply(std::move(r));
               } catch (const ExportError& e) {
                 reply(jsonError(http::status::unprocessable_entity, e.what()));

@@ -640,14 +640,28 @@ ShopFile shopifyCsv(const std::vector<ExportItem>& items, const ShopOptions& opt
   return file;
 }
 
-ShopFile wooCommerceCsv(const std::vector<ExportItem>& items, const ShopOptions& options) {
-  checkOptions(options);
-  // Measurement meta columns: the union over all items, so every row has the same columns.
+std::set<std::string> wooCommerceMetaNames(const std::vector<ExportItem>& items,
+                                           const ShopOptions& options) {
   std::set<std::string> metaNames;
   for (const auto& item : items)
     for (const auto& v : variants(item, options))
       for (const auto& [n, cm] : v.measurementsCm)
         metaNames.insert(n);
+  return metaNames;
+}
+
+ShopFile wooCommerceCsv(const std::vector<ExportItem>& items, const ShopOptions& options) {
+  checkOptions(options);
+  // Measurement meta columns: the union over all items, so every row has the same columns.
+  return wooCommerceCsvWithColumns(items, options, wooCommerceMetaNames(items, options));
+}
+
+ShopFile wooCommerceCsvWithColumns(const std::vector<ExportItem>& items, const ShopOptions& options,
+                                   const std::set<std::string>& metaNames) {
+  checkOptions(options);
+  for (const auto& n : wooCommerceMetaNames(items, options))
+    if (!metaNames.count(n))
+      throw ExportError("measurement '" + n + "' is not among the file's columns");
   std::vector<std::string> header = {"ID",
                                      "Type",
                                      "SKU",

@@ -410,8 +410,21 @@ bool HubPusher::pass() {
         continue;
       }
       doc["images"] = images;
-      const nlohmann::json body{
-          {"local_id", item->id}, {"item", doc}, {"deleted", item->deletedAt.has_value()}};
+      // The patterns go beside the item (not in its JSON, which the hub lists): the hub writes
+      // its pattern files and catalog.zip from them. An empty object says "none", which the
+      // hub stores as none.
+      const auto patterns = onCatalog<std::map<std::string, nlohmann::json>>(
+          station_, stopping_, [id = row.itemId, sizes = item->sizes](Catalog& c) {
+            std::map<std::string, nlohmann::json> out;
+            for (const auto& size : sizes)
+              if (auto p = c.pattern(id, size))
+                out[size] = std::move(*p);
+            return out;
+          });
+      const nlohmann::json body{{"local_id", item->id},
+                                {"item", doc},
+                                {"deleted", item->deletedAt.has_value()},
+                                {"patterns", patterns}};
       const auto res = call(hub_, tls_.get(), token_, http::verb::post, "/api/hub/push",
                             body.dump(), "application/json");
       if (!ok(res)) {

@@ -5,6 +5,8 @@
 // once with every blob's hash right; an edit made at the hub reaches the station.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include "../common/test_certs.h"
 #include "../e2e/daemon_harness.h"
 #include "garmcap/daemon/content_store.h"
@@ -371,6 +373,42 @@ TEST(HubE2E, TwoStationsPushThroughHubDowntimeAndAKillEveryItemOnce) {
     const auto blob = admin(hubPort, http::verb::get, "/api/hub/blobs/" + local.front());
     ASSERT_EQ(blob.status, 200);
     EXPECT_EQ(daemon::sha256Hex(blob.body), local.front());
+  }
+  // The patterns came with the items: the same (item, size) pairs as each station's, and one
+  // served as pattern.json is the station's JSON.
+  for (const auto& s : setups) {
+    const auto local =
+        column(s.data / "catalog.sqlite", "SELECT item_id || ':' || size FROM patterns ORDER BY 1");
+    std::string joined;
+    for (const auto& p : local)
+      joined += (joined.empty() ? "" : ",") + p;
+    EXPECT_FALSE(local.empty()) << s.name << ": the simulated captures draft no pattern";
+    EXPECT_EQ(pg.psql(db,
+                      "SELECT string_agg(i.local_id || ':' || p.size, ',' ORDER BY "
+                      "i.local_id || ':' || p.size) FROM item_patterns p JOIN items i ON "
+                      "i.id = p.item_id WHERE i.station_id = '" +
+                          s.name + "'"),
+              joined)
+        << s.name;
+  }
+  {
+    const auto localJson = column(setups[0].data / "catalog.sqlite",
+                                  "SELECT json FROM patterns ORDER BY item_id, size LIMIT 1");
+    const auto which = column(setups[0].data / "catalog.sqlite",
+                              "SELECT item_id || ' ' || size FROM patterns ORDER BY item_id, size "
+                              "LIMIT 1");
+    ASSERT_EQ(localJson.size(), 1u);
+    std::istringstream w(which.front());
+    std::int64_t localId = 0;
+    std::string size;
+    w >> localId >> size;
+    const std::string hubId =
+        pg.psql(db, "SELECT id FROM items WHERE station_id = 'shop1' AND local_id = " +
+                        std::to_string(localId));
+    const auto served =
+        admin(hubPort, http::verb::get, "/api/items/" + hubId + "/pattern.json?size=" + size);
+    ASSERT_EQ(served.status, 200) << served.body;
+    EXPECT_EQ(Json::parse(served.body), Json::parse(localJson.front()));
   }
 
   // 4. An edit at the hub (approval with a title and a price) reaches the station, and is not

@@ -67,7 +67,8 @@ TEST_F(HubStoreTest, MigratesOnceAndRefusesANewerSchema) {
   EXPECT_EQ(store_->schemaVersion(), kHubSchemaVersion);
   store_.reset();
   HubStore again(pg_->url(db_));  // reopening migrates nothing
-  EXPECT_EQ(pg_->psql(db_, "SELECT count(*) FROM schema_migrations"), "1");
+  EXPECT_EQ(pg_->psql(db_, "SELECT count(*) FROM schema_migrations"),
+            std::to_string(kHubSchemaVersion));
   pg_->psql(db_, "INSERT INTO schema_migrations(version) VALUES (99)");
   EXPECT_THROW(HubStore(pg_->url(db_)), HubStoreError);
 }

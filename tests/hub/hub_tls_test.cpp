@@ -1,9 +1,11 @@
 // The hub over TLS: the [tls] configuration, the certificate and key checks at start, and the
 // hub serving HTTPS on loopback (a real PostgreSQL) to a client that verifies it, while a
-// plain-HTTP client, a TLS 1.1 client and a client that never starts its handshake are turned
-// away without stopping it. Certificates are made at test time (common/test_certs.h).
+// plain-HTTP client (answered 400 in plain text), a TLS 1.1 client and a client that never starts
+// its handshake are turned away without stopping it. Certificates are made at test time
+// (common/test_certs.h).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <boost/asio/connect.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -173,13 +175,12 @@ std::string httpsLogInCookie(std::uint16_t port, ssl::context& ctx, const std::s
   return std::string(res[http::field::set_cookie]);
 }
 
-// What a plain-HTTP client to the TLS port gets: the bytes the hub sends back before it closes
-// (no HTTP answer), or an empty string; fails the test if the connection stays open 5 s.
-std::string plainRequest(std::uint16_t port) {
+// What a plain-HTTP client to the TLS port gets: the bytes the hub sends back before it closes;
+// fails the test if the connection stays open 5 s.
+std::string plainRequest(std::uint16_t port, const std::string& request) {
   asio::io_context io;
   beast::tcp_stream stream(io);
   stream.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
-  const std::string request = "GET /api/hub/health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
   asio::write(stream.socket(), asio::buffer(request));
   std::string received;
   std::array<char, 512> chunk{};
@@ -235,8 +236,24 @@ TEST(HubTls, ServesHttpsAndTurnsAwayPlainHttpOldTlsAndSilentClients) {
   EXPECT_NE(cookie.find("; Secure"), std::string::npos) << cookie;
   EXPECT_NE(cookie.find("HttpOnly"), std::string::npos) << cookie;
 
-  const std::string plain = plainRequest(port);
-  EXPECT_EQ(plain.find("HTTP/1.1 200"), std::string::npos) << plain;
+
+  // Plain HTTP is answered in plain text, once, and the connection closed (nginx's 497 idea).
+  for (const std::string& request :
+       {std::string("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"),
+        std::string("GET /api/hub/health HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: "
+                    "keep-alive\r\n\r\nGET / HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")}) {
+    const std::string plain = plainRequest(port, request);
+    EXPECT_EQ(plain.rfind("HTTP/1.1 400 Bad Request\r\n", 0), 0u) << plain;
+    EXPECT_NE(plain.find("Content-Type: text/plain"), std::string::npos) << plain;
+    EXPECT_NE(plain.find("Connection: close"), std::string::npos) << plain;
+    EXPECT_NE(plain.find("speaks HTTPS only"), std::string::npos) << plain;
+    EXPECT_EQ(plain.find("HTTP/1.1", 1), std::string::npos) << "one answer only: " << plain;
+    const auto head = plain.find("\r\n\r\n");
+    ASSERT_NE(head, std::string::npos) << plain;
+    const auto length = plain.find("Content-Length: ");
+    ASSERT_NE(length, std::string::npos) << plain;
+    EXPECT_EQ(std::stoul(plain.substr(length + 16)), plain.size() - head - 4) << plain;
+  }
 
   ssl::context old(ssl::context::tls_client);
   old.set_verify_mode(ssl::verify_peer);

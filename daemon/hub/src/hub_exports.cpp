@@ -1,8 +1,14 @@
 #include "garmcap/hub/hub_exports.h"
 
+#include <spdlog/spdlog.h>
+
+#include <atomic>
 #include <functional>
 #include <map>
+#include <set>
+#include <sstream>
 
+#include "garmcap/daemon/download_sink.h"
 #include "garmcap/daemon/export_items.h"
 #include "garmcap/daemon/export_shop.h"
 #include "garmcap/daemon/utf8.h"
@@ -30,7 +36,151 @@ using ShopBuild = std::function<daemon::ShopFile(const std::vector<daemon::Expor
 const char* kReadsWhat =
     "a station token exports only its own station's items; the admin token every station's";
 
+// Exports being written at once (each holds a database connection for its snapshot).
+constexpr int kMaxStreamingExports = 2;
+// Items read, built and sent at a time: what the hub holds of an export.
+constexpr int kExportPageItems = 500;
+// The warnings' text the headers carry (setExportWarnings keeps 2,000 characters).
+constexpr std::size_t kWarningTextKept = 2000;
+
+// A response that is not a download (401, 403, 400, 422, 503) on a stream route.
+void answer(daemon::StreamSink& sink, Response r) {
+  r.prepare_payload();
+  std::string body = std::move(r.body());
+  r.body().clear();
+  r.set(http::field::content_length, std::to_string(body.size()));
+  sink.writeHeader(std::move(r));
+  sink.write(std::move(body));
+  sink.close();
+}
+
 }  // namespace
+
+// One of the chain's shop files written as it is read (docs/hub.md, "Shop exports for the
+// chain"): pass 1 (survey) builds every page and keeps only what the header needs, the warnings
+// and WooCommerce's measurement columns; pass 2 reads the same snapshot again and sends each
+// page as an HTTP/1.1 chunk, the next page only once the previous one is on the wire. The hub
+// holds one page (kExportPageItems) of a file, not the file.
+class ChainShopStream : public std::enable_shared_from_this<ChainShopStream> {
+ public:
+  // `columns` set: the file's measurement columns (pass 2); `survey` set: add this page's.
+  using Build = std::function<daemon::ShopFile(
+      const std::vector<daemon::ExportItem>&, const daemon::ShopOptions&,
+      const std::set<std::string>* columns, std::set<std::string>* survey)>;
+
+  ChainShopStream(std::unique_ptr<ApprovedReader> reader, daemon::ShopOptions options, Build build,
+                  std::shared_ptr<daemon::StreamSink> sink, daemon::DownloadSink& download,
+                  std::shared_ptr<void> slot)
+      : reader_(std::move(reader)),
+        options_(std::move(options)),
+        build_(std::move(build)),
+        sink_(std::move(sink)),
+        download_(download),
+        slot_(std::move(slot)) {}
+
+  /// Pass 1: the 200 header with the export's warnings. Throws ExportError (the caller's 422).
+  Response survey() {
+    std::size_t total = 0, textSize = 0;
+    std::vector<std::string> kept;
+    bool any = false;
+    for (;;) {
+      const auto page = reader_->next(kExportPageItems);
+      if (page.empty() && any)
+        break;
+      any = true;
+      std::vector<std::string> warnings;
+      const auto items = shopPage(page, warnings);
+      daemon::ShopFile f = build_(items, options_, nullptr, &columns_);
+      warnings.insert(warnings.end(), f.warnings.begin(), f.warnings.end());
+      total += warnings.size();
+      for (auto& w : warnings)
+        if (textSize < kWarningTextKept) {
+          textSize += w.size() + 3;
+          kept.push_back(std::move(w));
+        }
+      if (page.empty())
+        break;
+    }
+    reader_->rewind();
+    Response head{http::status::ok, 11};
+    daemon::setExportWarnings(head, kept);
+    head.set("X-Export-Warnings", std::to_string(total));
+    return head;
+  }
+
+  /// Pass 2: the next page as a chunk, then (once it is sent) the one after; the last chunk
+  /// ends the body. A failure half-way closes the connection without the last chunk, so the
+  /// client sees a truncated download, never a short file that looks whole.
+  void next() {
+    if (!sink_->open())
+      return;
+    try {
+      std::string piece;
+      while (piece.empty()) {
+        const auto page = reader_->next(kExportPageItems);
+        if (page.empty() && !first_) {
+          download_.writeThen("0\r\n\r\n", [sink = sink_] { sink->close(); });
+          return;
+        }
+        std::vector<std::string> warnings;
+        daemon::ShopFile f = build_(shopPage(page, warnings), options_, &columns_, nullptr);
+        piece = withoutRepeatedHeader(std::move(f.bytes));
+        if (page.empty())
+          break;  // an empty export: its header only
+      }
+      std::ostringstream size;
+      size << std::hex << piece.size();
+      std::string chunk = size.str() + "\r\n" + piece + "\r\n";
+      if (piece.empty())
+        chunk.clear();
+      download_.writeThen(std::move(chunk), [self = shared_from_this()] { self->next(); });
+    } catch (const std::exception& e) {
+      spdlog::error("hub: an export failed half-way, the download is cut short: {}", e.what());
+      sink_->close();
+    }
+  }
+
+ private:
+  std::vector<daemon::ExportItem> shopPage(const std::vector<HubItem>& page,
+                                           std::vector<std::string>& warnings) const {
+    std::vector<daemon::Item> items;
+    std::vector<std::optional<nlohmann::json>> guides;
+    std::map<std::int64_t, std::string> labels;  // hub id -> "item 12 (shop1 #7)"
+    for (const auto& h : page) {
+      items.push_back(catalogItemOf(h));
+      guides.push_back(sizeGuideOf(h));
+      labels[h.id] = "item " + std::to_string(h.id) + " (" + h.station + " #" +
+                     std::to_string(h.localId) + ")";
+    }
+    return daemon::shopItems(items, guides, warnings,
+                             [&](const daemon::Item& it) { return labels.at(it.id); });
+  }
+
+  // Every page is a whole file; the first keeps its header line, the others lose theirs, which
+  // must be the same line (the columns are fixed by pass 1).
+  std::string withoutRepeatedHeader(std::string bytes) {
+    const auto end = bytes.find('\n');
+    const std::string header = bytes.substr(0, end == std::string::npos ? bytes.size() : end + 1);
+    if (first_) {
+      first_ = false;
+      header_ = header;
+      return bytes;
+    }
+    if (header != header_)
+      throw std::logic_error("a page of the export has other columns than the first");
+    return bytes.substr(header.size());
+  }
+
+  std::unique_ptr<ApprovedReader> reader_;
+  daemon::ShopOptions options_;
+  Build build_;
+  std::shared_ptr<daemon::StreamSink> sink_;
+  daemon::DownloadSink& download_;
+  std::shared_ptr<void> slot_;
+  std::set<std::string> columns_;
+  bool first_ = true;
+  std::string header_;
+};
 
 daemon::Item catalogItemOf(const HubItem& h) {
   daemon::Item it;
@@ -66,46 +216,74 @@ std::optional<nlohmann::json> sizeGuideOf(const HubItem& h) {
 }
 
 void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig& config) {
-  auto shopRoute = [&store, &config](std::string name, std::string type, ShopBuild build) {
-    return
-        [&store, &config, name, type, build](const Request& req, const RouteMatch& m, Reply reply) {
-          const Caller c = callerOf(req, store, config);
-          if (!c.any())
-            return reply(unauthorized("a station or admin token is required"));
-          const auto scope = readScope(c, m);
-          if (!scope)
-            return reply(jsonError(http::status::forbidden, kReadsWhat));
-          const daemon::ShopOptions options = daemon::shopOptions(m, config.shop);
-          std::vector<daemon::Item> items;
-          std::vector<std::optional<nlohmann::json>> guides;
-          std::map<std::int64_t, std::string> labels;  // hub id -> "item 12 (shop1 #7)"
-          for (const auto& h : store.approvedItems(*scope)) {
-            items.push_back(catalogItemOf(h));
-            guides.push_back(sizeGuideOf(h));
-            labels[h.id] = "item " + std::to_string(h.id) + " (" + h.station + " #" +
-                           std::to_string(h.localId) + ")";
-          }
-          try {
-            std::vector<std::string> warnings;
-            const auto shop = daemon::shopItems(
-                items, guides, warnings, [&](const daemon::Item& it) { return labels.at(it.id); });
-            daemon::ShopFile f = build(shop, options);
-            warnings.insert(warnings.end(), f.warnings.begin(), f.warnings.end());
-            Response r = daemon::downloadResponse(type, std::move(f.bytes), name);
-            daemon::setExportWarnings(r, warnings);
-            reply(std::move(r));
-          } catch (const daemon::ExportError& e) {
-            reply(jsonError(http::status::unprocessable_entity, e.what()));
-          }
-        };
+  auto running = std::make_shared<std::atomic<int>>(0);
+  auto shopRoute = [&store, &config, running](std::string name, std::string type,
+                                              ChainShopStream::Build build) {
+    return [&store, &config, running, name, type, build](const Request& req, const RouteMatch& m,
+                                                         std::shared_ptr<daemon::StreamSink> sink) {
+      try {
+        const Caller c = callerOf(req, store, config);
+        if (!c.any())
+          return answer(*sink, unauthorized("a station or admin token is required"));
+        const auto scope = readScope(c, m);
+        if (!scope)
+          return answer(*sink, jsonError(http::status::forbidden, kReadsWhat));
+        const daemon::ShopOptions options = daemon::shopOptions(m, config.shop);
+        // Each export being written holds a database connection (its snapshot) until the
+        // client has the whole file.
+        if (running->fetch_add(1) >= kMaxStreamingExports) {
+          running->fetch_sub(1);
+          Response busy = jsonError(http::status::service_unavailable,
+                                    "the hub is writing " + std::to_string(kMaxStreamingExports) +
+                                        " exports already; retry in a minute");
+          busy.set(http::field::retry_after, "60");
+          return answer(*sink, std::move(busy));
+        }
+        auto slot = std::shared_ptr<void>(nullptr, [running](void*) { running->fetch_sub(1); });
+        auto* download = dynamic_cast<daemon::DownloadSink*>(sink.get());
+        if (!download)
+          throw std::logic_error("the HTTP server's stream sink cannot carry a download");
+        auto stream = std::make_shared<ChainShopStream>(store.readApproved(*scope), options, build,
+                                                        sink, *download, std::move(slot));
+        Response head = stream->survey();
+        head.set(http::field::content_disposition, "attachment; filename=\"" + name + "\"");
+        head.set(http::field::cache_control, "no-store");
+        head.set(http::field::content_type, type);
+        head.set(http::field::transfer_encoding, "chunked");
+        sink->writeHeader(std::move(head));
+        stream->next();
+      } catch (const BadRequest& e) {
+        answer(*sink, jsonError(http::status::bad_request, e.what()));
+      } catch (const daemon::ExportError& e) {
+        answer(*sink, jsonError(http::status::unprocessable_entity, e.what()));
+      } catch (const std::exception& e) {
+        spdlog::error("hub: export {} failed: {}", name, e.what());
+        answer(*sink, jsonError(http::status::internal_server_error, e.what()));
+      }
+    };
   };
-  router.add(http::verb::get, "/api/export/shopify.csv",
-             shopRoute("shopify.csv", "text/csv; charset=utf-8", daemon::shopifyCsv));
-  router.add(http::verb::get, "/api/export/woocommerce.csv",
-             shopRoute("woocommerce.csv", "text/csv; charset=utf-8", daemon::wooCommerceCsv));
-  router.add(
-      http::verb::get, "/api/export/merchant.tsv",
-      shopRoute("merchant.tsv", "text/tab-separated-values; charset=utf-8", daemon::merchantTsv));
+  auto fixed = [](ShopBuild build) -> ChainShopStream::Build {
+    return
+        [build](const std::vector<daemon::ExportItem>& items, const daemon::ShopOptions& o,
+                const std::set<std::string>*, std::set<std::string>*) { return build(items, o); };
+  };
+  router.addStream(http::verb::get, "/api/export/shopify.csv",
+                   shopRoute("shopify.csv", "text/csv; charset=utf-8", fixed(daemon::shopifyCsv)));
+  router.addStream(
+      http::verb::get, "/api/export/woocommerce.csv",
+      shopRoute("woocommerce.csv", "text/csv; charset=utf-8",
+                [](const std::vector<daemon::ExportItem>& items, const daemon::ShopOptions& o,
+                   const std::set<std::string>* columns, std::set<std::string>* survey) {
+                  if (survey) {
+                    const auto names = daemon::wooCommerceMetaNames(items, o);
+                    survey->insert(names.begin(), names.end());
+                  }
+                  return columns ? daemon::wooCommerceCsvWithColumns(items, o, *columns)
+                                 : daemon::wooCommerceCsv(items, o);
+                }));
+  router.addStream(http::verb::get, "/api/export/merchant.tsv",
+                   shopRoute("merchant.tsv", "text/tab-separated-values; charset=utf-8",
+                             fixed(daemon::merchantTsv)));
 
   // The images the exports link to (daemon::exportImagePath, hub ids): "<id>-<kind>" names,
   // resolved through the hub's items, of approved items the caller may read.

@@ -12,6 +12,7 @@
 #include "garmcap/daemon/utf8.h"
 #include "garmcap/hub/hub_caller.h"
 #include "garmcap/hub/hub_exports.h"
+#include "garmcap/hub/hub_pattern_routes.h"
 #include "garmcap/hub/hub_web_routes.h"
 
 namespace garmcap::hub {
@@ -107,6 +108,7 @@ PushedItem parsePush(const nlohmann::json& body) {
     }
   }
   p.doc = item;
+  p.patterns = pushedPatterns(body);
   return p;
 }
 
@@ -350,6 +352,7 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
              });
 
   addHubExportRoutes(router, store, config);
+  addHubPatternRoutes(router, store, config);
 }
 
 HubService::HubService(const HubConfig& config) : config_(config) {

@@ -66,8 +66,18 @@ CREATE TABLE hub_changes(
 CREATE INDEX hub_changes_station ON hub_changes(station_id, seq);
 )sql";
 
+// Version 2: each item's patterns as the station drafted them (size -> the drafts library's
+// pattern JSON), which the hub's pattern files and catalog.zip are written from.
+constexpr const char* kSchemaV2 = R"sql(
+CREATE TABLE item_patterns(
+  item_id bigint NOT NULL REFERENCES items(id) ON DELETE CASCADE,
+  size text NOT NULL CHECK (size ~ '^[A-Za-z0-9_-]{1,32}$'),
+  pattern jsonb NOT NULL,
+  PRIMARY KEY (item_id, size));
+)sql";
+
 const std::vector<const char*>& migrations() {
-  static const std::vector<const char*> kMigrations = {kSchemaV1};
+  static const std::vector<const char*> kMigrations = {kSchemaV1, kSchemaV2};
   return kMigrations;
 }
 
@@ -208,6 +218,24 @@ void loadDetails(pqxx::transaction_base& w, std::vector<HubItem>& items) {
     byId.at(r[0].as<std::int64_t>())->images.push_back({r[1].c_str(), r[2].c_str(), r[3].c_str()});
 }
 
+// The patterns of a page of items in one query.
+void loadPatterns(pqxx::transaction_base& w, std::vector<HubItem>& items) {
+  if (items.empty())
+    return;
+  std::map<std::int64_t, HubItem*> byId;
+  std::string ids = "{";
+  for (auto& it : items) {
+    byId[it.id] = &it;
+    ids += (ids.size() > 1 ? "," : "") + std::to_string(it.id);
+  }
+  ids += "}";
+  for (const auto& r :
+       w.exec_params("SELECT item_id, size, pattern::text FROM item_patterns WHERE item_id = "
+                     "ANY($1::bigint[])",
+                     ids))
+    byId.at(r[0].as<std::int64_t>())->patterns[r[1].c_str()] = nlohmann::json::parse(r[2].c_str());
+}
+
 // Serializes the writes of one station's items and changes: the change rows of a station then
 // commit in the order of their sequence numbers, so a reader's cursor never skips one that an
 // earlier transaction was still about to commit.
@@ -242,6 +270,7 @@ nlohmann::json HubItem::toJson() const {
                    {"measurements", measurementsCm},
                    {"images", images},
                    {"station_item", doc},
+                   {"pattern_sizes", patternSizes},
                    {"created_at", createdAt},
                    {"updated_at", updatedAt}};
   j["price_cents"] = priceCents ? nlohmann::json(*priceCents) : nlohmann::json(nullptr);
@@ -493,6 +522,12 @@ PushOutcome HubStore::push(const std::string& station, const PushedItem& in) {
       w.exec_params(
           "INSERT INTO item_images(item_id, kind, sha256, media_type) VALUES($1, $2, $3, $4)",
           out.hubId, im.kind, im.sha256, im.mediaType);
+    if (in.patterns) {
+      w.exec_params("DELETE FROM item_patterns WHERE item_id = $1", out.hubId);
+      for (const auto& [size, pattern] : *in.patterns)
+        w.exec_params("INSERT INTO item_patterns(item_id, size, pattern) VALUES($1, $2, $3::jsonb)",
+                      out.hubId, size, pattern.dump());
+    }
     w.commit();
     return out;
   });
@@ -517,6 +552,9 @@ std::optional<HubItem> HubStore::item(std::int64_t id) {
       return std::nullopt;
     HubItem it = readItem(r[0]);
     loadDetails(w, it);
+    for (const auto& p :
+         w.exec_params("SELECT size FROM item_patterns WHERE item_id = $1 ORDER BY size", id))
+      it.patternSizes.push_back(p[0].c_str());
     return it;
   });
 }
@@ -550,7 +588,8 @@ HubPage HubStore::list(const HubQuery& q) {
   });
 }
 
-std::vector<HubItem> HubStore::approvedItems(const std::string& station) {
+std::vector<HubItem> HubStore::approvedItems(const std::string& station, bool withPatterns,
+                                             std::size_t limit) {
   return withConnection([&](pqxx::connection& c) {
     pqxx::transaction<pqxx::repeatable_read, pqxx::read_only> w(c);
     std::vector<HubItem> out;
@@ -563,12 +602,72 @@ std::vector<HubItem> HubStore::approvedItems(const std::string& station) {
                                          "ORDER BY id LIMIT 1000",
                          after, station))
         page.push_back(readItem(row));
-      if (page.empty())
+      if (page.empty() || out.size() >= limit)
         return out;
+      if (page.size() > limit - out.size())
+        page.resize(limit - out.size());
       after = page.back().id;
       loadDetails(w, page);
+      if (withPatterns)
+        loadPatterns(w, page);
       std::move(page.begin(), page.end(), std::back_inserter(out));
     }
+  });
+}
+
+namespace {
+
+class PgApprovedReader : public ApprovedReader {
+ public:
+  PgApprovedReader(const std::string& connectionString, std::string station)
+      : connection_(connectionString), tx_(connection_), station_(std::move(station)) {}
+  std::vector<HubItem> next(int limit) override {
+    std::vector<HubItem> page;
+    for (const auto& row :
+         tx_.exec_params(itemColumns() + "WHERE status = 'approved' AND deleted_at IS NULL "
+                                         "AND id > $1 AND ($2 = '' OR station_id = $2) "
+                                         "ORDER BY id LIMIT $3",
+                         after_, station_, std::clamp(limit, 1, 10000)))
+      page.push_back(readItem(row));
+    if (!page.empty())
+      after_ = page.back().id;
+    loadDetails(tx_, page);
+    return page;
+  }
+  void rewind() override { after_ = 0; }
+
+ private:
+  pqxx::connection connection_;
+  pqxx::transaction<pqxx::repeatable_read, pqxx::read_only> tx_;
+  std::string station_;
+  std::int64_t after_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<ApprovedReader> HubStore::readApproved(const std::string& station) {
+  return std::make_unique<PgApprovedReader>(connectionString_, station);
+}
+
+std::optional<nlohmann::json> HubStore::pattern(std::int64_t itemId, const std::string& size) {
+  return withConnection([&](pqxx::connection& c) -> std::optional<nlohmann::json> {
+    pqxx::work w(c);
+    const auto r = w.exec_params(
+        "SELECT pattern::text FROM item_patterns WHERE item_id = $1 AND size = $2", itemId, size);
+    if (r.empty())
+      return std::nullopt;
+    return nlohmann::json::parse(r[0][0].c_str());
+  });
+}
+
+std::map<std::string, nlohmann::json> HubStore::patterns(std::int64_t itemId) {
+  return withConnection([&](pqxx::connection& c) {
+    pqxx::work w(c);
+    std::map<std::string, nlohmann::json> out;
+    for (const auto& r :
+         w.exec_params("SELECT size, pattern::text FROM item_patterns WHERE item_id = $1", itemId))
+      out[r[0].c_str()] = nlohmann::json::parse(r[1].c_str());
+    return out;
   });
 }
 

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "garmcap/daemon/export_catalog.h"
 #include "garmcap/daemon/http_router.h"
 #include "garmcap/daemon/station.h"
 
@@ -17,10 +18,6 @@ void addApiRoutes(Router& router, Station& station);
 std::string sizeGuideCsv(const nlohmann::json& guide);
 
 struct Item;
-
-/// The `size` query of the pattern routes: "base" (the pattern as measured) when absent. Throws
-/// BadRequest (400) unless it is a size name: 1..16 of A-Z a-z 0-9 _ -.
-std::string patternSizeParam(const RouteMatch& m);
 
 /// 404 for a size `item` has no pattern of, naming the size and the sizes the item has, so that
 /// a client sees at once what it may ask for.

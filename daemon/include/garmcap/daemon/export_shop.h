@@ -8,6 +8,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -111,6 +112,13 @@ ShopFile shopifyCsv(const std::vector<ExportItem>& items, const ShopOptions& opt
 /// 1), or with madeToOrder a `variable` parent with the piece and the made-to-order sizes as
 /// `variation`s (`Meta: <measurement>_cm` columns).
 ShopFile wooCommerceCsv(const std::vector<ExportItem>& items, const ShopOptions& options);
+/// Its `Meta: <measurement>_cm` columns: the measurement names of every variant of `items`.
+std::set<std::string> wooCommerceMetaNames(const std::vector<ExportItem>& items,
+                                           const ShopOptions& options);
+/// The same file with the given meta columns (a file written in pages: the names of every
+/// page, surveyed first). Throws ExportError for a measurement not among them.
+ShopFile wooCommerceCsvWithColumns(const std::vector<ExportItem>& items, const ShopOptions& options,
+                                   const std::set<std::string>& metaNames);
 
 /// Google Merchant Center product feed (tab-separated): one row per variant, item_group_id =
 /// SKU when there are several. Items without a price are left out with a warning (Merchant

@@ -13,6 +13,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <boost/asio/dispatch.hpp>
@@ -20,6 +21,7 @@
 #include <boost/asio/socket_base.hpp>
 #include <boost/asio/write.hpp>
 #include <boost/beast/core.hpp>
+#include <boost/beast/core/detect_ssl.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl/ssl_stream.hpp>
 #include <chrono>
@@ -29,9 +31,11 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "garmcap/daemon/client_connections.h"
 #include "garmcap/daemon/config.h"
+#include "garmcap/daemon/download_sink.h"
 #include "garmcap/daemon/http_guard.h"
 #include "garmcap/daemon/http_router.h"
 #include "garmcap/daemon/http_server.h"
@@ -155,19 +159,30 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   }
 
   // Stream mode ----------------------------------------------------------------------------
-  void queueRaw(std::string data, std::size_t maxQueued) {
-    asio::post(stream_.get_executor(),
-               [self = this->shared_from_this(), data = std::move(data), maxQueued]() mutable {
-                 if (self->streamClosed_)
-                   return;
-                 self->rawQueue_.push_back(std::move(data));
-                 // Drop the oldest unsent chunk (never the one being written) when a client is
-                 // slow: a preview or event stream must not back up into the station.
-                 while (self->rawQueue_.size() > maxQueued + (self->rawWriting_ ? 1 : 0))
-                   self->rawQueue_.erase(self->rawQueue_.begin() + (self->rawWriting_ ? 1 : 0));
-                 if (!self->rawWriting_)
-                   self->writeRaw();
-               });
+  // `drained` set: a download's piece (DownloadSink), never dropped; called once written, or
+  // at once when the peer is gone.
+  void queueRaw(std::string data, std::size_t maxQueued, std::function<void()> drained = {}) {
+    asio::post(stream_.get_executor(), [self = this->shared_from_this(), data = std::move(data),
+                                        maxQueued, drained = std::move(drained)]() mutable {
+      if (self->streamClosed_) {
+        if (drained)
+          drained();
+        return;
+      }
+      self->rawQueue_.push_back({std::move(data), std::move(drained)});
+      // Drop the oldest unsent chunk (never the one being written, nor a download's piece) when
+      // a client is slow: a preview or event stream must not back up into the station.
+      while (self->rawQueue_.size() > maxQueued + (self->rawWriting_ ? 1 : 0)) {
+        auto droppable =
+            std::find_if(self->rawQueue_.begin() + (self->rawWriting_ ? 1 : 0),
+                         self->rawQueue_.end(), [](const RawPiece& p) { return !p.drained; });
+        if (droppable == self->rawQueue_.end())
+          break;
+        self->rawQueue_.erase(droppable);
+      }
+      if (!self->rawWriting_)
+        self->writeRaw();
+    });
   }
   void closeStream() {
     asio::post(stream_.get_executor(), [self = this->shared_from_this()] {
@@ -178,7 +193,7 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   }
 
  private:
-  class Sink : public SessionSinkBase {
+  class Sink : public SessionSinkBase, public DownloadSink {
    public:
     Sink(std::shared_ptr<Session> session, std::size_t maxQueued)
         : session_(session), maxQueued_(maxQueued) {}
@@ -199,6 +214,12 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
       if (!s || !open_)
         return;
       s->queueRaw(std::move(chunk), maxQueued_);
+    }
+    void writeThen(std::string piece, std::function<void()> drained) override {
+      auto s = session_.lock();
+      if (!s || !open_)
+        return drained();
+      s->queueRaw(std::move(piece), maxQueued_, std::move(drained));
     }
     void close() override {
       open_ = false;
@@ -230,22 +251,71 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
 
   // A client that connects and never completes the handshake (a plain-HTTP request, a port
   // scan, a slow client) is dropped after header_timeout_s, or sooner when its slot is needed.
+  // The first bytes are looked at before the handshake (as nginx does for its 497): a TLS client
+  // opens with a handshake record, and anything else, such as a plain-HTTP request typed as
+  // http://, is told in plain text that the port speaks HTTPS instead of a silent close.
   void doHandshake() {
     expiresAfter(std::chrono::seconds(shared_->config.headerTimeoutS));
     waitingHandle_ =
         shared_->waiting.add(this->weak_from_this(), client_ ? client_->address() : std::string());
+    beast::async_detect_ssl(
+        lowest(), buffer_, beast::bind_front_handler(&Session::onDetect, this->shared_from_this()));
+  }
+  void onDetect(beast::error_code ec, bool tls) {
+    if (ec) {
+      spdlog::debug("http: {} left before its TLS handshake: {}",
+                    client_ ? client_->address() : std::string("a client"), ec.message());
+      return;
+    }
+    if (!tls)
+      return refusePlainHttp();
+    // The bytes read to decide are the start of the ClientHello: the handshake takes them.
     stream_.async_handshake(
-        asio::ssl::stream_base::server,
+        asio::ssl::stream_base::server, buffer_.data(),
         beast::bind_front_handler(&Session::onHandshake, this->shared_from_this()));
   }
-  void onHandshake(beast::error_code ec) {
+  void onHandshake(beast::error_code ec, std::size_t used) {
     if (ec) {
-      // Not an error of the server: a client that speaks plain HTTP, trusts another CA, or left.
+      // Not an error of the server: a client that trusts another CA, offers only old TLS, or left.
       spdlog::debug("http: TLS handshake with {} failed: {}",
                     client_ ? client_->address() : std::string("a client"), ec.message());
       return;  // the stream closes with the session
     }
+    buffer_.consume(used);
     doRead();
+  }
+  // A 400 in plain text on the bare TCP stream, then the sending side is shut and what the
+  // client still sends is read and dropped for a moment (a close with unread bytes would reset
+  // the connection, and the client could lose the answer), then the socket closes.
+  void refusePlainHttp() {
+    stopWaiting();
+    spdlog::debug("http: {} spoke plain HTTP to the TLS port; answered 400",
+                  client_ ? client_->address() : std::string("a client"));
+    static const std::string kBody =
+        "400 Bad Request: this port speaks HTTPS only. Use an https:// URL.\n";
+    auto answer = std::make_shared<std::string>(
+        "HTTP/1.1 400 Bad Request\r\nContent-Type: text/plain; charset=utf-8\r\n"
+        "Content-Length: " +
+        std::to_string(kBody.size()) + "\r\nConnection: close\r\n\r\n" + kBody);
+    expiresAfter(std::chrono::seconds(2));
+    asio::async_write(lowest(), asio::buffer(*answer),
+                      [self = this->shared_from_this(), answer](beast::error_code ec, std::size_t) {
+                        if (ec)
+                          return;
+                        beast::error_code ignored;
+                        self->lowest().socket().shutdown(asio::socket_base::shutdown_send, ignored);
+                        self->drainThenClose();
+                      });
+  }
+  void drainThenClose() {
+    auto buf = std::make_shared<std::array<char, 1024>>();
+    lowest().async_read_some(asio::buffer(*buf), [self = this->shared_from_this(), buf](
+                                                     beast::error_code ec, std::size_t) {
+      if (!ec)
+        return self->drainThenClose();
+      beast::error_code ignored;
+      self->lowest().socket().close(ignored);
+    });
   }
 
   // A request is read in two steps: the header within header_timeout_s of the connection (or of
@@ -475,17 +545,28 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
       return;
     }
     rawWriting_ = true;
-    asio::async_write(stream_, asio::buffer(rawQueue_.front()),
+    asio::async_write(stream_, asio::buffer(rawQueue_.front().data),
                       [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
                         self->rawWriting_ = false;
+                        auto drained = std::move(self->rawQueue_.front().drained);
                         self->rawQueue_.pop_front();
                         if (ec) {
                           self->streamClosed_ = true;
                           if (self->sink_)
                             self->sink_->markClosed();
+                          std::vector<std::function<void()>> waiting;
+                          for (auto& p : self->rawQueue_)
+                            if (p.drained)
+                              waiting.push_back(std::move(p.drained));
                           self->rawQueue_.clear();
+                          if (drained)
+                            drained();
+                          for (auto& w : waiting)
+                            w();
                           return;
                         }
+                        if (drained)
+                          drained();
                         self->writeRaw();
                       });
   }
@@ -524,7 +605,11 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
   beast::flat_buffer buffer_;
   std::shared_ptr<ServerShared> shared_;
   std::optional<http::request_parser<http::string_body>> parser_;
-  std::deque<std::string> rawQueue_;
+  struct RawPiece {
+    std::string data;
+    std::function<void()> drained;  // set for a download's piece
+  };
+  std::deque<RawPiece> rawQueue_;
   bool rawWriting_ = false;
   bool streamClosed_ = false;
   std::shared_ptr<Sink> sink_;

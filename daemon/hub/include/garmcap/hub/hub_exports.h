@@ -8,6 +8,8 @@
 //   GET /api/export/files/images/<hub item id>-<kind>.<jpg|png|webp>   the images they link to
 //
 // The admin token exports every station's items (`station=` one); a station token its own.
+// The shop files are written as they are read (stream routes, chunked): pages of 500 items from
+// one snapshot, so the hub's memory does not grow with the chain (hub_exports.cpp).
 
 #include <nlohmann/json.hpp>
 #include <optional>

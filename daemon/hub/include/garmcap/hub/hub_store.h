@@ -1,8 +1,9 @@
 #pragma once
 // The hub's catalog on PostgreSQL (libpqxx 6.4): items of several stations, each keyed by
-// (station, station-local id), their measurements, and the images content-addressed by sha256 in
-// a bytea column. Schema versions are rows of schema_migrations, applied in order, each in its
-// own transaction under an advisory lock (two hubs starting on one database do not race).
+// (station, station-local id), their measurements, patterns (schema 2), and the images
+// content-addressed by sha256 in a bytea column. Schema versions are rows of schema_migrations,
+// applied in order, each in its own transaction under an advisory lock (two hubs starting on one
+// database do not race).
 //
 // Ownership (docs/hub.md): the station owns every field of an item until the item is approved;
 // from then on the hub owns title, price and status. A push of an approved item keeps the hub's
@@ -16,6 +17,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -32,7 +34,7 @@ class HubStoreError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr int kHubSchemaVersion = 1;
+inline constexpr int kHubSchemaVersion = 2;
 
 /// One image of a pushed item: the blob must be at the hub already.
 struct PushedImage {
@@ -48,6 +50,9 @@ struct PushedItem {
   std::vector<PushedImage> images;
   bool deleted = false;
   nlohmann::json doc;  // the station's whole item JSON, kept for reading and exports
+  // The item's patterns (size -> the drafts library's pattern JSON, "base" = as measured);
+  // none: the push left them out (a station from before patterns were sent), kept as they are.
+  std::optional<std::map<std::string, nlohmann::json>> patterns;
 };
 
 struct PushOutcome {
@@ -66,6 +71,8 @@ struct HubItem {
   std::map<std::string, double> measurementsCm;
   std::vector<PushedImage> images;
   nlohmann::json doc;
+  std::vector<std::string> patternSizes;           // item(id) only
+  std::map<std::string, nlohmann::json> patterns;  // approvedItems(..., true) only
   std::string createdAt, updatedAt;
   std::optional<std::string> deletedAt;
   nlohmann::json toJson() const;
@@ -107,6 +114,18 @@ struct HubChange {
   nlohmann::json toJson() const;
 };
 
+/// The approved items that are not deleted, of a station or of all, oldest first, read in
+/// keyset pages from one snapshot: a repeatable-read transaction on a connection of its own
+/// (outside the pool), for an export written as it is read. rewind() starts again on the same
+/// snapshot.
+class ApprovedReader {
+ public:
+  virtual ~ApprovedReader() = default;
+  /// The next page (with measurements and images); empty at the end.
+  virtual std::vector<HubItem> next(int limit) = 0;
+  virtual void rewind() = 0;
+};
+
 class HubStore {
  public:
   /// Connects (libpq connection string) and migrates. Throws pqxx or HubStoreError.
@@ -141,7 +160,15 @@ class HubStore {
   HubPage list(const HubQuery& query);
   /// The approved items that are not deleted, of `station` ("" = every station), oldest first,
   /// with their measurements and images: what the chain's shop exports take. One snapshot.
-  std::vector<HubItem> approvedItems(const std::string& station);
+  /// With `withPatterns`, each item's patterns too (catalog.zip); at most `limit` items.
+  std::vector<HubItem> approvedItems(const std::string& station, bool withPatterns = false,
+                                     std::size_t limit = std::numeric_limits<std::size_t>::max());
+  /// approvedItems page by page: `station` "" = every station.
+  std::unique_ptr<ApprovedReader> readApproved(const std::string& station);
+  /// An item's stored pattern of `size`, if any.
+  std::optional<nlohmann::json> pattern(std::int64_t itemId, const std::string& size);
+  /// An item's stored patterns, size -> pattern JSON.
+  std::map<std::string, nlohmann::json> patterns(std::int64_t itemId);
   PatchResult patch(std::int64_t id, const HubPatch& patch);
   /// Changes for `station` after `since`, oldest first.
   std::vector<HubChange> changes(const std::string& station, std::int64_t since, int limit);

@@ -1,0 +1,33 @@
+#pragma once
+// The patterns of any station's item at the hub, and the chain's catalog.zip (docs/hub.md,
+// "Patterns and catalog.zip"), written from the patterns each station pushes with its items by
+// the drafts library's writers and the station's catalog.zip builder (export_catalog.h):
+//
+//   GET /api/items/<hub id>/patterns            {"id", "sizes": [...]}
+//   GET /api/items/<hub id>/pattern.json?size=  the stored pattern (size "base" by default)
+//   GET /api/items/<hub id>/pattern.svg?size=   1:1 SVG, pattern.dxf (DXF-AAMA, mm),
+//   GET /api/items/<hub id>/pattern.pdf?size=&paper=a4|letter|a0
+//   GET /api/export/catalog.zip?station=&base_url=...
+//
+// The admin token reads every station's; a station token its own station's (another's item is
+// a 404, another's catalog a 403).
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "garmcap/daemon/http_router.h"
+#include "garmcap/hub/hub_config.h"
+#include "garmcap/hub/hub_store.h"
+
+namespace garmcap::hub {
+
+/// The `patterns` of a push body: an object of size -> pattern JSON object, or absent (the
+/// station's patterns stay as they are). Throws BadRequest for anything else.
+std::optional<std::map<std::string, nlohmann::json>> pushedPatterns(const nlohmann::json& body);
+
+/// Adds the routes above; `store` and `config` outlive the router.
+void addHubPatternRoutes(daemon::Router& router, HubStore& store, const HubConfig& config);
+
+}  // namespace garmcap::hub

@@ -1,0 +1,404 @@
+// Patterns at the hub (a real PostgreSQL, HubService on a loopback port): the patterns a station
+// pushes with its items are stored and served as pattern.json, pattern.svg, pattern.dxf and
+// pattern.pdf for any station's item, and the chain's catalog.zip holds every station's photos,
+// pattern files and shop files. Each file is read back by an independent reader: Python's xml
+// and zipfile, ezdxf's audit (Debian's python3-ezdxf), poppler's pdfinfo.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "../e2e/daemon_harness.h"
+#include "garmcap/daemon/content_store.h"
+#include "garmcap/hub/hub_service.h"
+#include "temp_postgres.h"
+
+namespace garmcap::hub {
+namespace {
+
+using e2e::Json;
+using e2e::Reply;
+namespace http = e2e::http;
+namespace fs = std::filesystem;
+
+std::string run(const std::string& cmd, int& status) {
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p)
+    throw std::runtime_error("cannot run " + cmd);
+  std::string out;
+  char buf[4096];
+  while (const std::size_t n = std::fread(buf, 1, sizeof buf, p))
+    out.append(buf, n);
+  status = ::pclose(p);
+  return out;
+}
+
+std::string quoted(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
+
+Json readJson(const fs::path& p) {
+  std::ifstream in(p);
+  return Json::parse(in);
+}
+
+class HubPatternTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (!test::postgresBinDir())
+      return;
+    pg_ = new test::TempPostgres();
+    pg_->createDatabase("hub_patterns");
+    HubConfig c;
+    c.databaseUrl = pg_->url("hub_patterns");
+    c.listenPort = 0;
+    c.adminTokenSha256 = tokenHash("admin-secret");
+    c.stationTokenSha256 = {{"shop1", tokenHash("shop1-secret")},
+                            {"shop2", tokenHash("shop2-secret")}};
+    service_ = new HubService(c);
+    service_->start();
+  }
+  static void TearDownTestSuite() {
+    delete service_;
+    delete pg_;
+    service_ = nullptr;
+    pg_ = nullptr;
+  }
+  void SetUp() override {
+    if (!pg_)
+      GTEST_SKIP() << "PostgreSQL server binaries not found under /usr/lib/postgresql";
+    dir_ = fs::temp_directory_path() / ("garmcap-hubpat-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  static Reply call(http::verb verb, const std::string& target, const std::string& token,
+                    const std::string& body = "", const std::string& type = "application/json") {
+    std::vector<std::pair<std::string, std::string>> fields = {{"Host", "127.0.0.1"}};
+    if (!token.empty())
+      fields.emplace_back("Authorization", "Bearer " + token);
+    if (!body.empty())
+      fields.emplace_back("Content-Type", type);
+    return e2e::httpCallWith(service_->port(), verb, target, fields, body);
+  }
+  // Pushes an approved item with a photo; `patterns` null leaves the key out of the push.
+  static std::int64_t push(const std::string& station, std::int64_t localId, const std::string& sku,
+                           const Json& patterns) {
+    const std::string photo = "jpeg of " + station + " " + std::to_string(localId);
+    const std::string sha = daemon::sha256Hex(photo);
+    const auto put = call(http::verb::put, "/api/hub/blobs/" + sha, station + "-secret", photo,
+                          "application/octet-stream");
+    EXPECT_TRUE(put.status == 200 || put.status == 201) << put.body;
+    Json item{{"sku", sku},
+              {"title", "Dress " + sku},
+              {"status", "approved"},
+              {"type", "dress"},
+              {"price_cents", 4900},
+              {"base_size", "55"},
+              {"measurements", {{"bust_circ", 88.0}}},
+              {"images", {{"product", {{"sha256", sha}, {"media_type", "image/jpeg"}}}}}};
+    Json body{{"local_id", localId}, {"item", item}, {"deleted", false}};
+    if (!patterns.is_null())
+      body["patterns"] = patterns;
+    const auto r = call(http::verb::post, "/api/hub/push", station + "-secret", body.dump());
+    EXPECT_EQ(r.status, 200) << r.body;
+    return Json::parse(r.body).at("id").get<std::int64_t>();
+  }
+  fs::path save(const std::string& name, const std::string& bytes) const {
+    const auto p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << bytes;
+    return p;
+  }
+
+  static test::TempPostgres* pg_;
+  static HubService* service_;
+  fs::path dir_;
+};
+test::TempPostgres* HubPatternTest::pg_ = nullptr;
+HubService* HubPatternTest::service_ = nullptr;
+
+const fs::path kDress = fs::path(GARMCAP_TEST_DATA_DIR) / "designs" / "dress_55.json";
+
+TEST_F(HubPatternTest, PatternFilesOfAnyStationsItemAreServedAndReadBackByIndependentReaders) {
+  const Json dress = readJson(kDress);
+  const auto panels = dress.at("panels").size();
+  ASSERT_GT(panels, 1u);
+  const std::int64_t a = push("shop1", 11, "P1-11", Json{{"base", dress}});
+  const std::int64_t old = push("shop1", 12, "P1-12", nullptr);  // a station that sends none
+  const std::int64_t b = push("shop2", 11, "P2-11", Json{{"base", dress}, {"55", dress}});
+
+  auto sizes =
+      call(http::verb::get, "/api/items/" + std::to_string(b) + "/patterns", "admin-secret");
+  ASSERT_EQ(sizes.status, 200) << sizes.body;
+  EXPECT_EQ(Json::parse(sizes.body)["sizes"], Json::array({"55", "base"}));
+  // A station reads its own items' patterns only; another's is absent.
+  EXPECT_EQ(
+      call(http::verb::get, "/api/items/" + std::to_string(b) + "/pattern.json", "shop2-secret")
+          .status,
+      200);
+  EXPECT_EQ(
+      call(http::verb::get, "/api/items/" + std::to_string(b) + "/pattern.json", "shop1-secret")
+          .status,
+      404);
+  EXPECT_EQ(call(http::verb::get, "/api/items/" + std::to_string(b) + "/pattern.svg", "").status,
+            401);
+
+  const auto json =
+      call(http::verb::get, "/api/items/" + std::to_string(a) + "/pattern.json", "admin-secret");
+  ASSERT_EQ(json.status, 200) << json.body;
+  EXPECT_EQ(Json::parse(json.body), dress);
+
+  // SVG: well-formed XML (Python's parser), one outline per piece at least.
+  const auto svg =
+      call(http::verb::get, "/api/items/" + std::to_string(a) + "/pattern.svg?size=base",
+           "shop1-secret");
+  ASSERT_EQ(svg.status, 200) << svg.body;
+  int st = 0;
+  const std::string svgOut =
+      run("/usr/bin/python3 -c 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1])"
+          ".getroot(); print(r.tag.split(\"}\")[-1], sum(1 for e in r.iter() if e.tag.split(\"}\")"
+          "[-1] in (\"path\", \"polygon\", \"polyline\")))' " +
+              quoted(save("a.svg", svg.body)) + " 2>&1",
+          st);
+  ASSERT_EQ(st, 0) << svgOut;
+  std::istringstream svgWords(svgOut);
+  std::string root;
+  std::size_t shapes = 0;
+  svgWords >> root >> shapes;
+  EXPECT_EQ(root, "svg") << svgOut;
+  EXPECT_GE(shapes, panels) << svgOut;
+
+  // DXF-AAMA: ezdxf reads it, audits it clean, and finds one block per piece.
+  const auto dxf = call(http::verb::get, "/api/items/" + std::to_string(b) + "/pattern.dxf?size=55",
+                        "admin-secret");
+  ASSERT_EQ(dxf.status, 200) << dxf.body;
+  EXPECT_NE(dxf.disposition.find("P2-11_55.dxf"), std::string::npos) << dxf.disposition;
+  const std::string dxfOut =
+      run("/usr/bin/python3 -c 'import sys, ezdxf; d = ezdxf.readfile(sys.argv[1]); a = d.audit(); "
+          "print(len(d.modelspace().query(\"INSERT\")), len(a.errors))' " +
+              quoted(save("b.dxf", dxf.body)) + " 2>&1",
+          st);
+  ASSERT_EQ(st, 0) << dxfOut;
+  std::istringstream dxfWords(dxfOut);
+  std::size_t inserts = 0, errors = 1;
+  dxfWords >> inserts >> errors;
+  EXPECT_EQ(inserts, panels) << dxfOut;
+  EXPECT_EQ(errors, 0u) << dxfOut;
+
+  // PDF: poppler reads it; A0 is one page of A0.
+  for (const std::string& paper : {std::string("a4"), std::string("a0")}) {
+    const auto pdf =
+        call(http::verb::get, "/api/items/" + std::to_string(a) + "/pattern.pdf?paper=" + paper,
+             "admin-secret");
+    ASSERT_EQ(pdf.status, 200) << pdf.body;
+    const std::string info = run("pdfinfo " + quoted(save("a.pdf", pdf.body)) + " 2>&1", st);
+    ASSERT_EQ(st, 0) << info;
+    EXPECT_NE(info.find("Pages:"), std::string::npos) << info;
+    if (paper == "a0") {
+      EXPECT_NE(info.find("(A0)"), std::string::npos) << info;
+    }
+  }
+  EXPECT_EQ(call(http::verb::get, "/api/items/" + std::to_string(a) + "/pattern.pdf?paper=b5",
+                 "admin-secret")
+                .status,
+            400);
+
+  // Sizes it lacks, items that sent none.
+  const auto missing = call(
+      http::verb::get, "/api/items/" + std::to_string(b) + "/pattern.dxf?size=66", "admin-secret");
+  EXPECT_EQ(missing.status, 404);
+  EXPECT_NE(missing.body.find("sizes: 55, base"), std::string::npos) << missing.body;
+  const auto none =
+      call(http::verb::get, "/api/items/" + std::to_string(old) + "/pattern.svg", "admin-secret");
+  EXPECT_EQ(none.status, 404);
+  EXPECT_NE(none.body.find("sent no pattern"), std::string::npos) << none.body;
+
+  // A push without "patterns" keeps them; an empty object clears them; a bad one is a 400.
+  push("shop1", 11, "P1-11", nullptr);
+  EXPECT_EQ(
+      call(http::verb::get, "/api/items/" + std::to_string(a) + "/pattern.json", "admin-secret")
+          .status,
+      200);
+  push("shop1", 11, "P1-11", Json::object());
+  EXPECT_EQ(
+      call(http::verb::get, "/api/items/" + std::to_string(a) + "/pattern.json", "admin-secret")
+          .status,
+      404);
+  const Json bad{
+      {"local_id", 11}, {"item", {{"status", "approved"}}}, {"patterns", {{"../x", dress}}}};
+  EXPECT_EQ(call(http::verb::post, "/api/hub/push", "shop1-secret", bad.dump()).status, 400);
+  push("shop1", 11, "P1-11", Json{{"base", dress}});
+}
+
+// The names in a ZIP as Python's zipfile reads them, after its CRC check of every member.
+std::set<std::string> zipNames(const fs::path& file) {
+  int st = 0;
+  const std::string out =
+      run("/usr/bin/python3 -c 'import sys, zipfile; z = zipfile.ZipFile(sys.argv[1]); "
+          "bad = z.testzip(); print(\"BAD\", bad) if bad else None; [print(n) for n in "
+          "z.namelist()]' " +
+              quoted(file) + " 2>&1",
+          st);
+  if (st != 0 || out.rfind("BAD", 0) == 0)
+    throw std::runtime_error("python3 zipfile refused " + file.string() + ": " + out);
+  std::set<std::string> names;
+  std::istringstream lines(out);
+  for (std::string l; std::getline(lines, l);)
+    names.insert(l);
+  return names;
+}
+
+TEST_F(HubPatternTest, TheChainsCatalogZipHoldsEveryStationsPatternsPhotosAndShopFiles) {
+  const Json dress = readJson(kDress);
+  const std::int64_t a = push("shop1", 21, "Z1-21", Json{{"base", dress}});
+  const std::int64_t b = push("shop2", 21, "Z2-21", Json{{"base", dress}, {"55", dress}});
+  const std::string query =
+      "/api/export/catalog.zip?base_url=https://files.example/chain&brand=Chain"
+      "&store_url=https://shop.example";
+
+  const auto all = call(http::verb::get, query, "admin-secret");
+  ASSERT_EQ(all.status, 200) << all.body;
+  const auto names = zipNames(save("all.zip", all.body));
+  for (const std::string& n :
+       {"patterns/" + std::to_string(a) + "/base.dxf",
+        "patterns/" + std::to_string(a) + "/base.svg",
+        "patterns/" + std::to_string(a) + "/garmentcode.json",
+        "patterns/" + std::to_string(b) + "/55.dxf", "patterns/" + std::to_string(b) + "/base.dxf",
+        "images/" + std::to_string(a) + "-product.jpg",
+        "images/" + std::to_string(b) + "-product.jpg", std::string("shopify.csv"),
+        std::string("woocommerce.csv"), std::string("merchant.tsv"), std::string("README.txt")})
+    EXPECT_EQ(names.count(n), 1u) << n;
+
+  // One station's, by the admin's filter or by its own token; not another's.
+  const auto one = call(http::verb::get, query + "&station=shop2", "admin-secret");
+  ASSERT_EQ(one.status, 200) << one.body;
+  const auto names2 = zipNames(save("shop2.zip", one.body));
+  EXPECT_EQ(names2.count("patterns/" + std::to_string(b) + "/55.dxf"), 1u);
+  EXPECT_EQ(names2.count("patterns/" + std::to_string(a) + "/base.dxf"), 0u);
+  for (const auto& n : names2)
+    EXPECT_EQ(n.find("images/" + std::to_string(a) + "-"), std::string::npos) << n;
+  const auto own = call(http::verb::get, query, "shop2-secret");
+  ASSERT_EQ(own.status, 200);
+  EXPECT_EQ(zipNames(save("own.zip", own.body)), names2);
+  EXPECT_EQ(call(http::verb::get, query + "&station=shop1", "shop2-secret").status, 403);
+  EXPECT_EQ(call(http::verb::get, query, "").status, 401);
+
+  // The DXF inside is the one pattern.dxf serves, and ezdxf audits it clean.
+  int st = 0;
+  const std::string out =
+      run("cd " + quoted(dir_) +
+              " && /usr/bin/python3 -c 'import sys, zipfile, ezdxf, io; "
+              "z = zipfile.ZipFile(\"all.zip\"); d = ezdxf.read(io.StringIO(z.read(sys.argv[1])"
+              ".decode(\"cp1252\"))); print(len(d.audit().errors))' patterns/" +
+              std::to_string(b) + "/55.dxf 2>&1",
+          st);
+  EXPECT_EQ(st, 0) << out;
+  EXPECT_EQ(out, "0\n") << out;
+  const auto served = call(
+      http::verb::get, "/api/items/" + std::to_string(b) + "/pattern.dxf?size=55", "admin-secret");
+  save("served.dxf", served.body);
+  const std::string same =
+      run("cd " + quoted(dir_) +
+              " && /usr/bin/python3 -c 'import sys, zipfile; z = zipfile.ZipFile(\"all.zip\"); "
+              "print(z.read(sys.argv[1]) == open(\"served.dxf\", \"rb\").read())' patterns/" +
+              std::to_string(b) + "/55.dxf 2>&1",
+          st);
+  EXPECT_EQ(same, "True\n") << same;
+}
+
+// A CSV or TSV read back by Python's csv module (strict, every row as long as the header).
+std::vector<std::vector<std::string>> csvRows(const fs::path& file, char delimiter) {
+  int st = 0;
+  const std::string out =
+      run(std::string("/usr/bin/python3 -c 'import csv, json, sys\n") +
+              "rows = list(csv.reader(open(sys.argv[1], newline=\"\", encoding=\"utf-8\"), "
+              "delimiter=sys.argv[2], strict=True))\n"
+              "assert all(len(r) == len(rows[0]) for r in rows), \"ragged rows\"\n"
+              "print(json.dumps(rows))' " +
+              quoted(file) + " '" + (delimiter == '\t' ? std::string("\t") : std::string(",")) +
+              "' 2>&1",
+          st);
+  if (st != 0)
+    throw std::runtime_error("python3 csv (strict) refused " + file.string() + ": " + out);
+  return Json::parse(out).get<std::vector<std::vector<std::string>>>();
+}
+
+std::size_t columnOf(const std::vector<std::string>& header, const std::string& name) {
+  const auto at = std::find(header.begin(), header.end(), name);
+  if (at == header.end())
+    throw std::runtime_error("no column " + name);
+  return static_cast<std::size_t>(at - header.begin());
+}
+
+// The chain's shop files are written in pages of 500 items from one snapshot (the hub holds a
+// page, not the file): 1,234 items give one header and every item once, in id order, and a
+// measurement that only the last page's items have still gets its WooCommerce column.
+TEST_F(HubPatternTest, TheChainsShopFilesAreWrittenInPagesAndHoldEveryItemOnce) {
+  const int n = 1234;
+  pg_->psql("hub_patterns",
+            "INSERT INTO items(station_id, local_id, sku, title, price_cents, status, type, "
+            "hub_owned) SELECT 'shop2', 100000 + g, 'BULK-' || g, 'Bulk skirt ' || g, 1000 + g, "
+            "'approved', 'skirt', true FROM generate_series(1, " +
+                std::to_string(n) + ") g");
+  pg_->psql("hub_patterns",
+            "INSERT INTO measurements(item_id, name, value_cm) SELECT id, 'waist_circ', 70 FROM "
+            "items WHERE sku LIKE 'BULK-%'");
+  pg_->psql("hub_patterns",
+            "INSERT INTO measurements(item_id, name, value_cm) SELECT id, 'hem_circ', 123.5 FROM "
+            "items WHERE sku = 'BULK-" +
+                std::to_string(n) + "'");
+  const std::string q =
+      "?station=shop2&base_url=https://files.example/chain&brand=Chain&store_url=https://"
+      "shop.example";
+
+  const auto shopify = call(http::verb::get, "/api/export/shopify.csv" + q, "admin-secret");
+  ASSERT_EQ(shopify.status, 200) << shopify.body;
+  auto rows = csvRows(save("s.csv", shopify.body), ',');
+  std::size_t sku = columnOf(rows.at(0), "SKU");
+  std::vector<std::string> bulk;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    EXPECT_NE(rows[r], rows[0]) << "a header repeated at row " << r;
+    if (rows[r][sku].rfind("BULK-", 0) == 0)
+      bulk.push_back(rows[r][sku]);
+  }
+  ASSERT_EQ(bulk.size(), static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i)
+    EXPECT_EQ(bulk[static_cast<std::size_t>(i)], "BULK-" + std::to_string(i + 1));
+
+  const auto woo = call(http::verb::get, "/api/export/woocommerce.csv" + q, "admin-secret");
+  ASSERT_EQ(woo.status, 200) << woo.body;
+  rows = csvRows(save("w.csv", woo.body), ',');
+  sku = columnOf(rows.at(0), "SKU");
+  const std::size_t hem = columnOf(rows[0], "Meta: hem_circ_cm");
+  std::size_t wooBulk = 0;
+  for (std::size_t r = 1; r < rows.size(); ++r)
+    if (rows[r][sku].rfind("BULK-", 0) == 0) {
+      ++wooBulk;
+      EXPECT_EQ(rows[r][hem], rows[r][sku] == "BULK-" + std::to_string(n) ? "123.5" : "")
+          << rows[r][sku];
+    }
+  EXPECT_EQ(wooBulk, static_cast<std::size_t>(n));
+
+  const auto merchant = call(http::verb::get, "/api/export/merchant.tsv" + q, "admin-secret");
+  ASSERT_EQ(merchant.status, 200) << merchant.body;
+  rows = csvRows(save("m.tsv", merchant.body), '\t');
+  const std::size_t id = columnOf(rows.at(0), "id");
+  EXPECT_EQ(std::count_if(rows.begin() + 1, rows.end(),
+                          [&](const auto& r) { return r[id].rfind("BULK-", 0) == 0; }),
+            n);
+
+  // Refusals are still plain answers, not downloads.
+  EXPECT_EQ(call(http::verb::get, "/api/export/shopify.csv" + q, "").status, 401);
+  EXPECT_EQ(call(http::verb::get, "/api/export/shopify.csv" + q, "shop1-secret").status, 403);
+  EXPECT_EQ(call(http::verb::get, "/api/export/merchant.tsv?station=shop2", "admin-secret").status,
+            422);
+}
+
+}  // namespace
+}  // namespace garmcap::hub
