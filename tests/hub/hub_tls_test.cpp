@@ -236,7 +236,6 @@ TEST(HubTls, ServesHttpsAndTurnsAwayPlainHttpOldTlsAndSilentClients) {
   EXPECT_NE(cookie.find("; Secure"), std::string::npos) << cookie;
   EXPECT_NE(cookie.find("HttpOnly"), std::string::npos) << cookie;
 
-
   // Plain HTTP is answered in plain text, once, and the connection closed (nginx's 497 idea).
   for (const std::string& request :
        {std::string("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"),
