@@ -1,0 +1,127 @@
+// The back shot (issue 17) on the real garmcapd over loopback: an item captured from a replay
+// rig, then POST /api/items/{id}/back. The rig's second case is the bare form alone, so the first
+// back shot shows no garment and is refused; the rig loops, so the next one shows the item's own
+// garment again (as `garmcap capture --back`'s test does, the same frame stands for the back: the
+// same garment, so it is taken). Label e2e.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "daemon_harness.h"
+
+using namespace garmcap::e2e;
+
+namespace {
+
+// c1: a top of the bundled simulator rig (its neck opening gives a ghost-mannequin photo);
+// c2: the same studio with nothing on the form (its "dressed" frame is the bare form).
+std::filesystem::path makeBackRig(const std::filesystem::path& root) {
+  const auto src = std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig" / "case_000";
+  const auto rig = root / "backrig";
+  std::filesystem::create_directories(rig / "c1");
+  std::filesystem::create_directories(rig / "c2");
+  for (const char* f : {"empty.jpg", "dressed.jpg", "truth.json"})
+    std::filesystem::copy_file(src / f, rig / "c1" / f);
+  std::filesystem::copy_file(src / "empty.jpg", rig / "c2" / "empty.jpg");
+  std::filesystem::copy_file(src / "empty.jpg", rig / "c2" / "dressed.jpg");
+  std::filesystem::copy_file(src / "truth.json", rig / "c2" / "truth.json");
+  std::ofstream(rig / "rig.json")
+      << R"({"format": "garmcap-rig", "version": 1, "cases": [)"
+      << R"({"id": "c1", "dir": "c1", "type": "top", "attributes": {}, "hard": false},)"
+      << R"({"id": "c2", "dir": "c2", "type": "top", "attributes": {}, "hard": false}]})";
+  return rig;
+}
+
+cv::Mat decoded(const Daemon& d, const Json& item, const std::string& kind,
+                const std::string& mediaType) {
+  if (!item["images"].contains(kind)) {
+    ADD_FAILURE() << "no image " << kind << " in " << item["images"].dump();
+    return {};
+  }
+  const Reply r = d.get(item["images"][kind]["url"].get<std::string>());
+  EXPECT_EQ(r.status, 200) << kind;
+  EXPECT_EQ(r.contentType, mediaType) << kind;
+  const std::vector<unsigned char> bytes(r.body.begin(), r.body.end());
+  cv::Mat m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  EXPECT_FALSE(m.empty()) << kind << " does not decode";
+  return m;
+}
+
+}  // namespace
+
+TEST(BackShotE2E, BareFormRefusedThenTheBackAndGhostPhotosAdded) {
+  TempDir dir;
+  const auto data = dir.path() / "data";
+  const auto db = data / "catalog.sqlite";
+  Daemon d(data, {}, makeBackRig(dir.path()));
+  ASSERT_EQ(d.waitJob(d.post("/api/capture/empty").json()["job"])["state"], "done");
+  const Json captured = d.waitJob(d.post("/api/capture", R"({"sku": "TOP-1"})").json()["job"]);
+  ASSERT_EQ(captured["state"], "done") << captured.dump();
+  const std::string itemUrl = "/api/items/" + captured["item_id"].dump();
+  const Json before = d.get(itemUrl).json();
+  const Reply patternBefore = d.get(itemUrl + "/pattern.json");
+  ASSERT_FALSE(before["measurements"].empty()) << before.dump();
+  EXPECT_FALSE(before["images"].contains("product_back"));
+
+  // Unknown item: 404 before any still is taken.
+  EXPECT_EQ(d.post("/api/items/424242/back").status, 404);
+
+  // The bare form as the back shot: refused with the library's sentence, the item as it was.
+  const Reply refusedReply = d.post(itemUrl + "/back");
+  ASSERT_EQ(refusedReply.status, 202) << refusedReply.body;
+  const Json refused = d.waitJob(refusedReply.json()["job"]);
+  EXPECT_EQ(refused["kind"], "back");
+  EXPECT_EQ(refused["state"], "failed") << refused.dump();
+  EXPECT_EQ(refused["error"].get<std::string>().rfind("the back shot: ", 0), 0u) << refused.dump();
+  const Json unchanged = d.get(itemUrl).json();
+  EXPECT_EQ(unchanged["images"], before["images"]);
+  EXPECT_EQ(unchanged["measurements"], before["measurements"]);
+  EXPECT_EQ(unchanged["updated_at"], before["updated_at"]);
+  EXPECT_NE(d.get("/api/status").json()["state"], "error");
+
+  // The garment again (turned round, as far as the replay knows): the back still, the back
+  // photos and the ghost-mannequin front are added; the measurements and pattern stay.
+  const Json taken = d.waitJob(d.post(itemUrl + "/back").json()["job"]);
+  ASSERT_EQ(taken["state"], "done") << taken.dump();
+  EXPECT_EQ(taken["item_id"], captured["item_id"]);
+  const Json after = d.get(itemUrl).json();
+  EXPECT_EQ(after["measurements"], before["measurements"]);
+  EXPECT_EQ(after["sizes"], before["sizes"]);
+  EXPECT_EQ(after["type"], before["type"]);
+  EXPECT_EQ(after["status"], before["status"]);
+  for (const auto& [kind, im] : before["images"].items())
+    EXPECT_EQ(after["images"][kind], im) << kind << ": a front image changed";
+  const Reply patternAfter = d.get(itemUrl + "/pattern.json");
+  EXPECT_EQ(patternAfter.status, patternBefore.status);
+  EXPECT_EQ(patternAfter.body, patternBefore.body);
+
+  const cv::Mat front = decoded(d, after, "product", "image/jpeg");
+  const cv::Mat front45 = decoded(d, after, "product_4x5", "image/jpeg");
+  const cv::Mat backStill = decoded(d, after, "back", "image/png");
+  const cv::Mat dressed = decoded(d, after, "dressed", "image/png");
+  const cv::Mat back = decoded(d, after, "product_back", "image/jpeg");
+  const cv::Mat back45 = decoded(d, after, "product_back_4x5", "image/jpeg");
+  const cv::Mat ghost = decoded(d, after, "product_ghost", "image/jpeg");
+  const cv::Mat ghost45 = decoded(d, after, "product_ghost_4x5", "image/jpeg");
+  const cv::Mat cutout = decoded(d, after, "cutout_back", "image/png");
+  ASSERT_FALSE(front.empty() || back.empty() || ghost.empty() || backStill.empty());
+  // The still is the camera's frame, as the dressed one is; the ghost is the front's photo with
+  // its neck opening filled (same canvas); the back photos are square and 4:5 like the front's.
+  EXPECT_EQ(backStill.size(), dressed.size());
+  EXPECT_EQ(ghost.size(), front.size());
+  EXPECT_EQ(ghost45.size(), front45.size());
+  EXPECT_EQ(back.cols, back.rows);
+  EXPECT_EQ(back45.cols * 5, back45.rows * 4);
+  EXPECT_EQ(cutout.channels(), 4);
+  EXPECT_GT(cv::norm(ghost, front, cv::NORM_L1), 0.0) << "the ghost photo is the plain front";
+
+  // A re-run of the front keeps the back shot's images.
+  const Json rerun = d.waitJob(d.post(itemUrl + "/rerun").json()["job"]);
+  ASSERT_EQ(rerun["state"], "done") << rerun.dump();
+  const Json rerunItem = d.get(itemUrl).json();
+  for (const char* kind : {"back", "product_back", "product_ghost", "cutout_back"})
+    EXPECT_EQ(rerunItem["images"][kind], after["images"][kind]) << kind;
+
+  EXPECT_EQ(d.terminate(), 0);
+  EXPECT_EQ(integrity(db), "ok");
+}
