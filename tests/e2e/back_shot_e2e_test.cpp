@@ -1,34 +1,65 @@
-// The back shot (issue 17) on the real garmcapd over loopback: an item captured from a replay
-// rig, then POST /api/items/{id}/back. The rig's second case is the bare form alone, so the first
-// back shot shows no garment and is refused; the rig loops, so the next one shows the item's own
-// garment again (as `garmcap capture --back`'s test does, the same frame stands for the back: the
-// same garment, so it is taken). Label e2e.
+// The back shot (issue 17) on the real garmcapd over loopback, from a replay rig rendered here by
+// the scene simulator: a top's front (a 10 cm deep round neckline, red) and, as if turned back to
+// front, its back (a 2 cm neckline, blue), as tests/pipeline/ghost_mannequin_rig_test.cpp renders
+// them. The rig's cases in the order the station takes them: c1 the bare form and the front; c2
+// the bare form alone (the first back shot shows no garment and is refused); c3 the back. Label
+// e2e.
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/bundled_form.h"
 #include "daemon_harness.h"
+#include "garmcap/sim/scene.h"
+#include "garmcap/sim/sim.h"
 
 using namespace garmcap::e2e;
+using namespace garmcap;
 
 namespace {
 
-// c1: a top of the bundled simulator rig (its neck opening gives a ghost-mannequin photo);
-// c2: the same studio with nothing on the form (its "dressed" frame is the bare form).
+sim::Scene frontScene() {
+  sim::RandomSceneOptions o;
+  o.size = {864, 1152};
+  o.hardFraction = 0;
+  o.type = "top";
+  sim::Scene s =
+      sim::randomScene(garmcap::testing::bundledForm(), garmcap::testing::bundledFormPath(), 3, o);
+  s.shake = {};
+  s.garment.neckline = "round";
+  s.garment.neckDepthCm = 10;
+  s.fabric.kind = sim::FabricKind::kSolid;
+  s.fabric.base = {0.15f, 0.15f, 0.65f};  // red (BGR)
+  return s;
+}
+
+// The same garment turned back to front: the back's neckline, the back's colour.
+sim::Scene backScene(sim::Scene s) {
+  s.garment.neckDepthCm = 2;
+  s.fabric.base = {0.65f, 0.35f, 0.1f};  // blue
+  s.seed += 1000;                        // its own sensor noise
+  return s;
+}
+
 std::filesystem::path makeBackRig(const std::filesystem::path& root) {
-  const auto src = std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig" / "case_000";
+  const auto& form = garmcap::testing::bundledForm();
+  const sim::SceneRenderer front(form, frontScene());
+  const sim::SceneRenderer back(form, backScene(front.scene()));
+  const cv::Mat empty = front.renderEmpty();
   const auto rig = root / "backrig";
-  std::filesystem::create_directories(rig / "c1");
-  std::filesystem::create_directories(rig / "c2");
-  for (const char* f : {"empty.jpg", "dressed.jpg", "truth.json"})
-    std::filesystem::copy_file(src / f, rig / "c1" / f);
-  std::filesystem::copy_file(src / "empty.jpg", rig / "c2" / "empty.jpg");
-  std::filesystem::copy_file(src / "empty.jpg", rig / "c2" / "dressed.jpg");
-  std::filesystem::copy_file(src / "truth.json", rig / "c2" / "truth.json");
-  std::ofstream(rig / "rig.json")
-      << R"({"format": "garmcap-rig", "version": 1, "cases": [)"
-      << R"({"id": "c1", "dir": "c1", "type": "top", "attributes": {}, "hard": false},)"
-      << R"({"id": "c2", "dir": "c2", "type": "top", "attributes": {}, "hard": false}]})";
+  const std::pair<const char*, cv::Mat> dressed[] = {
+      {"c1", front.renderDressed()}, {"c2", empty}, {"c3", back.renderDressed()}};
+  std::string cases;
+  for (const auto& [id, frame] : dressed) {
+    std::filesystem::create_directories(rig / id);
+    cv::imwrite((rig / id / "empty.png").string(), empty);
+    cv::imwrite((rig / id / "dressed.png").string(), frame);
+    std::ofstream(rig / id / "truth.json") << R"({"type": "top", "measurements": {}})";
+    cases += std::string(cases.empty() ? "" : ", ") + R"({"id": ")" + id + R"(", "dir": ")" + id +
+             R"(", "type": "top", "attributes": {}, "hard": false})";
+  }
+  std::ofstream(rig / "rig.json") << R"({"format": "garmcap-rig", "version": 1, "cases": [)"
+                                  << cases << "]}";
   return rig;
 }
 
@@ -79,8 +110,8 @@ TEST(BackShotE2E, BareFormRefusedThenTheBackAndGhostPhotosAdded) {
   EXPECT_EQ(unchanged["updated_at"], before["updated_at"]);
   EXPECT_NE(d.get("/api/status").json()["state"], "error");
 
-  // The garment again (turned round, as far as the replay knows): the back still, the back
-  // photos and the ghost-mannequin front are added; the measurements and pattern stay.
+  // The garment turned back to front: the back still, the back photos and the ghost-mannequin
+  // front are added; the measurements and pattern stay.
   const Json taken = d.waitJob(d.post(itemUrl + "/back").json()["job"]);
   ASSERT_EQ(taken["state"], "done") << taken.dump();
   EXPECT_EQ(taken["item_id"], captured["item_id"]);
