@@ -428,6 +428,8 @@ void Station::runBack(Pending req, cv::Mat back, std::string backSha, std::int64
               images->push_back({e.kind, store_->put(e.bytes), e.mediaType,
                                  static_cast<std::int64_t>(e.bytes.size())});
           images->push_back({"back", backSha, "image/png", backBytes});
+          // Not filed: the item's result.json stays the front's (docs/api.md); the log has them.
+          spdlog::info("station: job {}: {}", req.jobId, r.result.dump());
           for (const auto& w : r.warnings)
             spdlog::warn("station: job {}: {}", req.jobId, w);
           postToStrand([this, req, images, calId = cal.id] {
