@@ -170,3 +170,41 @@ TEST(BackShotE2E, BareFormRefusedThenTheBackAndGhostPhotosAdded) {
   EXPECT_EQ(d.terminate(), 0);
   EXPECT_EQ(integrity(db), "ok");
 }
+
+// A back shot queued when garmcapd stops is kept (job kind "back" with its item) and runs at the
+// next start.
+TEST(BackShotE2E, QueuedBackShotRunsAfterARestart) {
+  TempDir dir;
+  const auto data = dir.path() / "data";
+  const auto rig = makeBackRig(dir.path());
+  std::int64_t itemId = 0, queued = 0;
+  {
+    Daemon d(data, {}, rig);
+    ASSERT_EQ(d.waitJob(d.post("/api/capture/empty").json()["job"])["state"], "done");
+    const Json captured = d.waitJob(d.post("/api/capture").json()["job"]);
+    ASSERT_EQ(captured["state"], "done") << captured.dump();
+    itemId = captured["item_id"].get<std::int64_t>();
+    // The first back shot holds the camera for 2 s; the second waits in the queue.
+    ASSERT_EQ(d.post("/api/sim/camera", R"({"still_delay_ms": 2000})").status, 200);
+    const std::string backUrl = "/api/items/" + std::to_string(itemId) + "/back";
+    ASSERT_EQ(d.post(backUrl).status, 202);
+    queued = d.post(backUrl).json()["job"].get<std::int64_t>();
+    EXPECT_EQ(d.get("/api/jobs/" + std::to_string(queued)).json()["state"], "queued");
+    EXPECT_EQ(d.terminate(), 0);
+  }
+  // Stopped with the job still queued in the catalog (not run on the way out, not dropped).
+  EXPECT_EQ(column(data / "catalog.sqlite",
+                   ("SELECT kind || ' ' || state || ' ' || item_id FROM jobs WHERE id = " +
+                    std::to_string(queued))
+                       .c_str()),
+            std::vector<std::string>{"back queued " + std::to_string(itemId)});
+  Daemon d(data, {}, rig);  // a new camera: the rig starts again at the front (same garment)
+  const Json resumed = d.waitJob(queued);
+  EXPECT_EQ(resumed["kind"], "back");
+  EXPECT_EQ(resumed["item_id"], itemId);
+  ASSERT_EQ(resumed["state"], "done") << resumed.dump();
+  const Json item = d.get("/api/items/" + std::to_string(itemId)).json();
+  EXPECT_TRUE(item["images"].contains("back")) << item["images"].dump();
+  EXPECT_TRUE(item["images"].contains("product_back")) << item["images"].dump();
+  EXPECT_EQ(d.terminate(), 0);
+}
