@@ -375,6 +375,12 @@ void postItemsByIdRerun(Station* st, const Request&, const RouteMatch& m, Reply 
   st->submit(JobKind::kRerun, "", id, [reply](SubmitResult r) { reply(accepted(r)); });
 }
 
+// POST /api/items/{id}/back
+void postItemsByIdBack(Station* st, const Request&, const RouteMatch& m, Reply reply) {
+  const auto id = m.id("id");
+  st->submit(JobKind::kBack, "", id, [reply](SubmitResult r) { reply(accepted(r)); });
+}
+
 // GET /api/items/{id}/images/{kind}
 void getItemsByIdImagesByKind(Station* st, const Request&, const RouteMatch& m, Reply reply) {
   const auto id = m.id("id");
@@ -595,6 +601,7 @@ void addApiRoutes(Router& router, Station& station) {
   router.add(V::delete_, "/api/items/{id}", withStation(st, deleteItemsById));
   router.add(V::post, "/api/items/{id}/restore", withStation(st, postItemsByIdRestore));
   router.add(V::post, "/api/items/{id}/rerun", withStation(st, postItemsByIdRerun));
+  router.add(V::post, "/api/items/{id}/back", withStation(st, postItemsByIdBack));
   router.add(V::get, "/api/items/{id}/images/{kind}", withStation(st, getItemsByIdImagesByKind));
   router.add(V::get, "/api/items/{id}/pattern.json", withStation(st, getItemsByIdPatternJson));
   router.add(V::get, "/api/items/{id}/pattern.svg", withStation(st, getItemsByIdPatternSvg));

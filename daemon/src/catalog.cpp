@@ -1113,6 +1113,47 @@ std::vector<std::string> Catalog::replaceItemResults(std::int64_t id, const NewI
   return previous;
 }
 
+std::vector<std::string> Catalog::addItemImages(std::int64_t id,
+                                                const std::vector<std::string>& replaces,
+                                                const std::vector<ImageRef>& images,
+                                                std::optional<std::int64_t> jobId,
+                                                std::optional<std::int64_t> calibrationId) {
+  Transaction t(db_);
+  const std::string ts = now();
+  {
+    Statement s(*this, "SELECT 1 FROM items WHERE id = ? AND deleted_at IS NULL");
+    s.bind(1, id);
+    if (!s.step())
+      throw CatalogError("no item " + std::to_string(id) + " (deleted meanwhile?)");
+  }
+  std::vector<std::string> previous;
+  for (const auto& kind : replaces) {
+    Statement s(*this, "SELECT sha256 FROM item_images WHERE item_id = ? AND kind = ?");
+    s.bind(1, id).bind(2, kind);
+    while (s.step())
+      previous.push_back(text(s.get(), 0));
+    Statement(*this, "DELETE FROM item_images WHERE item_id = ? AND kind = ?")
+        .bind(1, id)
+        .bind(2, kind)
+        .run();
+  }
+  NewItem n;  // images and the finished job only: no measurement, no pattern
+  n.images = images;
+  n.jobId = jobId;
+  n.calibrationId = calibrationId;
+  writeItemContents(id, n, ts);
+  // The item names the job's still now; the job lets its frames go, so that a later back shot
+  // replacing it releases the blob (the item's capture job keeps the frames a re-run needs).
+  if (jobId)
+    Statement(*this, "UPDATE jobs SET dressed_sha256 = '', empty_sha256 = '' WHERE id = ?")
+        .bind(1, *jobId)
+        .run();
+  Statement(*this, "UPDATE items SET updated_at = ? WHERE id = ?").bind(1, ts).bind(2, id).run();
+  queueForHub(kOutboxUpsert, id, ts);
+  t.commit();
+  return previous;
+}
+
 std::optional<Item> Catalog::item(std::int64_t id, bool includeDeleted) {
   const std::string sql =
       itemSelect() + "WHERE id = ?" + (includeDeleted ? "" : " AND deleted_at IS NULL");

@@ -123,6 +123,48 @@ class PipelineProcessor : public CaptureProcessor {
     return out;
   }
 
+  ProcessedCapture processBack(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
+                               const cv::Mat& backBgr, const nlohmann::json& calibration,
+                               const ProgressFn& progress) override {
+    progress("context", 0.05);
+    // Only the photos are wanted: the front's measurements and pattern stay as filed, so the
+    // texture and grading are not redone. The front's own photos are made all the same (the
+    // ghost composite is drawn on them) and dropped here.
+    pipeline::CaptureOptions options = options_;
+    options.makeTexture = false;
+    options.makeProductImages = true;
+    options.backFrame = backBgr;
+    options.onStageDone = [&](const pipeline::StageTiming& t) { progress(t.stage, 0.5); };
+    const auto t0 = std::chrono::steady_clock::now();
+    pipeline::CaptureResult r =
+        pipeline::runCapture(*prepared(emptyBgr, calibration), dressedBgr, options);
+    spdlog::info(
+        "pipeline: runCapture with the back shot took {} ms",
+        std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
+            .count());
+    ProcessedCapture out;
+    const std::pair<const char*, const cv::Mat&> images[] = {
+        {"cutout_back", r.backCutout},
+        {"product_back", r.backProduct},
+        {"product_back_4x5", r.backProductPortrait},
+        {"product_ghost", r.ghostProduct},
+        {"product_ghost_4x5", r.ghostProductPortrait}};
+    for (const auto& [kind, image] : images)
+      if (!image.empty())
+        out.images[kind] = image;
+    if (out.images.empty())
+      throw std::runtime_error("the back shot gave no photo (" + nlohmann::json(r.warnings).dump() +
+                               ")");
+    out.result = {{"back_shot", r.backShot}};
+    // The front's warnings were given when the item was filed; only the back shot's are new
+    // (stage_back_shot.cpp words each of them with "back shot" or "ghost-mannequin").
+    for (const auto& w : r.warnings)
+      if (w.find("back shot") != std::string::npos ||
+          w.find("ghost-mannequin") != std::string::npos)
+        out.warnings.push_back(w);
+    return out;
+  }
+
  private:
   // The preparation made at calibration, or, for a calibration made before this process started
   // (or replaced since), one made now and kept for the captures that follow. The station hands
@@ -258,6 +300,11 @@ class PipelineProcessor : public CaptureProcessor {
 };
 
 }  // namespace
+
+ProcessedCapture CaptureProcessor::processBack(const cv::Mat&, const cv::Mat&, const cv::Mat&,
+                                               const nlohmann::json&, const ProgressFn&) {
+  throw std::runtime_error("this station's processor cannot make back photos");
+}
 
 std::unique_ptr<CaptureProcessor> makePipelineProcessor(const Config& config) {
   return std::make_unique<PipelineProcessor>(config);

@@ -63,6 +63,8 @@ const char* toString(JobKind k) {
       return "dressed";
     case JobKind::kRerun:
       return "rerun";
+    case JobKind::kBack:
+      return "back";
   }
   return "?";
 }
@@ -214,6 +216,8 @@ void Station::start() {
       p.kind = JobKind::kEmpty;
     else if (j.kind == toString(JobKind::kRerun))
       p.kind = JobKind::kRerun;
+    else if (j.kind == toString(JobKind::kBack))
+      p.kind = JobKind::kBack;
     queue_.push_back(std::move(p));
     spdlog::info("station: job {} ({}) resumed from the queue", j.id, j.kind);
   }
@@ -437,22 +441,24 @@ void Station::submitOnStrand(JobKind kind, std::string sku, std::int64_t itemId,
                    "the station is not calibrated: capture the bare form first "
                    "(POST /api/capture/empty)",
                    false});
-  if (kind == JobKind::kRerun) {
+  // A re-run and a back shot both work on the item's stored dressed frame.
+  const bool onItem = kind == JobKind::kRerun || kind == JobKind::kBack;
+  if (onItem) {
     auto item = catalog_->item(itemId);
     if (!item)
       return answer({std::nullopt, 404, "no item " + std::to_string(itemId), false});
     auto job = item->jobId ? catalog_->job(*item->jobId) : std::nullopt;
     if (!job || job->dressedSha256.empty() || !store_->contains(job->dressedSha256))
       return answer({std::nullopt, 409,
-                     "item " + std::to_string(itemId) + " has no stored dressed frame to re-run",
+                     "item " + std::to_string(itemId) + " has no stored dressed frame to " +
+                         (kind == JobKind::kBack ? "take a back shot for" : "re-run"),
                      false});
     if (!calibrated_)
       return answer({std::nullopt, 409, "the station is not calibrated", false});
   }
   std::int64_t jobId = 0;
   try {
-    jobId = catalog_->addJob(toString(kind), sku,
-                             kind == JobKind::kRerun ? std::optional(itemId) : std::nullopt);
+    jobId = catalog_->addJob(toString(kind), sku, onItem ? std::optional(itemId) : std::nullopt);
   } catch (const DiskFull& e) {
     spdlog::error("station: cannot record a job: {}", e.what());
     return answer({std::nullopt, 507, e.what(), false});

@@ -2,6 +2,7 @@
 // to the strand (bare-form calibration, dressed capture, re-run), and what a job leaves behind.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <boost/asio/post.hpp>
 #include <chrono>
 #include <utility>
@@ -21,6 +22,22 @@ namespace {
 
 long long msBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration_cast<std::chrono::milliseconds>(b - a).count();
+}
+
+// The image kinds a back shot adds to an item (and a later back shot replaces): the still, the
+// back photos and the ghost-mannequin front, with the WebP copies image_files.h makes.
+const std::vector<std::string>& backShotKinds() {
+  static const std::vector<std::string> kinds = {"back",
+                                                 "cutout_back",
+                                                 "product_back",
+                                                 "product_back_webp",
+                                                 "product_back_4x5",
+                                                 "product_back_4x5_webp",
+                                                 "product_ghost",
+                                                 "product_ghost_webp",
+                                                 "product_ghost_4x5",
+                                                 "product_ghost_4x5_webp"};
+  return kinds;
 }
 
 }  // namespace
@@ -102,6 +119,8 @@ void Station::startNext() {
   setStage("capturing", 0.05, true);
   if (!camera_)
     return failJob(req, "camera: " + cameraError_, true);
+  // A back shot shows the form wearing the garment too (turned round); a replay or synthetic
+  // camera serves its dressed frame for it.
   const capture::Shot shot =
       req.kind == JobKind::kEmpty ? capture::Shot::kEmpty : capture::Shot::kDressed;
   capture::CameraConfig cc;
@@ -122,7 +141,7 @@ void Station::startNext() {
       const auto t0 = Clock::now();
       capture::Frame frame = camera_->captureStill(sr);
       const auto t1 = Clock::now();
-      if (shot == capture::Shot::kDressed) {
+      if (req.kind == JobKind::kDressed) {
         // The pipeline starts on the frame in memory while this thread encodes and stores it
         // (PNG is single-threaded: a second or more at 12 MP); the item waits for the stored
         // frame before it is filed, so the blob is still durable before any row names it.
@@ -183,6 +202,8 @@ void Station::onFrameStored(Pending req, cv::Mat frame, std::string sha, std::in
   } catch (const std::exception& e) {
     return failJob(req, std::string("cannot record the frame: ") + e.what(), false);
   }
+  if (req.kind == JobKind::kBack)
+    return runBack(std::move(req), std::move(frame), std::move(sha), bytes);
   runEmpty(std::move(req), std::move(frame), std::move(sha));
 }
 
@@ -346,7 +367,13 @@ void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {
     setStage("filing", 0.95, false);
     std::int64_t id = 0;
     if (req.kind == JobKind::kRerun) {
-      // Keep the original frames on the item; the re-run belongs to the new job.
+      // Keep the original frames on the item; the re-run belongs to the new job. The back
+      // shot's images stay too: a re-run of the front does not take the back again.
+      if (auto before = catalog_->item(req.itemId))
+        for (const ImageRef& im : before->images)
+          if (std::find(backShotKinds().begin(), backShotKinds().end(), im.kind) !=
+              backShotKinds().end())
+            item->images.push_back(im);
       for (auto& sha : catalog_->replaceItemResults(req.itemId, *item))
         reclaimCandidates_.push_back(std::move(sha));
       id = req.itemId;
@@ -360,6 +387,69 @@ void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {
     return failJob(req, std::string("cannot file the item: ") + e.what(), false);
   }
   finishJob();
+}
+
+void Station::runBack(Pending req, cv::Mat back, std::string backSha, std::int64_t backBytes) {
+  auto cal = catalog_->latestCalibration();
+  if (!cal)
+    return failJob(req, "the station is not calibrated: capture the bare form first", false);
+  auto item = catalog_->item(req.itemId);
+  if (!item)
+    return failJob(req, "item " + std::to_string(req.itemId) + " is gone", false);
+  auto job = item->jobId ? catalog_->job(*item->jobId) : std::nullopt;
+  if (!job || job->dressedSha256.empty())
+    return failJob(req, "the item's capture job is gone", false);
+  // The back still is this job's frame: a refused back shot keeps it for a look, as a failed
+  // capture keeps its still (and the [storage] retention lets it go alike).
+  try {
+    catalog_->setJobFrames(req.jobId, cal->emptySha256, backSha);
+  } catch (const std::exception& e) {
+    return failJob(req, std::string("cannot record the frame: ") + e.what(), false);
+  }
+  setState(StationState::kProcessing);
+  setStage("back shot", 0.2, true);
+  asio::post(
+      *pool_, [this, req, back, backSha, backBytes, cal = *cal, dressedSha = job->dressedSha256] {
+        try {
+          auto bytes = store_->read(dressedSha);
+          if (!bytes)
+            throw std::runtime_error("the stored dressed frame " + dressedSha + " is missing");
+          const cv::Mat dressed = pipeline::decodeImageBytes(*bytes, "dressed frame");
+          const cv::Mat empty = bareFrame(cal);
+          auto progress = [this](const std::string& stage, double p) {
+            postToStrand([this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
+          };
+          ProcessedCapture r = processor_->processBack(empty, dressed, back, cal.json, progress);
+          postToStrand([this] { setStage("store", 0.92, false); });
+          auto images = std::make_shared<std::vector<ImageRef>>();
+          // Blobs are durable before the transaction that names them (content_store.h).
+          for (const auto& [kind, image] : r.images)
+            for (const pipeline::EncodedImage& e : pipeline::encodeImageFiles(kind, image))
+              images->push_back({e.kind, store_->put(e.bytes), e.mediaType,
+                                 static_cast<std::int64_t>(e.bytes.size())});
+          images->push_back({"back", backSha, "image/png", backBytes});
+          // Not filed: the item's result.json stays the front's (docs/api.md); the log has them.
+          spdlog::info("station: job {}: {}", req.jobId, r.result.dump());
+          for (const auto& w : r.warnings)
+            spdlog::warn("station: job {}: {}", req.jobId, w);
+          postToStrand([this, req, images, calId = cal.id] {
+            try {
+              setStage("filing", 0.95, false);
+              for (auto& sha :
+                   catalog_->addItemImages(req.itemId, backShotKinds(), *images, req.jobId, calId))
+                reclaimCandidates_.push_back(std::move(sha));
+              lastError_.clear();
+              spdlog::info("station: job {} added the back shot's {} images to item {}", req.jobId,
+                           images->size(), req.itemId);
+            } catch (const std::exception& e) {
+              return failJob(req, std::string("cannot file the back shot: ") + e.what(), false);
+            }
+            finishJob();
+          });
+        } catch (const std::exception& e) {
+          postToStrand([this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+        }
+      });
 }
 
 void Station::failJob(const Pending& req, const std::string& error, bool cameraFault) {

@@ -29,6 +29,9 @@ function stageName(stage) {
 // A failed capture in plain words with what to do next; the raw message goes to "details".
 function plainFailure(error) {
   const e = String(error || '');
+  // A refused back shot (the library's sentence starts so): the item is as it was.
+  if (/^the back shot/i.test(e))
+    return { what: 'The back shot was refused; the item is unchanged.', next: 'Put the same garment on the form turned back to front, without moving the camera, and press Take back shot again.' };
   if (/camera|disconnect|timed out|timeout|no frame|device/i.test(e))
     return { what: 'The camera did not deliver a photo.', next: 'Check the camera cable and power, then press Capture garment again.' };
   if (/not calibrated|calibrat|bare.form|registration|shift/i.test(e))
@@ -87,7 +90,7 @@ function hideBanner() { $('#banner').hidden = true; }
 
 // Buttons that change the catalog or the station (off while the station is read-only).
 const WRITE_CONTROLS = ['last-approve', 'bulk-approve', 'f-save', 'f-approve', 'f-reject',
-  'btn-rerun', 'btn-delete', 's-save'];
+  'btn-rerun', 'btn-back', 'btn-delete', 's-save'];
 
 function applyStatus(s) {
   ui.status = Object.assign(ui.status || {}, s);
@@ -137,7 +140,8 @@ function applyJob(job) {
   $('.capture-grid').classList.add('has-result');
   box.classList.toggle('failed', j.state === 'failed');
   box.classList.toggle('done', j.state === 'done');
-  const kind = j.kind === 'empty' ? 'Bare-form capture' : j.kind === 'rerun' ? 'Re-run' : 'Garment capture';
+  const kind = j.kind === 'empty' ? 'Bare-form capture' : j.kind === 'rerun' ? 'Re-run'
+    : j.kind === 'back' ? 'Back shot' : 'Garment capture';
   $('#job-title').textContent = kind + ' #' + j.id;
   const stage = j.state === 'done' ? 'Done' : j.state === 'failed' ? 'Failed'
     : j.state === 'queued' ? 'Waiting' : stageName(j.stage);
@@ -157,9 +161,15 @@ function applyJob(job) {
   }
   if (j.state === 'done' && j.item_id && j.item_id !== ui.lastItemId) {
     ui.lastItemId = j.item_id;
-    if (j.kind !== 'rerun') $('#sku').value = '';  // the SKU belonged to this garment
+    if (j.kind !== 'rerun' && j.kind !== 'back') $('#sku').value = '';  // the SKU belonged to this garment
     showLastResult(j.item_id);
     if (currentView() === 'catalog') loadCatalog(true);
+  }
+  // A back shot of the item on screen: show its new photos.
+  if (j.state === 'done' && j.kind === 'back' && !j.notified) {
+    j.notified = true;
+    toast('Back shot added.');
+    if (ui.item && ui.item.id === j.item_id && currentView() === 'item') loadItem(j.item_id);
   }
   if (j.state === 'done' && j.kind === 'empty' && !j.notified) {
     j.notified = true;
@@ -378,7 +388,8 @@ async function loadItem(id) {
     'captured ' + (it.created_at || '').replace('T', ' ').replace('Z', ' UTC')].filter(Boolean).join(' · ');
   showWarnings($('#item-warn'), $('#item-notes'), it.warnings);
   // Photos
-  const kinds = ['product', 'cutout', 'dressed', 'overlay', 'texture'].filter((k) => it.images && it.images[k]);
+  const kinds = ['product', 'product_ghost', 'product_back', 'cutout', 'dressed', 'back', 'overlay', 'texture']
+    .filter((k) => it.images && it.images[k]);
   ui.photoKind = kinds[0] || null;
   $('#thumbs').replaceChildren(...kinds.map((k) => el('button', {
     type: 'button', class: k === ui.photoKind ? 'on' : '', onclick: () => { ui.photoKind = k; showPhoto(); },
@@ -711,6 +722,13 @@ function init() {
       const r = await api('POST', '/api/items/' + ui.item.id + '/rerun');
       applyJob({ id: r.job, state: 'queued', kind: 'rerun', progress: 0 });
       toast('Re-run queued (job ' + r.job + ')');
+    } catch (e) { toast(e.message, true); }
+  });
+  $('#btn-back').addEventListener('click', async () => {
+    try {
+      const r = await api('POST', '/api/items/' + ui.item.id + '/back');
+      applyJob({ id: r.job, state: 'queued', kind: 'back', progress: 0 });
+      toast('Back shot queued (job ' + r.job + ')');
     } catch (e) { toast(e.message, true); }
   });
   $('#btn-delete').addEventListener('click', async () => {

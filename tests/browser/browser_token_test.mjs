@@ -181,9 +181,9 @@ async function main() {
     const img = document.querySelector('#photos img');
     return img && img.complete && img.naturalWidth > 0;
   }), 20000, "the item's photo on the read-only station");
-  for (const b of ['#f-save', '#btn-delete', '#btn-rerun'])
+  for (const b of ['#f-save', '#btn-delete', '#btn-rerun', '#btn-back'])
     if (!(await page.isDisabled(b))) throw new Error(b + ' should be off on a read-only station');
-  step("read-only: the item and its photo are shown; save, delete and re-run are off");
+  step("read-only: the item and its photo are shown; save, delete, re-run and back shot are off");
   if (pageErrors.length) throw new Error('page errors: ' + pageErrors.join('; '));
 }
 

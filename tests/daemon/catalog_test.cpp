@@ -153,6 +153,56 @@ TEST(CatalogStorage, ReRunReleasesOnlyTheImagesNothingElseNames) {
   EXPECT_EQ(c.integrityCheck(), "ok");
 }
 
+// The back shot (issue 17) adds images to a filed item and nothing else; a second back shot
+// replaces the first one's kinds, including one it no longer makes.
+TEST(CatalogStorage, BackShotAddsImagesLeavesResultsAndReplacesItsOwnKinds) {
+  test::TempDir dir;
+  Catalog c(dir.path() / "c.sqlite");
+  const auto [cal, job] = calibrateAndCapture(c);
+  const auto id = c.addItem(sampleItem(job, cal));
+  const Item before = *c.item(id);
+  const std::int64_t outboxBefore = c.outboxSize();
+  const std::vector<std::string> kinds = {"back", "product_back", "product_ghost"};
+
+  const auto backJob = c.addJob("back", "", id);
+  c.addImage(sha('b'), "image/png", 100);
+  c.setJobFrames(backJob, sha('e'), sha('b'));  // the station records the still first
+  EXPECT_TRUE(c.addItemImages(id, kinds,
+                              {{"back", sha('b'), "image/png", 100},
+                               {"product_back", sha('p'), "image/jpeg", 30},
+                               {"product_ghost", sha('g'), "image/jpeg", 30}},
+                              backJob, cal)
+                  .empty());
+  const Item after = *c.item(id);
+  EXPECT_EQ(after.images.size(), before.images.size() + 3);
+  EXPECT_EQ(after.measurementsCm, before.measurementsCm);
+  EXPECT_EQ(after.sizes, before.sizes);
+  EXPECT_EQ(after.status, before.status);
+  EXPECT_EQ(after.jobId, before.jobId);  // the item's capture job still names its dressed frame
+  EXPECT_EQ(c.job(backJob)->state, "done");
+  EXPECT_EQ(c.job(backJob)->itemId, id);
+  EXPECT_EQ(c.job(backJob)->dressedSha256, "");  // the item names the still now
+  EXPECT_EQ(c.outboxSize(), outboxBefore + 1);   // the hub gets the new photos
+
+  // The second back shot made no ghost photo: the first one's is not left showing.
+  auto replaced = c.addItemImages(
+      id, kinds,
+      {{"back", sha('B'), "image/png", 100}, {"product_back", sha('P'), "image/jpeg", 30}},
+      c.addJob("back", "", id), cal);
+  std::sort(replaced.begin(), replaced.end());
+  EXPECT_EQ(replaced, (std::vector<std::string>{sha('b'), sha('g'), sha('p')}));
+  const Item second = *c.item(id);
+  EXPECT_EQ(second.images.size(), before.images.size() + 2);
+  EXPECT_TRUE(std::none_of(second.images.begin(), second.images.end(),
+                           [](const ImageRef& im) { return im.kind == "product_ghost"; }));
+  EXPECT_EQ(c.dropUnreferencedImages(replaced).size(), 3u);
+
+  ASSERT_TRUE(c.deleteItem(id));
+  EXPECT_THROW(c.addItemImages(id, kinds, {{"back", sha('x'), "image/png", 1}}, std::nullopt, cal),
+               CatalogError);
+  EXPECT_EQ(c.integrityCheck(), "ok");
+}
+
 TEST(CatalogStorage, DeletedItemsArePurgedAfterTheirRetentionAndNotBeforeTheHubKnows) {
   test::TempDir dir;
   Catalog c(dir.path() / "c.sqlite");

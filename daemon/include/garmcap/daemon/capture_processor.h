@@ -48,6 +48,16 @@ class CaptureProcessor {
   virtual ProcessedCapture process(
       const cv::Mat& emptyBgr, const cv::Mat& dressedBgr, const nlohmann::json& calibration,
       const ProgressFn& progress, std::shared_ptr<const pipeline::CorrectionTable> corrections) = 0;
+  /// The back shot of an item already filed (the garment turned back to front on the form):
+  /// GarmCap on its dressed frame with `backBgr` as the back shot. Returns only what the back
+  /// shot adds: `images` holds the back photos and the ghost-mannequin front ("cutout_back",
+  /// "product_back", "product_back_4x5", "product_ghost", "product_ghost_4x5"; a kind the
+  /// library did not make is absent), `warnings` the back shot's own, `result` its "back_shot"
+  /// object. A refused back shot throws pipeline::CaptureError with the library's sentence.
+  /// The default refuses: a processor without the pipeline cannot make them.
+  virtual ProcessedCapture processBack(const cv::Mat& emptyBgr, const cv::Mat& dressedBgr,
+                                       const cv::Mat& backBgr, const nlohmann::json& calibration,
+                                       const ProgressFn& progress);
 };
 
 /// How a capture's warnings start when it has no pattern (the draft failed): the rest is why.

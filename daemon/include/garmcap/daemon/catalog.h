@@ -155,7 +155,7 @@ struct Calibration {
 
 struct Job {
   std::int64_t id = 0;
-  std::string kind;   // "empty" | "dressed" | "rerun"
+  std::string kind;   // "empty" | "dressed" | "rerun" | "back"
   std::string state;  // queued | running | done | failed
   std::string stage;
   double progress = 0;  // 0..1
@@ -163,7 +163,7 @@ struct Job {
   std::optional<std::int64_t> calibrationId;
   std::string error;
   std::string sku;            // typed SKU given with the request, if any
-  std::string dressedSha256;  // stored frame (for re-runs)
+  std::string dressedSha256;  // stored frame (for re-runs; a back job's: its back shot)
   std::string emptySha256;
   std::string createdAt, updatedAt;
 
@@ -262,6 +262,16 @@ class Catalog {
   /// Replaces the pipeline outputs of an existing item (re-run), one transaction. Returns the
   /// blob names of the images it replaced (candidates for dropUnreferencedImages).
   std::vector<std::string> replaceItemResults(std::int64_t id, const NewItem& results);
+  /// Adds images to an existing live item without touching its results (the back shot), and
+  /// finishes `jobId` (made with `calibrationId`) with it, releasing the job's frames (the item
+  /// names the still now), one transaction: the item's images of
+  /// the `replaces` kinds are unlinked first (a second back shot replaces the first one's, a kind
+  /// it did not make is not left showing the old picture). Returns the blob names unlinked
+  /// (candidates for dropUnreferencedImages). Throws CatalogError if there is no such live item.
+  std::vector<std::string> addItemImages(std::int64_t id, const std::vector<std::string>& replaces,
+                                         const std::vector<ImageRef>& images,
+                                         std::optional<std::int64_t> jobId,
+                                         std::optional<std::int64_t> calibrationId);
   std::optional<Item> item(std::int64_t id, bool includeDeleted = false);
   std::pair<std::vector<Item>, std::int64_t> items(const ItemQuery& query);  // page, total
   /// Throws CatalogError on a bad status value. Returns false if no such live item.

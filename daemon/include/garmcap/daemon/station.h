@@ -53,7 +53,9 @@ const char* toString(StationState state);
 /// 2 Hz blink; error: double flash; stopping: off.
 std::uint8_t ledPattern(StationState state);
 
-enum class JobKind { kEmpty, kDressed, kRerun };
+// kBack: the back shot of a filed item (the garment turned back to front): a still, then the
+// pipeline on the item's stored dressed frame with it, adding the back and ghost photos.
+enum class JobKind { kEmpty, kDressed, kRerun, kBack };
 const char* toString(JobKind kind);
 
 /// Answer to a capture submission.
@@ -177,6 +179,8 @@ class Station : public RouteContext {
   bool recordFrame(const Pending& req, const std::string& emptySha, const StoredFrame& frame);
   void onCalibrated(Pending req, std::string emptySha, nlohmann::json calibration);
   void onProcessed(Pending req, std::shared_ptr<NewItem> item);
+  // The back shot's still stored and recorded: the pipeline on the item's dressed frame with it.
+  void runBack(Pending req, cv::Mat back, std::string backSha, std::int64_t backBytes);
   void failJob(const Pending& req, const std::string& error, bool cameraFault);
   void finishJob();
   // On the strand, with no job in hand (a job puts its blobs before the row that names them, so
