@@ -31,8 +31,9 @@ ALLOWED = {
     "core/garmcap": {"pipeline", "dsw", "calib", "drafts", "io"},
     "core/dsw": {"dsw", "drafts", "io"},
     "daemon": None,  # the daemon and the CLI tools may use every library
-    # The hub serves with the daemon's HTTP layer and never links the capture pipeline.
-    "daemon/hub": {"hub", "daemon", "io"},
+    # The hub serves with the daemon's HTTP layer and never links the capture pipeline; it writes
+    # the stations' stored patterns as files with the drafts library's own writers.
+    "daemon/hub": {"hub", "daemon", "drafts", "io"},
 }
 
 SOURCE_SUFFIXES = {".h", ".hpp", ".cpp", ".cc"}
