@@ -16,9 +16,16 @@ namespace garmcap::daemon {
 
 namespace {
 
-// The images catalog.zip holds: the shop photo, and the same photo as WebP for shops that take
-// it (the CSVs keep linking the JPEG, which every shop imports).
-const std::vector<std::string> kZipImageKinds = {"product", "product_webp"};
+// The images catalog.zip holds: the shop photos (shopImageSlots: the front, the ghost-mannequin
+// front and the back a back shot adds), each also as WebP for shops that take it (the CSVs keep
+// linking the JPEG, which every shop imports).
+bool zipImageKind(const std::string& kind) {
+  for (const auto& slot : shopImageSlots())
+    for (const auto& k : slot)
+      if (kind == k || kind == k + "_webp")
+        return true;
+  return false;
+}
 
 }  // namespace
 
@@ -114,8 +121,7 @@ CatalogZip catalogZip(
     const std::string style = it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
     for (const auto& im : it.images) {
       const std::string ext = imageExtension(im.mediaType);
-      if (ext.empty() ||
-          std::find(kZipImageKinds.begin(), kZipImageKinds.end(), im.kind) == kZipImageKinds.end())
+      if (ext.empty() || !zipImageKind(im.kind))
         continue;
       auto bytes = readImage(im.sha256);
       if (!bytes)

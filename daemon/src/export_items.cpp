@@ -1,5 +1,7 @@
 #include "garmcap/daemon/export_items.h"
 
+#include <algorithm>
+
 #include "garmcap/daemon/utf8.h"
 
 namespace garmcap::daemon {
@@ -43,9 +45,10 @@ std::string shortOption(const RouteMatch& m, const std::string& key, const std::
 // with the option's name (export_shop.cpp's checkPublicUrl).
 }  // namespace
 
-const std::vector<std::string>& shopImageKinds() {
-  static const std::vector<std::string> kKinds = {"product"};
-  return kKinds;
+const std::vector<std::vector<std::string>>& shopImageSlots() {
+  static const std::vector<std::vector<std::string>> kSlots = {{"product_ghost", "product"},
+                                                               {"product_back"}};
+  return kSlots;
 }
 
 std::string imageExtension(const std::string& mediaType) {
@@ -94,10 +97,16 @@ ExportItem toExportItem(const Item& it, const std::optional<nlohmann::json>& gui
   e.published = true;
   e.measurementsCm = it.measurementsCm;
   e.sizeGuide = storedSizeGuide(it, guide);
-  for (const auto& kind : shopImageKinds())
-    for (const auto& im : it.images)
-      if (im.kind == kind && !imageExtension(im.mediaType).empty())
-        e.images.push_back({exportImagePath(it.id, im.kind, im.mediaType), ""});
+  for (const auto& slot : shopImageSlots())
+    for (const auto& kind : slot) {
+      const auto im = std::find_if(it.images.begin(), it.images.end(), [&](const ImageRef& i) {
+        return i.kind == kind && !imageExtension(i.mediaType).empty();
+      });
+      if (im != it.images.end()) {
+        e.images.push_back({exportImagePath(it.id, im->kind, im->mediaType), ""});
+        break;
+      }
+    }
   return e;
 }
 

@@ -160,6 +160,28 @@ TEST(BackShotE2E, BareFormRefusedThenTheBackAndGhostPhotosAdded) {
       refused["error"].get<std::string>().c_str(), back.cols, back.rows, back45.cols, back45.rows,
       ghost.cols, ghost.rows, front.cols, front.rows, changedPx, changedBox.y, changedBox.br().y);
 
+  // The shop gets the ghost-mannequin front first and the back second, and catalog.zip holds
+  // the photos the CSV links.
+  ASSERT_EQ(httpCall(d.port(), http::verb::patch, itemUrl,
+                     R"({"status": "approved", "price_cents": 3990})")
+                .status,
+            200);
+  const std::string query = "?base_url=https://shop.example/files&store_url=https://shop.example";
+  const Reply shopify = d.get("/api/export/shopify.csv" + query);
+  ASSERT_EQ(shopify.status, 200) << shopify.body;
+  const std::string id = std::to_string(captured["item_id"].get<std::int64_t>());
+  const auto ghostAt = shopify.body.find("/images/" + id + "-product_ghost.jpg");
+  const auto backAt = shopify.body.find("/images/" + id + "-product_back.jpg");
+  ASSERT_NE(ghostAt, std::string::npos) << shopify.body;
+  ASSERT_NE(backAt, std::string::npos) << shopify.body;
+  EXPECT_LT(ghostAt, backAt) << "the front goes first";
+  EXPECT_EQ(shopify.body.find("/images/" + id + "-product.jpg"), std::string::npos)
+      << "the plain front is sent beside its ghost";
+  const Reply zip = d.get("/api/export/catalog.zip" + query);
+  ASSERT_EQ(zip.status, 200) << zip.body;
+  for (const std::string kind : {"product_ghost.jpg", "product_back.jpg"})
+    EXPECT_NE(zip.body.find("images/" + id + "-" + kind), std::string::npos) << kind;
+
   // A re-run of the front keeps the back shot's images.
   const Json rerun = d.waitJob(d.post(itemUrl + "/rerun").json()["job"]);
   ASSERT_EQ(rerun["state"], "done") << rerun.dump();

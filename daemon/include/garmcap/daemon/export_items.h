@@ -19,9 +19,11 @@
 
 namespace garmcap::daemon {
 
-/// Image kinds that go to shops, in the order shops show them: the square JPEG on white. The
-/// cut-out is the same photo again (shops composite nothing), the 4:5 crop the same again.
-const std::vector<std::string>& shopImageKinds();
+/// The photos that go to shops, in the order shops show them: the front, then the back (from a
+/// back shot). Each slot takes the first of its kinds the item has: the ghost-mannequin front,
+/// which a back shot makes, before the plain front. All are the square JPEG on white; the cut-out
+/// and the 4:5 crop are the same photos again (shops composite nothing), so they are not sent.
+const std::vector<std::vector<std::string>>& shopImageSlots();
 
 /// "jpg", "png" or "webp" for an image's media type; "" for any other.
 std::string imageExtension(const std::string& mediaType);
