@@ -34,7 +34,7 @@ class HubStoreError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr int kHubSchemaVersion = 2;
+inline constexpr int kHubSchemaVersion = 3;
 
 /// One image of a pushed item: the blob must be at the hub already.
 struct PushedImage {
