@@ -165,6 +165,23 @@ std::optional<std::string> readScope(const Caller& c, const RouteMatch& m) {
   return *c.station;
 }
 
+std::optional<HubItem> readableItem(const Request& req, const RouteMatch& m, HubStore& store,
+                                    const HubConfig& config, const HubLogins* logins,
+                                    const Reply& reply) {
+  const Caller c = callerOf(req, store, config, logins);
+  if (!c.any()) {
+    reply(unauthorized("a station or admin token is required"));
+    return std::nullopt;
+  }
+  const auto id = m.id("id");
+  auto it = store.item(id);
+  if (!it || it->deletedAt || (!c.admin && it->station != *c.station)) {
+    reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+    return std::nullopt;
+  }
+  return it;
+}
+
 void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& config,
                   HubLogins* logins) {
   auto who = [&store, &config, logins](const Request& req) {
@@ -351,8 +368,8 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
                reply(jsonResponse(http::status::ok, store.item(id)->toJson()));
              });
 
-  addHubExportRoutes(router, store, config);
-  addHubPatternRoutes(router, store, config);
+  addHubExportRoutes(router, store, config, logins);
+  addHubPatternRoutes(router, store, config, logins);
 }
 
 HubService::HubService(const HubConfig& config) : config_(config) {

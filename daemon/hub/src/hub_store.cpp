@@ -549,9 +549,19 @@ std::vector<HubStation> HubStore::stations() {
   return withConnection([](pqxx::connection& c) {
     pqxx::work w(c);
     std::vector<HubStation> out;
-    for (const auto& r : w.exec("SELECT s.id, (SELECT count(*) FROM items i WHERE i.station_id = "
-                                "s.id AND i.deleted_at IS NULL) FROM stations s ORDER BY s.id"))
-      out.push_back({r[0].c_str(), r[1].as<std::int64_t>()});
+    // One count per station and status; the (station_id, status, id) index of the live rows
+    // (schema 3) answers it without reading the table's rows.
+    for (const auto& r : w.exec("SELECT s.id, i.status, count(i.id) FROM stations s LEFT JOIN "
+                                "items i ON i.station_id = s.id AND i.deleted_at IS NULL "
+                                "GROUP BY s.id, i.status ORDER BY s.id")) {
+      if (out.empty() || out.back().id != r[0].c_str())
+        out.push_back({r[0].c_str(), 0, {}});
+      if (r[1].is_null())
+        continue;  // a station with no live item
+      const auto n = r[2].as<std::int64_t>();
+      out.back().items += n;
+      out.back().byStatus[r[1].c_str()] = n;
+    }
     return out;
   });
 }
