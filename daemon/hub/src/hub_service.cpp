@@ -12,6 +12,7 @@
 #include "garmcap/daemon/utf8.h"
 #include "garmcap/hub/hub_caller.h"
 #include "garmcap/hub/hub_exports.h"
+#include "garmcap/hub/hub_graded_routes.h"
 #include "garmcap/hub/hub_pattern_routes.h"
 #include "garmcap/hub/hub_web_routes.h"
 
@@ -370,6 +371,7 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
 
   addHubExportRoutes(router, store, config, logins);
   addHubPatternRoutes(router, store, config, logins);
+  addHubGradedRoutes(router, store, config, logins);
 }
 
 HubService::HubService(const HubConfig& config) : config_(config) {
