@@ -18,6 +18,7 @@ const hub = {
   item: null,
   photoKind: null,
   loadSeq: 0,        // the newest catalog request; older answers are dropped
+  exportStations: [], // the export page's stations with their counts by status
 };
 const picked = new Set();
 
@@ -267,7 +268,7 @@ async function loadExport() {
 
 function showExportCount() {
   const station = $('#x-station').value;
-  const chosen = (hub.exportStations || []).filter((s) => !station || s.id === station);
+  const chosen = hub.exportStations.filter((s) => !station || s.id === station);
   const n = (k) => chosen.reduce((sum, s) => sum + ((s.statuses || {})[k] || 0), 0);
   const approved = n('approved'), waiting = n('needs_review'), rejected = n('rejected');
   const left = [];
