@@ -629,40 +629,10 @@ async function loadExportCounts() {
       (r.total ? '; ' + r.total + ' waiting for review are left out until approved.' : '.');
   } catch (e) { $('#export-count').textContent = e.message; }
 }
-// Downloads through fetch so that an error (e.g. a bad URL option) shows as a message instead
-// of a saved error file.
-async function download(ev) {
+// Downloads through fetch (common.js): a busy station lays one marker at a time.
+function download(ev) {
   ev.preventDefault();
-  const a = ev.currentTarget;
-  try {
-    const sentAt = loginCount;
-    let res = await fetch(a.href);
-    if (res.status === 401 && await logIn(sentAt)) res = await fetch(a.href);
-    // A busy station (one marker is laid at a time) says when to come back: wait that long,
-    // telling staff, as garmcapctl does.
-    for (let attempt = 1; res.status === 503 && res.headers.get('Retry-After') && attempt < 12; ++attempt) {
-      const wait = Math.min(30, Math.max(0, Number(res.headers.get('Retry-After')) || 0));
-      toast('The station is busy with another marker; trying again in ' + wait + ' s', false);
-      await new Promise((r) => setTimeout(r, wait * 1000));
-      res = await fetch(a.href);
-    }
-    if (!res.ok) {
-      let msg = res.statusText;
-      try { msg = (await res.json()).error || msg; } catch (e) { /* not JSON */ }
-      throw new Error(msg);
-    }
-    const blob = await res.blob();
-    const cd = res.headers.get('Content-Disposition') || '';
-    const m = /filename="([^"]+)"/.exec(cd);
-    const url = URL.createObjectURL(blob);
-    const link = el('a', { href: url, download: m ? m[1] : 'export' });
-    document.body.append(link);
-    link.click();
-    link.remove();
-    setTimeout(() => URL.revokeObjectURL(url), 10000);
-    const warned = Number(res.headers.get('X-Export-Warnings') || 0);
-    toast('Downloaded ' + (m ? m[1] : 'file') + (warned ? ' — ' + warned + (warned === 1 ? ' note: ' : ' notes: ') + (res.headers.get('X-Export-Warning-Text') || '') : ''), warned > 0);
-  } catch (e) { toast('Export failed: ' + e.message, true); }
+  downloadFile(ev.currentTarget.href, 'The station is busy with another marker');
 }
 
 // --- routing --------------------------------------------------------------------------------

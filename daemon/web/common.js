@@ -93,6 +93,42 @@ function el(tag, attrs = {}, ...children) {
   return e;
 }
 
+// --- downloads -------------------------------------------------------------------------------
+// A file fetched (the session cookie goes with it) and saved under the name its
+// Content-Disposition gives, so that an error (a bad option, a refused caller) shows as a
+// message instead of a saved error file. A busy server says when to come back (503 with
+// Retry-After: a station lays one marker at a time, the hub writes two exports at once): wait
+// that long, telling staff (`busy`), as garmcapctl does. The export's notes are shown after.
+async function downloadFile(href, busy) {
+  try {
+    const sentAt = loginCount;
+    let res = await fetch(href);
+    if (res.status === 401 && await logIn(sentAt)) res = await fetch(href);
+    for (let attempt = 1; res.status === 503 && res.headers.get('Retry-After') && attempt < 12; ++attempt) {
+      const wait = Math.min(30, Math.max(0, Number(res.headers.get('Retry-After')) || 0));
+      toast(busy + '; trying again in ' + wait + ' s', false);
+      await new Promise((r) => setTimeout(r, wait * 1000));
+      res = await fetch(href);
+    }
+    if (!res.ok) {
+      let msg = res.statusText;
+      try { msg = (await res.json()).error || msg; } catch (e) { /* not JSON */ }
+      throw new Error(msg);
+    }
+    const blob = await res.blob();
+    const cd = res.headers.get('Content-Disposition') || '';
+    const m = /filename="([^"]+)"/.exec(cd);
+    const url = URL.createObjectURL(blob);
+    const link = el('a', { href: url, download: m ? m[1] : 'export' });
+    document.body.append(link);
+    link.click();
+    link.remove();
+    setTimeout(() => URL.revokeObjectURL(url), 10000);
+    const warned = Number(res.headers.get('X-Export-Warnings') || 0);
+    toast('Downloaded ' + (m ? m[1] : 'file') + (warned ? ' — ' + warned + (warned === 1 ? ' note: ' : ' notes: ') + (res.headers.get('X-Export-Warning-Text') || '') : ''), warned > 0);
+  } catch (e) { toast('Export failed: ' + e.message, true); }
+}
+
 let toastTimer = null;
 function toast(msg, bad = false) {
   const t = $('#toast');

@@ -10,6 +10,9 @@
 //  - an item page shows photos, measurements, the size guide and the station; Approve changes
 //    the item's status at the hub (read back over the API with the admin's bearer token), and
 //    "Approve selected" approves several;
+//  - the export page downloads the chain's Shopify CSV and catalog.zip through the cookie: one
+//    product per approved item of the station chosen (as many as the API lists), every station's
+//    for "All stations"; a station's token exports its own station's items only;
 //  - a station's token reads only its own station's items and sees no review control.
 //   node browser_hub_test.mjs GARMCAP_HUB WEB_DIR SCREENSHOT_DIR TEST_DATA_DIR
 // Exits 77 (skipped) without PostgreSQL's binaries. Prints one line per step and "N passed".
@@ -20,6 +23,7 @@ import { createServer } from 'node:net';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { chromium } from 'playwright-core';
+import { parse } from 'csv-parse/sync';
 
 const [hubBin, webDir, shotDir, dataDir] = process.argv.slice(2);
 if (!hubBin || !webDir || !shotDir || !dataDir) {
@@ -275,6 +279,59 @@ try {
   check(await page.$$eval('#station-filter option', (os) => os[2].textContent) === 'shop2 (27)', 'the station counts follow');
   step('keyset pages: 24, then "Show more" after=' + pageAsks[0] + ' gives the other 6; 30 distinct items, newest first');
 
+  // The export page: the chain's files through the session cookie (the page holds no token).
+  // What the API lists as approved, per station, is what a shop file holds.
+  const approvedSkus = async (station) => {
+    const skus = [];
+    for (let after = null; ;) {
+      const r = await call('GET', '/api/items?limit=500&status=approved' + (station ? '&station=' + station : '') + (after ? '&after=' + after : ''), ADMIN);
+      skus.push(...r.items.map((i) => i.sku));
+      if (!r.next) return skus.sort();
+      after = r.next;
+    }
+  };
+  const downloadFrom = async (p, selector) => {
+    const [dl] = await Promise.all([p.waitForEvent('download', { timeout: 30000 }), p.click(selector)]);
+    const path = join(work, 'dl-' + passed + '-' + dl.suggestedFilename());
+    await dl.saveAs(path);
+    return { name: dl.suggestedFilename(), path };
+  };
+  // Shopify: a product's first row has its title; further rows are its other images or sizes.
+  const productSkus = (path) => parse(readFileSync(path, 'utf8'), { columns: true }).filter((r) => r.Title).map((r) => r.SKU).sort();
+  await page.click('.tabs a[data-tab="export"]');
+  await page.waitForSelector('#view-export:not([hidden])');
+  await page.waitForFunction(() => document.querySelectorAll('#x-station option').length === 3, null, { timeout: 10000 });
+  check(await page.$eval('.tabs a[data-tab="export"]', (a) => a.classList.contains('on')), 'the Export tab is marked');
+  await page.fill('#x-base_url', 'https://files.shop.test/chain');
+  await page.fill('#x-store_url', 'https://shop.test');
+  await page.selectOption('#x-station', 'shop1');
+  const shop1 = await approvedSkus('shop1');
+  check(shop1.length === 2, 'shop1 has ' + shop1.length + ' approved items at the hub');
+  await page.waitForFunction((n) => document.querySelector('#x-count').dataset.approved === String(n), shop1.length, { timeout: 10000 });
+  const countText = await page.textContent('#x-count');
+  check(/^2 approved items of shop1 will be exported; 1 waiting for review is left out/.test(countText), 'count: ' + countText);
+  const csv1 = await downloadFrom(page, '#x-shopify');
+  check(csv1.name === 'shopify.csv', 'downloaded as ' + csv1.name);
+  const rows1 = productSkus(csv1.path);
+  check(JSON.stringify(rows1) === JSON.stringify(shop1), 'shop1\'s Shopify products ' + rows1 + ', the API lists ' + shop1);
+  await page.selectOption('#x-station', '');
+  const every = await approvedSkus('');
+  await page.waitForFunction((n) => document.querySelector('#x-count').dataset.approved === String(n), every.length, { timeout: 10000 });
+  const rowsAll = productSkus((await downloadFrom(page, '#x-shopify')).path);
+  check(rowsAll.length === every.length && JSON.stringify(rowsAll) === JSON.stringify(every), 'every station\'s products ' + rowsAll + ', the API lists ' + every);
+  await page.selectOption('#x-station', 'shop2');
+  const zip = await downloadFrom(page, '#x-zip');
+  const zipCheck = spawnSync('/usr/bin/python3', ['-c', `import csv, io, sys, zipfile
+z = zipfile.ZipFile(sys.argv[1]); assert z.testzip() is None
+name = [n for n in z.namelist() if n.endswith('shopify.csv')][0]
+rows = list(csv.DictReader(io.StringIO(z.read(name).decode('utf-8'))))
+print(' '.join(sorted(r['SKU'] for r in rows if r['Title'])))`, zip.path], { encoding: 'utf8' });
+  check(zipCheck.status === 0, 'catalog.zip: ' + zipCheck.stderr);
+  const shop2 = await approvedSkus('shop2');
+  check(zip.name === 'catalog.zip' && zipCheck.stdout.trim() === shop2.join(' '), 'catalog.zip of shop2 holds ' + zipCheck.stdout.trim() + ', the API lists ' + shop2);
+  check((await fetch(base + '/api/export/shopify.csv?base_url=https://files.shop.test/chain')).status === 401, 'an export without the cookie or a token is refused');
+  step('export page: shop1\'s Shopify CSV (' + rows1.length + ' products), every station\'s (' + rowsAll.length + ') and shop2\'s catalog.zip downloaded through the cookie, each equal to the API\'s approved items');
+
   // A station's token reads only its own items, and reviews nothing.
   const ctx2 = await browser.newContext({ viewport: { width: 768, height: 1024 } });
   const p2 = await ctx2.newPage();
@@ -288,6 +345,13 @@ try {
   check((await p2.textContent('#who-text')) === 'Station shop1', 'who');
   check(await p2.$$eval('.pick', (ps) => ps.every((p) => getComputedStyle(p).display === 'none')), 'no pick boxes for a station');
   step('a station token: its 3 items only, no review controls');
+  await p2.click('.tabs a[data-tab="export"]');
+  await p2.waitForFunction(() => document.querySelector('#x-count').dataset.approved !== undefined, null, { timeout: 10000 });
+  check((await p2.$$eval('#x-station option', (os) => os.map((o) => o.value))).join(',') === 'shop1', 'a station exports only itself');
+  await p2.fill('#x-base_url', 'https://files.shop.test/chain');
+  const own1 = productSkus((await downloadFrom(p2, '#x-shopify')).path);
+  check(JSON.stringify(own1) === JSON.stringify(shop1), 'a station\'s export: ' + own1 + ', its approved items: ' + shop1);
+  step('a station token\'s export page: its own station only, its ' + own1.length + ' approved items');
 
   // Logged out, the cookie is gone and the API refuses the browser.
   const out = await p2.evaluate(async () => { await fetch('/api/session', { method: 'DELETE' }); return (await fetch('/api/items')).status; });

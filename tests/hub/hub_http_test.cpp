@@ -458,5 +458,100 @@ TEST_F(HubHttpTest, TheChainsShopifyCsvHoldsTheApprovedItemsOfEveryStationOnce) 
   EXPECT_NE(noBase.body.find("base"), std::string::npos) << noBase.body;
 }
 
+// The review UI's export page downloads through the session cookie (a link cannot carry an
+// Authorization header): the export routes take the cookie with the rights of the token that
+// opened it, as the list and item routes do. An admin's cookie exports every station (or the
+// `station=` one); a station's cookie exports its own items only, 403 for another station's.
+TEST_F(HubHttpTest, ExportsTakeTheSessionCookieWithTheRightsOfItsToken) {
+  auto cookieFor = [](const std::string& token) {
+    namespace asio = boost::asio;
+    asio::io_context io;
+    boost::beast::tcp_stream stream(io);
+    stream.connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), service_->port()));
+    http::request<http::string_body> req{http::verb::post, "/api/session", 11};
+    req.set("Host", "127.0.0.1");
+    req.set("Content-Type", "application/json");
+    req.body() = Json{{"token", token}}.dump();
+    req.prepare_payload();
+    http::write(stream, req);
+    boost::beast::flat_buffer buf;
+    http::response<http::string_body> res;
+    http::read(stream, buf, res);
+    EXPECT_EQ(res.result_int(), 200u) << res.body();
+    const std::string set = std::string(res[http::field::set_cookie]);
+    return set.substr(0, set.find(';'));
+  };
+  auto get = [](const std::string& target, const std::string& cookie) {
+    return e2e::httpCallWith(service_->port(), http::verb::get, target,
+                             {{"Host", "127.0.0.1"}, {"Cookie", cookie}}, "");
+  };
+  auto push = [](const std::string& token, std::int64_t localId, const std::string& sku) {
+    const Json item{{"sku", sku},    {"title", "Cookie " + sku}, {"status", "approved"},
+                    {"type", "top"}, {"price_cents", 1500},      {"images", Json::object()}};
+    const auto r = call(http::verb::post, "/api/hub/push", token,
+                        Json{{"local_id", localId}, {"item", item}, {"deleted", false}}.dump());
+    EXPECT_EQ(r.status, 200) << r.body;
+  };
+  push("shop1-secret", 951, "CK-A-951");
+  push("shop2-secret", 951, "CK-B-951");
+  const std::string admin = cookieFor("admin-secret"), shop2 = cookieFor("shop2-secret");
+  ASSERT_FALSE(admin.empty());
+  ASSERT_FALSE(shop2.empty());
+  const std::string options =
+      "base_url=https://files.shop.test/hub&store_url=https://shop.test&brand=Chain";
+  auto cookieSkus = [&](const std::string& file, const std::string& query,
+                        const std::string& cookie) {
+    std::set<std::string> out;
+    const auto r = get("/api/export/" + file + "?" + query, cookie);
+    EXPECT_EQ(r.status, 200) << file << " " << query << ": " << r.body;
+    if (r.status != 200)
+      return out;
+    for (const std::string sku : {"CK-A-951", "CK-B-951"})
+      if (r.body.find(sku) != std::string::npos)
+        out.insert(sku);
+    return out;
+  };
+  for (const std::string file : {"shopify.csv", "woocommerce.csv", "merchant.tsv"}) {
+    SCOPED_TRACE(file);
+    EXPECT_EQ(cookieSkus(file, options, admin), (std::set<std::string>{"CK-A-951", "CK-B-951"}));
+    EXPECT_EQ(cookieSkus(file, options + "&station=shop1", admin),
+              std::set<std::string>{"CK-A-951"});
+    EXPECT_EQ(cookieSkus(file, options, shop2), std::set<std::string>{"CK-B-951"});
+    EXPECT_EQ(get("/api/export/" + file + "?" + options + "&station=shop1", shop2).status, 403);
+    EXPECT_EQ(get("/api/export/" + file + "?" + options, "garmcap_session=" + std::string(64, 'b'))
+                  .status,
+              401);
+  }
+  const auto zip = get("/api/export/catalog.zip?" + options + "&station=shop2", shop2);
+  EXPECT_EQ(zip.status, 200) << zip.body;
+  EXPECT_EQ(zip.body.substr(0, 2), "PK");
+  EXPECT_EQ(get("/api/export/catalog.zip?" + options + "&station=shop1", shop2).status, 403);
+  EXPECT_EQ(get("/api/export/catalog.zip?" + options, "").status, 401);
+  // The export page's counts: each station's live items by status, equal to the list's.
+  const auto stations = get("/api/hub/stations", admin);
+  ASSERT_EQ(stations.status, 200) << stations.body;
+  for (const auto& st : stations.json()["stations"])
+    for (const std::string status : {"needs_review", "approved", "rejected"}) {
+      std::size_t listed = 0;
+      for (Json next = 0;;) {
+        const auto page = call(http::verb::get,
+                               "/api/items?limit=500&station=" + st["id"].get<std::string>() +
+                                   "&status=" + status +
+                                   (next.is_number() && next != 0 ? "&after=" + next.dump() : ""),
+                               "admin-secret");
+        ASSERT_EQ(page.status, 200) << page.body;
+        listed += page.json()["items"].size();
+        next = page.json()["next"];
+        if (next.is_null())
+          break;
+      }
+      EXPECT_EQ(st["statuses"][status].get<std::size_t>(), listed) << st.dump() << " " << status;
+    }
+  // Logged out, the cookie exports nothing.
+  e2e::httpCallWith(service_->port(), http::verb::delete_, "/api/session",
+                    {{"Host", "127.0.0.1"}, {"Cookie", shop2}}, "");
+  EXPECT_EQ(get("/api/export/shopify.csv?" + options, shop2).status, 401);
+}
+
 }  // namespace
 }  // namespace garmcap::hub

@@ -1,8 +1,9 @@
 #!/bin/sh
 # The hub at the issue's scale, by hand (not in ctest: ~2 minutes): a throwaway PostgreSQL, a
 # garmcap-hub, 100,000 items of 3 stations with 300,000 images (small distinct blobs) loaded in
-# SQL, then 200 list pages (keyset, per station, deep cursors), 200 searches and 2 x 200 pages
-# of the status filter through the HTTP API, timed by curl. Prints p50 and p99 in ms.
+# SQL, then 200 list pages (keyset, per station, deep cursors), 200 searches and 3 x 200 pages
+# of the status filter through the HTTP API, timed by curl. Prints p50 and p99 in ms, then the
+# status filter's plans (EXPLAIN ANALYZE) with the status indexes of schema 3 and without them.
 #   tests/hub/hub_scale.sh build/bin/garmcap-hub [ITEMS [OTHER-GARMCAP-HUB]]
 # With a second binary (an older build, say) both serve the same database and each request goes
 # to one and then the other, so that both see the same load of a shared machine.
@@ -77,8 +78,8 @@ for i in $(seq 200); do
   echo "/api/items?limit=50&q=$(echo "$i" | md5sum | cut -c1-4)"
 done | time_requests "search 50 (trigram, 4 hex chars)"
 # The review UI's status filter: a page of 24 of one station and status, from anywhere in the
-# list; rejected is 1 item in 1,000 (the worst: no index of its own, the station's rows are
-# walked newest first), approved 1 in 4.
+# list; rejected is 1 item in 1,000 (the worst case without the status indexes of schema 3: the
+# station's rows were walked newest first), approved 1 in 4.
 for i in $(seq 200); do
   after=$(( (i * 7919) % maxid + 1 ))
   echo "/api/items?limit=24&station=shop$((1 + i % 3))&status=rejected&after=$after"
@@ -87,3 +88,32 @@ for i in $(seq 200); do
   after=$(( (i * 7919) % maxid + 1 ))
   echo "/api/items?limit=24&status=approved&after=$after"
 done | time_requests "status=approved 24 (1 in 4; keyset)"
+for i in $(seq 200); do
+  after=$(( (i * 7919) % maxid + 1 ))
+  echo "/api/items?limit=24&status=rejected&after=$after"
+done | time_requests "status=rejected 24 (1 in 1,000; every station, keyset)"
+# The plans of the status filter's list statement (HubStore::list), as the hub sends it (one
+# statement with its values; PostgreSQL plans it with them), with the indexes of schema 3 and,
+# when they are there, without them (dropped in a transaction that is rolled back).
+after=$((maxid / 2))
+explain() {  # $1 = station or '', $2 = status
+  echo "EXPLAIN (ANALYZE, BUFFERS, COSTS OFF) SELECT id FROM items WHERE deleted_at IS NULL
+    AND id < $after AND ('$1' = '' OR station_id = '$1') AND ('$2' = '' OR status = '$2')
+    ORDER BY id DESC LIMIT 25;"
+}
+plans() {
+  echo "--- station shop2, status rejected, after=$after"; $psql -d scale -A -t -c "$(explain shop2 rejected)"
+  echo "--- every station, status rejected, after=$after"; $psql -d scale -A -t -c "$(explain '' rejected)"
+}
+echo "=== plans with the hub's indexes"
+plans
+if [ "$($psql -d scale -A -t -c "SELECT count(*) FROM pg_indexes WHERE indexname = 'items_status_id'")" = 1 ]; then
+  echo "=== the same plans without the status indexes (dropped, rolled back)"
+  $psql -d scale -A -t <<SQL
+BEGIN;
+DROP INDEX items_status_id, items_station_status_id;
+$(explain shop2 rejected)
+$(explain '' rejected)
+ROLLBACK;
+SQL
+fi

@@ -215,14 +215,15 @@ std::optional<nlohmann::json> sizeGuideOf(const HubItem& h) {
   return h.doc["size_guide"];
 }
 
-void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig& config) {
+void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig& config,
+                        const HubLogins* logins) {
   auto running = std::make_shared<std::atomic<int>>(0);
-  auto shopRoute = [&store, &config, running](std::string name, std::string type,
-                                              ChainShopStream::Build build) {
-    return [&store, &config, running, name, type, build](const Request& req, const RouteMatch& m,
-                                                         std::shared_ptr<daemon::StreamSink> sink) {
+  auto shopRoute = [&store, &config, logins, running](std::string name, std::string type,
+                                                      ChainShopStream::Build build) {
+    return [&store, &config, logins, running, name, type, build](
+               const Request& req, const RouteMatch& m, std::shared_ptr<daemon::StreamSink> sink) {
       try {
-        const Caller c = callerOf(req, store, config);
+        const Caller c = callerOf(req, store, config, logins);
         if (!c.any())
           return answer(*sink, unauthorized("a station or admin token is required"));
         const auto scope = readScope(c, m);
@@ -287,9 +288,9 @@ void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig
 
   // The images the exports link to (daemon::exportImagePath, hub ids): "<id>-<kind>" names,
   // resolved through the hub's items, of approved items the caller may read.
-  auto imageFile = [&store, &config](std::string ext) {
-    return [&store, &config, ext](const Request& req, const RouteMatch& m, Reply reply) {
-      const Caller c = callerOf(req, store, config);
+  auto imageFile = [&store, &config, logins](std::string ext) {
+    return [&store, &config, logins, ext](const Request& req, const RouteMatch& m, Reply reply) {
+      const Caller c = callerOf(req, store, config, logins);
       if (!c.any())
         return reply(unauthorized("a station or admin token is required"));
       const std::string name = m.param("name");

@@ -69,23 +69,13 @@ std::optional<std::map<std::string, nlohmann::json>> pushedPatterns(const nlohma
   return out;
 }
 
-void addHubPatternRoutes(daemon::Router& router, HubStore& store, const HubConfig& config) {
+void addHubPatternRoutes(daemon::Router& router, HubStore& store, const HubConfig& config,
+                         const HubLogins* logins) {
   // The item the caller may read (admin: any; a station: its own), not deleted; else a 404
   // reply, sent, and nullopt.
-  auto readableItem = [&store, &config](const Request& req, const RouteMatch& m,
-                                        const Reply& reply) -> std::optional<HubItem> {
-    const Caller c = callerOf(req, store, config);
-    if (!c.any()) {
-      reply(unauthorized("a station or admin token is required"));
-      return std::nullopt;
-    }
-    const auto id = m.id("id");
-    auto it = store.item(id);
-    if (!it || it->deletedAt || (!c.admin && it->station != *c.station)) {
-      reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
-      return std::nullopt;
-    }
-    return it;
+  auto readableItem = [&store, &config, logins](const Request& req, const RouteMatch& m,
+                                                const Reply& reply) {
+    return hub::readableItem(req, m, store, config, logins, reply);
   };
 
   router.add(
@@ -176,8 +166,8 @@ void addHubPatternRoutes(daemon::Router& router, HubStore& store, const HubConfi
   // (admin) or one (`station=`; a station token: its own).
   router.add(
       http::verb::get, "/api/export/catalog.zip",
-      [&store, &config](const Request& req, const RouteMatch& m, Reply reply) {
-        const Caller c = callerOf(req, store, config);
+      [&store, &config, logins](const Request& req, const RouteMatch& m, Reply reply) {
+        const Caller c = callerOf(req, store, config, logins);
         if (!c.any())
           return reply(unauthorized("a station or admin token is required"));
         const auto scope = readScope(c, m);

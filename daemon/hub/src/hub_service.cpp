@@ -12,6 +12,7 @@
 #include "garmcap/daemon/utf8.h"
 #include "garmcap/hub/hub_caller.h"
 #include "garmcap/hub/hub_exports.h"
+#include "garmcap/hub/hub_graded_routes.h"
 #include "garmcap/hub/hub_pattern_routes.h"
 #include "garmcap/hub/hub_web_routes.h"
 
@@ -163,6 +164,23 @@ std::optional<std::string> readScope(const Caller& c, const RouteMatch& m) {
   if (!station.empty() && station != *c.station)
     return std::nullopt;
   return *c.station;
+}
+
+std::optional<HubItem> readableItem(const Request& req, const RouteMatch& m, HubStore& store,
+                                    const HubConfig& config, const HubLogins* logins,
+                                    const Reply& reply) {
+  const Caller c = callerOf(req, store, config, logins);
+  if (!c.any()) {
+    reply(unauthorized("a station or admin token is required"));
+    return std::nullopt;
+  }
+  const auto id = m.id("id");
+  auto it = store.item(id);
+  if (!it || it->deletedAt || (!c.admin && it->station != *c.station)) {
+    reply(jsonError(http::status::not_found, "no item " + std::to_string(id)));
+    return std::nullopt;
+  }
+  return it;
 }
 
 void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& config,
@@ -351,8 +369,9 @@ void addHubRoutes(daemon::Router& router, HubStore& store, const HubConfig& conf
                reply(jsonResponse(http::status::ok, store.item(id)->toJson()));
              });
 
-  addHubExportRoutes(router, store, config);
-  addHubPatternRoutes(router, store, config);
+  addHubExportRoutes(router, store, config, logins);
+  addHubPatternRoutes(router, store, config, logins);
+  addHubGradedRoutes(router, store, config, logins);
 }
 
 HubService::HubService(const HubConfig& config) : config_(config) {

@@ -76,8 +76,20 @@ CREATE TABLE item_patterns(
   PRIMARY KEY (item_id, size));
 )sql";
 
+// Version 3: the status filter's own indexes. The list with `status=` is `WHERE deleted_at IS
+// NULL AND status = $s [AND station_id = $st] AND id < $after ORDER BY id DESC LIMIT n`; without
+// them it walked the primary key (or items_station_id) newest first and skipped the rows of
+// other statuses, so a page of a rare status read most of the table. Each index holds the live
+// rows only (the list never shows deleted ones) in the list's order after its equalities, so a
+// page is an index range read backwards from the cursor: (status, id) for the chain's list and
+// the exports' approved pages (forwards), (station_id, status, id) for one station's.
+constexpr const char* kSchemaV3 = R"sql(
+CREATE INDEX items_status_id ON items(status, id) WHERE deleted_at IS NULL;
+CREATE INDEX items_station_status_id ON items(station_id, status, id) WHERE deleted_at IS NULL;
+)sql";
+
 const std::vector<const char*>& migrations() {
-  static const std::vector<const char*> kMigrations = {kSchemaV1, kSchemaV2};
+  static const std::vector<const char*> kMigrations = {kSchemaV1, kSchemaV2, kSchemaV3};
   return kMigrations;
 }
 
@@ -537,9 +549,19 @@ std::vector<HubStation> HubStore::stations() {
   return withConnection([](pqxx::connection& c) {
     pqxx::work w(c);
     std::vector<HubStation> out;
-    for (const auto& r : w.exec("SELECT s.id, (SELECT count(*) FROM items i WHERE i.station_id = "
-                                "s.id AND i.deleted_at IS NULL) FROM stations s ORDER BY s.id"))
-      out.push_back({r[0].c_str(), r[1].as<std::int64_t>()});
+    // One count per station and status; the (station_id, status, id) index of the live rows
+    // (schema 3) answers it without reading the table's rows.
+    for (const auto& r : w.exec("SELECT s.id, i.status, count(i.id) FROM stations s LEFT JOIN "
+                                "items i ON i.station_id = s.id AND i.deleted_at IS NULL "
+                                "GROUP BY s.id, i.status ORDER BY s.id")) {
+      if (out.empty() || out.back().id != r[0].c_str())
+        out.push_back({r[0].c_str(), 0, {}});
+      if (r[1].is_null())
+        continue;  // a station with no live item
+      const auto n = r[2].as<std::int64_t>();
+      out.back().items += n;
+      out.back().byStatus[r[1].c_str()] = n;
+    }
     return out;
   });
 }

@@ -117,8 +117,13 @@ void addHubWebRoutes(daemon::Router& router, HubStore& store, const HubConfig& c
                  return reply(unauthorized("a station or admin token is required"));
                nlohmann::json list = nlohmann::json::array();
                for (const auto& s : store.stations())
-                 if (c.admin || s.id == *c.station)
-                   list.push_back({{"id", s.id}, {"items", s.items}});
+                 if (c.admin || s.id == *c.station) {
+                   // Every status, 0 for one the station has none of.
+                   nlohmann::json statuses{{"needs_review", 0}, {"approved", 0}, {"rejected", 0}};
+                   for (const auto& [status, n] : s.byStatus)
+                     statuses[status] = n;
+                   list.push_back({{"id", s.id}, {"items", s.items}, {"statuses", statuses}});
+                 }
                reply(jsonResponse(http::status::ok, {{"stations", list}}));
              });
 }

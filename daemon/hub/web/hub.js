@@ -3,7 +3,8 @@
 // names, api() with the token log-in (the token for an HttpOnly session cookie, so the photos,
 // blobs at the hub, load in <img>) and the size guide table. The hub's API: /api/items (keyset
 // pages: ?after=<next>), /api/items/<id>, PATCH /api/items/<id> (admin: title, price_cents,
-// status), /api/hub/stations, /api/session.
+// status), /api/hub/stations, /api/session, and the chain's exports (/api/export/..., through
+// the session cookie).
 'use strict';
 
 session.prompt = 'The hub needs a token: the admin token to review, or a station\'s to read its items:';
@@ -17,6 +18,7 @@ const hub = {
   item: null,
   photoKind: null,
   loadSeq: 0,        // the newest catalog request; older answers are dropped
+  exportStations: [], // the export page's stations with their counts by status
 };
 const picked = new Set();
 
@@ -218,12 +220,74 @@ async function patchItem(body, done) {
   } catch (e) { toast(e.message, true); }
 }
 
+// --- export ----------------------------------------------------------------------------------
+// The chain's shop files and catalog.zip, of every station or one (a station's token: its own),
+// downloaded through fetch with the session cookie. The shop files hold approved items only (the
+// review gate, as at the station): the page says how many that is for the station chosen, and
+// how many waiting for review or rejected are left out, from /api/hub/stations' counts. The
+// shop links are options of the download; left empty, the hub's [shop] settings apply.
+const EXPORT_OPTIONS = ['base_url', 'store_url', 'brand'];
+const EXPORT_KEY = 'garmcap.hub.export';
+
+function exportOptions() {
+  const o = {};
+  for (const k of EXPORT_OPTIONS) {
+    const v = $('#x-' + k).value.trim();
+    if (v) o[k] = v;
+  }
+  return o;
+}
+
+function updateExportLinks() {
+  const o = exportOptions();
+  localStorage.setItem(EXPORT_KEY, JSON.stringify(Object.assign({ legacy: $('#x-legacy').checked }, o)));
+  const station = $('#x-station').value;
+  for (const a of $$('#view-export .export-buttons a')) {
+    const params = new URLSearchParams(o);
+    if (station) params.set('station', station);
+    if (a.dataset.file === 'shopify.csv' && $('#x-legacy').checked) params.set('legacy', '1');
+    const q = params.toString();
+    a.href = '/api/export/' + a.dataset.file + (q ? '?' + q : '');
+  }
+}
+
+// The stations to export from, with how many of their items a shop file holds.
+async function loadExport() {
+  let r;
+  try { r = await api('GET', '/api/hub/stations'); } catch (e) { $('#x-count').textContent = e.message; return; }
+  hub.exportStations = r.stations;
+  const sel = $('#x-station');
+  const keep = sel.value;
+  const all = hub.role === 'admin' ? [el('option', { value: '', text: 'All stations' })] : [];
+  sel.replaceChildren(...all, ...r.stations.map((s) => el('option', { value: s.id, text: s.id })));
+  const values = Array.from(sel.options).map((o) => o.value);
+  sel.value = values.includes(keep) ? keep : (values[0] || '');
+  updateExportLinks();
+  showExportCount();
+}
+
+function showExportCount() {
+  const station = $('#x-station').value;
+  const chosen = hub.exportStations.filter((s) => !station || s.id === station);
+  const n = (k) => chosen.reduce((sum, s) => sum + ((s.statuses || {})[k] || 0), 0);
+  const approved = n('approved'), waiting = n('needs_review'), rejected = n('rejected');
+  const left = [];
+  if (waiting) left.push(waiting + ' waiting for review');
+  if (rejected) left.push(rejected + ' rejected');
+  const c = $('#x-count');
+  c.dataset.approved = String(approved);
+  c.textContent = approved + ' approved item' + (approved === 1 ? '' : 's') + (station ? ' of ' + station : ' of every station') +
+    ' will be exported' + (left.length ? '; ' + left.join(' and ') + (waiting + rejected === 1 ? ' is' : ' are') + ' left out until approved.' : '.');
+}
+
 function currentView() { return (location.hash.match(/^#\/(\w+)/) || [])[1] || 'catalog'; }
 function route() {
   const view = currentView();
   $$('.view').forEach((v) => { v.hidden = v.dataset.view !== view; });
+  $$('.tabs a').forEach((a) => a.classList.toggle('on', a.dataset.tab === view || (view === 'item' && a.dataset.tab === 'catalog')));
   if (view === 'catalog') loadCatalog(true);
   if (view === 'item') loadItem((location.hash.match(/^#\/item\/(\d+)/) || [])[1]);
+  if (view === 'export') loadExport();
 }
 
 async function init() {
@@ -248,6 +312,19 @@ async function init() {
     if (body !== undefined) patchItem(Object.assign(body, { status: 'approved' }), 'Approved');
   });
   $('#f-reject').addEventListener('click', () => patchItem({ status: 'rejected' }, 'Rejected: it will not be exported'));
+  try {
+    const saved = JSON.parse(localStorage.getItem(EXPORT_KEY) || '{}');
+    for (const k of EXPORT_OPTIONS) $('#x-' + k).value = saved[k] || '';
+    $('#x-legacy').checked = !!saved.legacy;
+  } catch (e) { /* nothing kept */ }
+  $('#x-options').addEventListener('input', updateExportLinks);
+  $('#x-options').addEventListener('change', updateExportLinks);
+  $('#x-options').addEventListener('submit', (ev) => ev.preventDefault());
+  $('#x-station').addEventListener('change', () => { updateExportLinks(); showExportCount(); });
+  $$('#view-export .export-buttons a').forEach((a) => a.addEventListener('click', (ev) => {
+    ev.preventDefault();
+    downloadFile(a.href, 'The hub is writing other exports');
+  }));
   window.addEventListener('hashchange', route);
   // Who this is first: a browser without a session is asked for the token once, before the
   // page's calls would each meet a 401.

@@ -32,4 +32,11 @@ daemon::Response unauthorized(const std::string& what);
 /// when a station token asks for another station's (the route answers 403).
 std::optional<std::string> readScope(const Caller& caller, const daemon::RouteMatch& m);
 
+/// The item `{id}` of the route if the caller of `req` may read it (admin: any; a station: its
+/// own) and it is not deleted. Otherwise replies (401 without a caller, 404 for an item absent,
+/// deleted or another station's, so its ids tell nothing) and returns nullopt.
+std::optional<HubItem> readableItem(const daemon::Request& req, const daemon::RouteMatch& m,
+                                    HubStore& store, const HubConfig& config,
+                                    const HubLogins* logins, const daemon::Reply& reply);
+
 }  // namespace garmcap::hub

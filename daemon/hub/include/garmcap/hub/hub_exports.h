@@ -16,6 +16,7 @@
 
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/http_router.h"
+#include "garmcap/hub/hub_caller.h"
 #include "garmcap/hub/hub_config.h"
 #include "garmcap/hub/hub_store.h"
 
@@ -30,7 +31,10 @@ daemon::Item catalogItemOf(const HubItem& item);
 /// The size guide the station sent with the item (`size_guide` of its JSON), if any.
 std::optional<nlohmann::json> sizeGuideOf(const HubItem& item);
 
-/// Adds the routes above; `store` and `config` outlive the router.
-void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig& config);
+/// Adds the routes above; `store`, `config` and `logins` outlive the router. With `logins`, a
+/// browser's session cookie stands for the token that opened it (hub_web_routes.h), with its
+/// rights: the export page of the review UI downloads through it.
+void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig& config,
+                        const HubLogins* logins = nullptr);
 
 }  // namespace garmcap::hub

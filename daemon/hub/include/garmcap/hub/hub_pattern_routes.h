@@ -18,6 +18,7 @@
 #include <string>
 
 #include "garmcap/daemon/http_router.h"
+#include "garmcap/hub/hub_caller.h"
 #include "garmcap/hub/hub_config.h"
 #include "garmcap/hub/hub_store.h"
 
@@ -27,7 +28,9 @@ namespace garmcap::hub {
 /// station's patterns stay as they are). Throws BadRequest for anything else.
 std::optional<std::map<std::string, nlohmann::json>> pushedPatterns(const nlohmann::json& body);
 
-/// Adds the routes above; `store` and `config` outlive the router.
-void addHubPatternRoutes(daemon::Router& router, HubStore& store, const HubConfig& config);
+/// Adds the routes above; `store`, `config` and `logins` outlive the router. With `logins`, a
+/// browser's session cookie stands for its token, as on the other read routes.
+void addHubPatternRoutes(daemon::Router& router, HubStore& store, const HubConfig& config,
+                         const HubLogins* logins = nullptr);
 
 }  // namespace garmcap::hub

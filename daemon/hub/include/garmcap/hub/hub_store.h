@@ -34,7 +34,7 @@ class HubStoreError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr int kHubSchemaVersion = 2;
+inline constexpr int kHubSchemaVersion = 3;
 
 /// One image of a pushed item: the blob must be at the hub already.
 struct PushedImage {
@@ -94,7 +94,10 @@ struct HubPage {
 /// A station the hub knows (configured now or before) and its items that are not deleted.
 struct HubStation {
   std::string id;
-  std::int64_t items = 0;
+  std::int64_t items = 0;  // not deleted
+  // Of those, by status (needs_review, approved, rejected; a status with none is absent): the
+  // export page says how many items a shop file holds (the approved) and how many it leaves out.
+  std::map<std::string, std::int64_t> byStatus;
 };
 
 /// What PATCH /api/items/<id> may set at the hub.
