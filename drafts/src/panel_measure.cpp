@@ -169,6 +169,18 @@ class Measurer {
     throw DraftError("measure: panel '" + panelName + "' of type '" + p_.type + "' has no seam '" +
                      seamName + "' ending at its hem");
   }
+  // Sewn length of the edge of `panelName` in the seam `seamName` (its first, for a twin seam).
+  double seamEdgeLength(const std::string& seamName, const std::string& panelName) const {
+    for (const auto& s : p_.seams) {
+      if (s.name != seamName)
+        continue;
+      for (const EdgeRef* e : {&s.a, &s.b})
+        if (e->panel == panelName)
+          return sewnEdgeLength(needPanel(panelName), *e);
+    }
+    throw DraftError("measure: panel '" + panelName + "' of type '" + p_.type + "' has no seam '" +
+                     seamName + "'");
+  }
   // Where the hem edge of `panel` crosses the vertical x (a sleeve's centre line): the lowest
   // crossing, or nullopt when the hem does not span x.
   std::optional<double> hemYAt(const Panel& panel, double x) const {
@@ -370,8 +382,10 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
                                    m.point("level_waist").y());
     out["inseam_length"] = sewnEdgeLength(f, inseam.edge);
     out["outseam_length"] = sewnEdgeLength(f, outseam.edge);
-    out["crotch_length"] = m.along("pants_front", "waist_cf", "crotch_point_front") +
-                           m.along("pants_back", "waist_cb", "crotch_point_back");
+    // The crotch is read along the panels' own crotch seam edges (the front and back rise,
+    // each sewn to its twin), so a crotch deepened or lengthened after drafting is read as made.
+    out["crotch_length"] = m.seamEdgeLength("centre_front", "pants_front") +
+                           m.seamEdgeLength("centre_back", "pants_back");
     out["hem_circ"] = m.hem({"pants_front", "pants_back"}, false);
   }
   // The hem of the body of a sweater (no darts, cut on the fold at CB and CF).
@@ -386,18 +400,19 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
         std::none_of(pattern.seams.begin(), pattern.seams.end(),
                      [](const SeamPair& x) { return x.name == "sleeve_underarm"; });
     if (capOnly) {
-      // Its hem is the straight cut across the cap, read at the draft's hem corners: a cap
-      // sleeve drafted alone has no seam to tell its hem from a cap that ends level with it.
-      out["sleeve_length"] = m.point("level_sleeve_hem").y() - topV.y();
-      out["sleeve_cap_length"] = m.along("sleeve", "sleeve_hem_front", "sleeve_cap_top") +
-                                 m.along("sleeve", "sleeve_cap_top", "sleeve_hem_back");
-      const int top = m.vertex(*s, "sleeve_cap_top");
-      const int hf = m.vertex(*s, "sleeve_hem_front"), hb = m.vertex(*s, "sleeve_hem_back");
-      // The hem is the edge between the hem corners that does not pass over the cap top.
-      const EdgeRef fwd{s->name, hb, hf}, bwd{s->name, hf, hb};
-      const int n = static_cast<int>(s->outline.size());
-      const bool fwdHasTop = (top - hb + n) % n < (hf - hb + n) % n;
-      out["sleeve_hem_circ"] = sewnEdgeLength(*s, fwdHasTop ? bwd : fwd);
+      // Read at its own hem edge like a sleeve with an underarm seam: the free edge at its
+      // bottom (in a garment the cap's edges are sewn to the armhole; drafted alone, the cap
+      // meets its straight hem at corners), so a cap lengthened, flared or tapered after
+      // drafting is read as made. Its length runs down the centre line from the cap top to the
+      // hem, and its cap is the rest of its outline, from hem end to hem end over the top.
+      const auto hem = m.hemEnds(*s);
+      const auto hemY = m.hemYAt(*s, topV.x());
+      if (!hemY)
+        throw DraftError("measure: the cap sleeve's hem of type '" + t +
+                         "' does not cross its centre line");
+      out["sleeve_length"] = *hemY - topV.y();
+      out["sleeve_hem_circ"] = m.hem({"sleeve"}, false);
+      out["sleeve_cap_length"] = sewnEdgeLength(*s, EdgeRef{s->name, hem.last, hem.first});
       double armholeSewn = 0;
       bool sewn = false;
       for (const auto& x : pattern.seams) {

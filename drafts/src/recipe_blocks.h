@@ -21,6 +21,11 @@ struct BodiceOptions {
   double underarmDrop = 0;                     // blouse: underarm point lowered (cm)
   double shoulderRaise = 0;                    // blouse: shoulder tips raised (cm)
   bool waistDarts = true;  // false: the garment shapes the waist itself (no Dtot check)
+  // Waist suppression (cm per half) moved from the waist darts into the side seam: half from
+  // the back darts e and d, half from the front darts b and a, in proportion to their widths;
+  // the side dart c grows by it. A dress whose skirt takes the bodice darts sets it so that the
+  // skirt's side seam still comes in from the hip to the waist.
+  double sideIntakeExtra = 0;
 };
 
 struct BodiceDraft {
@@ -87,6 +92,15 @@ struct SkirtDraft {
 };
 
 SkirtDraft draftSkirt(DraftBuilder& b, const SkirtOptions& o, bool addSideSeam = true);
+
+/// A skirt that takes the darts of the piece above (SkirtOptions::backDartsAbove and
+/// frontDartsAbove): its side intake per side seam edge (negative: the side runs out above the
+/// hip) and the side line's shift toward the front at the hip. nullopt when no such skirt
+/// exists or the options give no darts above.
+struct SkirtSideFit {
+  double sideIntake = 0, shift = 0;
+};
+std::optional<SkirtSideFit> fitSkirtSide(const SkirtOptions& o);
 
 // ---- sleeve ---------------------------------------------------------------------------------
 struct SleeveOptions {

@@ -47,17 +47,32 @@ BodiceDraft draftBodiceBlock(DraftBuilder& b, double B, double W, double WBL,
     // `bust_point_requested`.
     bpY = std::clamp(*bpYRequested, dBL - 3.0, dBL);
   }
+  // 19 (widths first). Waist darts, % of the total suppression dT (§1.1 table); the side dart
+  // c takes sideIntakeExtra more, half of it from the back darts and half from the front ones
+  // in proportion to their widths, so the total stays dT.
+  struct DartWidths {
+    double a = 0, b = 0, c = 0, d = 0, e = 0, f = 0;
+  };
+  const double extra = o.sideIntakeExtra;
+  b.require(extra >= 0, "sideIntakeExtra must not be negative");
+  auto dartWidths = [&](double dT) {
+    const double back = (0.35 + 0.18) * dT, front = (0.14 + 0.15) * dT;
+    const double kb = back > 0 ? 1 - extra / 2 / back : 1;
+    const double kf = front > 0 ? 1 - extra / 2 / front : 1;
+    return DartWidths{0.14 * dT * kf, 0.15 * dT * kf, 0.11 * dT + extra,
+                      0.35 * dT * kb, 0.18 * dT * kb, 0.07 * dT};
+  };
   double bustDartOpening = 0;
   if (o.waistDarts) {
     const double yBLc = dBL, yGc = (8 + dBL) / 2 + 0.5, yLevel = dBL + o.underarmDrop;
     for (int it = 0; it < 8; ++it) {
       const double bwI = (B + o.easeBust) / 2 + bustDartOpening;
-      const double dT = bwI - (W + o.easeWaist) / 2;
+      const DartWidths w = dartWidths(bwI - (W + o.easeWaist) / 2);
       auto open = [&](double width, double apexY) {
         return apexY < yLevel ? width * (yLevel - apexY) / (WBL - apexY) : 0.0;
       };
-      bustDartOpening = open(0.35 * dT, yGc) + open(0.18 * dT, yBLc - 2) +
-                        open(0.14 * dT, bpY + 2.5) + open(0.15 * dT, yBLc);
+      bustDartOpening =
+          open(w.d, yGc) + open(w.e, yBLc - 2) + open(w.a, bpY + 2.5) + open(w.b, yBLc);
     }
   }
   const double bw = (B + o.easeBust) / 2 + bustDartOpening;
@@ -225,8 +240,11 @@ BodiceDraft draftBodiceBlock(DraftBuilder& b, double B, double W, double WBL,
   b.point("shoulder_tip_front_dart_closed", d.spFClosed);
 
   // 19. Waist darts, % of the total suppression.
-  const double a = 0.14 * dTot, bb = 0.15 * dTot, c = 0.11 * dTot, dd = 0.35 * dTot,
-               e = 0.18 * dTot, f = 0.07 * dTot;
+  const DartWidths widths = dartWidths(dTot);
+  b.require(widths.a > 0.3 * 0.14 * dTot && widths.e > 0.3 * 0.18 * dTot,
+            "the side seam cannot take " + std::to_string(extra) +
+                " cm more of the waist suppression (the waist darts would vanish)");
+  const double a = widths.a, bb = widths.b, c = widths.c, dd = widths.d, e = widths.e, f = widths.f;
   d.dartC = c;
   d.dartF = f;
   d.cbWaist = b.point("waist_cb", Point2(f, WBL));

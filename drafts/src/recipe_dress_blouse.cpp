@@ -29,17 +29,9 @@ void addSleeveTo(DraftBuilder& b, const BodiceDraft& d, double capFactor) {
   addSleevePanel(b, s, "bodice_back", d.spB, d.side, "bodice_front", d.spF, d.side);
 }
 
-}  // namespace
-
-void recipeDress(DraftBuilder& b) {
-  BodiceOptions o;
-  o.easeBust = b.design("ease_bust");
-  o.easeWaist = b.design("ease_waist");
-  o.bustpointToBustpoint = b.measurement("bustpoint_to_bustpoint");
-  o.shoulderTipToTip = b.measurement("shoulder_tip_to_shoulder_tip_b");
-  const BodiceDraft d = draftBodiceBlock(b, b.measurement("bust_circ"), b.measurement("waist_circ"),
-                                         b.measurement("neck_back_to_waist_b"), o);
-  addBodicePanels(b, d);
+// The dress's skirt under the bodice `d`: the hip from the body, the waist the bodice's sewn
+// waist, and the bodice's waist darts taken dart to dart.
+SkirtOptions dressSkirt(const DraftBuilder& b, const BodiceDraft& d) {
   SkirtOptions s;
   const double half = (b.measurement("hip_circ") + b.design("ease_hip")) / 2;
   s.cbX = 0;
@@ -53,10 +45,7 @@ void recipeDress(DraftBuilder& b) {
   s.waistFront = bodiceWaistFront(d);
   s.hemFlare = b.design("hem_flare");
   // Skirt darts meet the bodice darts at the waist seam (back e and d, front b and a): the same
-  // intakes at the same lengths along the seam, so each pair runs on through it. Bunka's bodice
-  // darts often take in more than the skirt over the hip needs; the skirt then takes less at
-  // its side seams (down to a side that runs a little out above the hip) rather than the darts
-  // kinking at the seam.
+  // intakes at the same lengths along the seam, so each pair runs on through it.
   s.backDartX = std::vector<double>{d.backDarts[0].x, d.backDarts[1].x};
   s.frontDartX = std::vector<double>{d.frontDarts[0].x, d.frontDarts[1].x};
   s.backDartsAbove.emplace();
@@ -65,6 +54,62 @@ void recipeDress(DraftBuilder& b) {
   s.frontDartsAbove.emplace();
   for (const auto& x : d.frontDarts)
     s.frontDartsAbove->push_back({x.x - d.sideWaistFront.x(), x.width});
+  return s;
+}
+
+// Bunka's bodice darts often take in more than the skirt over the hip needs (a bust much
+// larger than the hip): a skirt taking them would be wider at the side waist than at the hip,
+// its side seam running out above the hip. The excess goes from the bodice darts into the
+// bodice side seam instead (BodiceOptions::sideIntakeExtra), just enough for the skirt's side
+// intake to be zero: every skirt side seam then comes in (or runs straight) from the hip to the
+// waist, and the darts still meet dart to dart. The bodice's side seam is a straight line from
+// the underarm point, so the change tapers from nothing at the bust level to all of it at the
+// waist; the bodice block keeps its bust (its half width solves for the dart openings at the
+// bust level with the reduced darts). Solved by the secant method on trial bodices drawn into
+// a scratch pattern.
+double dressSideIntakeExtra(const DraftBuilder& b, const BodiceOptions& o) {
+  const double B = b.measurement("bust_circ"), W = b.measurement("waist_circ");
+  const double wbl = b.measurement("neck_back_to_waist_b");
+  auto skirtSide = [&](double extra) -> std::optional<double> {
+    Pattern scratch;
+    DraftBuilder sb(scratch, b.recipe());
+    BodiceOptions t = o;
+    t.sideIntakeExtra = extra;
+    const auto fit = fitSkirtSide(dressSkirt(b, draftBodiceBlock(sb, B, W, wbl, t)));
+    return fit ? std::optional(fit->sideIntake) : std::nullopt;
+  };
+  const auto s0 = skirtSide(0);
+  if (!s0 || *s0 >= 0)
+    return 0;  // no excess (or no skirt at all: draftSkirt says why)
+  // Each cm moved adds about half a cm to the skirt's side intake (back and front share it).
+  double x0 = 0, f0 = *s0, x1 = -2 * f0;
+  for (int it = 0; it < 12; ++it) {
+    const auto s1 = skirtSide(x1);
+    if (!s1)
+      return x1;  // draftSkirt refuses with its own message
+    if (std::abs(*s1) < 1e-6 || std::abs(*s1 - f0) < 1e-12)
+      return *s1 < 0 ? x1 + 1e-5 : x1;
+    const double x2 = x1 - *s1 * (x1 - x0) / (*s1 - f0);
+    x0 = x1;
+    f0 = *s1;
+    x1 = x2;
+  }
+  return x1;
+}
+
+}  // namespace
+
+void recipeDress(DraftBuilder& b) {
+  BodiceOptions o;
+  o.easeBust = b.design("ease_bust");
+  o.easeWaist = b.design("ease_waist");
+  o.bustpointToBustpoint = b.measurement("bustpoint_to_bustpoint");
+  o.shoulderTipToTip = b.measurement("shoulder_tip_to_shoulder_tip_b");
+  o.sideIntakeExtra = dressSideIntakeExtra(b, o);
+  const BodiceDraft d = draftBodiceBlock(b, b.measurement("bust_circ"), b.measurement("waist_circ"),
+                                         b.measurement("neck_back_to_waist_b"), o);
+  addBodicePanels(b, d);
+  const SkirtOptions s = dressSkirt(b, d);
   const SkirtDraft sk = draftSkirt(b, s);
   Pattern& p = b.pattern();
   addSeam(p, "waist_back", "bodice_back", d.cbWaist, d.sideWaistBack, "skirt_back", sk.cbWaist,

@@ -61,12 +61,7 @@ SkirtWaist skirtWaist(const SkirtOptions& o, double s, double shift) {
   return w;
 }
 
-// A skirt that takes the darts of the piece above (SkirtOptions::backDartsAbove and
-// frontDartsAbove): the side intake per side seam edge and the side line's shift at the hip
-// that give each waist its sewn length plus those darts. nullopt when no such skirt exists.
-struct SkirtSideFit {
-  double sideIntake = 0, shift = 0;
-};
+}  // namespace
 
 std::optional<SkirtSideFit> fitSkirtSide(const SkirtOptions& o) {
   if (!o.backDartsAbove || !o.frontDartsAbove)
@@ -103,8 +98,6 @@ std::optional<SkirtSideFit> fitSkirtSide(const SkirtOptions& o) {
   }
   return std::nullopt;
 }
-
-}  // namespace
 
 SkirtDraft draftSkirt(DraftBuilder& b, const SkirtOptions& o, bool addSideSeam) {
   SkirtDraft r;

@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <regex>
 #include <string>
 #include <vector>
 
 #include "garmcap/drafts/export_dxf_aama.h"
 #include "garmcap/drafts/export_svg.h"
+#include "garmcap/drafts/panel_measure.h"
 #include "garmcap/drafts/recipes.h"
 #include "garmcap/drafts/size_charts.h"
 
@@ -195,6 +197,120 @@ TEST(Notches, DressWaistSeamDartsMeetDartToDart) {
   }
   std::printf("waist-seam darts: places differ by at most %.3f mm, intakes by %.3f mm\n",
               worstAt * 10, worstIntake * 10);
+}
+
+// Bodies for the dress's waist seam: every size of every chart and 200 random bodies between
+// two adjacent sizes of a chart, each measurement jittered by up to +-3 %.
+std::vector<garmcap::drafts::Measurements> dressBodies() {
+  std::vector<garmcap::drafts::Measurements> out;
+  const auto& charts = garmcap::drafts::sizeCharts();
+  for (const auto& c : charts)
+    out.insert(out.end(), c.bodies.begin(), c.bodies.end());
+  std::mt19937 rng(20261206);
+  std::uniform_real_distribution<double> u(0, 1), jitter(-0.03, 0.03);
+  for (std::size_t i = 0; i < 200; ++i) {
+    const auto& c = charts[i % charts.size()];
+    const double pos = u(rng) * static_cast<double>(c.bodies.size() - 1);
+    const std::size_t lo = static_cast<std::size_t>(pos),
+                      hi = std::min(lo + 1, c.bodies.size() - 1);
+    const double t = pos - static_cast<double>(lo);
+    garmcap::drafts::Measurements m;
+    for (const auto& [k, v] : c.bodies[lo].values())
+      m.set(k, ((1 - t) * v + t * (c.bodies[hi].has(k) ? c.bodies[hi].get(k) : v)) *
+                   (1 + jitter(rng)));
+    out.push_back(m);
+  }
+  return out;
+}
+
+// The outline vertices of a panel from the one nearest `from` to the one nearest `to`, the
+// shorter way round.
+std::vector<Point2> outlineRun(const Panel& p, const Point2& from, const Point2& to) {
+  const int n = static_cast<int>(p.outline.size());
+  auto nearest = [&](const Point2& q) {
+    int best = 0;
+    for (int i = 1; i < n; ++i)
+      if ((p.outline[static_cast<size_t>(i)] - q).norm() <
+          (p.outline[static_cast<size_t>(best)] - q).norm())
+        best = i;
+    return best;
+  };
+  const int a = nearest(from), b = nearest(to);
+  const int fwd = (b - a + n) % n, bwd = (a - b + n) % n;
+  const int step = fwd <= bwd ? 1 : -1;
+  std::vector<Point2> out;
+  for (int i = a;; i = (i + step + n) % n) {
+    out.push_back(p.outline[static_cast<size_t>(i)]);
+    if (i == b)
+      break;
+  }
+  return out;
+}
+
+// Issue 18: a dress's skirt takes the bodice's waist darts (dart to dart), and its side seam
+// still never runs outward above the hip: from the side waist down to the hip the seam only
+// moves out toward the hip (back: +x, front: -x), as a pattern maker expects; the bodice keeps
+// bust, waist and hip readings of body + ease, and bodice and skirt waists sew to each other.
+// Measured on the outlines, every size of every chart and 200 random bodies.
+TEST(Notches, DressSkirtSideSeamNeverRunsOutAboveTheHip) {
+  std::vector<double> intakes;
+  double worstInward = 0, worstReading = 0, worstWaist = 0, worstAt = 0, worstIntake = 0;
+  for (const auto& body : dressBodies()) {
+    const Pattern p = garmcap::drafts::draftGarment("dress", body, {});
+    // Side seam from the skirt's side waist to its hip notch, on each skirt piece.
+    for (const auto& [piece, outward] : {std::pair{"skirt_back", 1.0}, {"skirt_front", -1.0}}) {
+      const Panel& panel = p.panel(piece);
+      const std::string side = outward > 0 ? "back" : "front";
+      const auto run = outlineRun(panel, p.points.at("skirt_waist_side_" + side),
+                                  p.points.at("skirt_hip_side_" + side));
+      ASSERT_GE(run.size(), 3u) << piece;
+      for (std::size_t k = 0; k + 1 < run.size(); ++k) {
+        const double out = outward * (run[k + 1].x() - run[k].x());
+        worstInward = std::max(worstInward, -out);
+        EXPECT_GT(out, -1e-6) << piece << " vertex " << k;
+        EXPECT_GT(run[k + 1].y(), run[k].y()) << piece << " vertex " << k;
+      }
+      intakes.push_back(outward * (run.back().x() - run.front().x()));
+    }
+    // Readings of body + ease.
+    const auto m = garmcap::drafts::measurePattern(p);
+    for (const auto& [reading, ease] : {std::pair{"bust_circ", "ease_bust"},
+                                        {"waist_circ", "ease_waist"},
+                                        {"hip_circ", "ease_hip"}}) {
+      const double want = body.get(reading) + p.design.at(ease);
+      EXPECT_NEAR(m.at(reading), want, 0.1) << reading;
+      worstReading = std::max(worstReading, std::abs(m.at(reading) - want));
+    }
+    // Waist seams: equal sewn lengths, darts meeting dart to dart.
+    for (const char* seamName : {"waist_back", "waist_front"}) {
+      const auto seam = std::find_if(p.seams.begin(), p.seams.end(),
+                                     [&](const auto& s) { return s.name == seamName; });
+      ASSERT_NE(seam, p.seams.end()) << seamName;
+      const Panel& a = p.panel(seam->a.panel);
+      const Panel& b = p.panel(seam->b.panel);
+      const double la = garmcap::drafts::sewnEdgeLength(a, seam->a);
+      const double lb = garmcap::drafts::sewnEdgeLength(b, seam->b);
+      EXPECT_NEAR(la, lb, 0.05) << seamName;
+      worstWaist = std::max(worstWaist, std::abs(la - lb));
+      const auto da = dartsAlong(a, seam->a.from, seam->a.to, +1);
+      const auto db = dartsAlong(b, seam->b.to, seam->b.from, -1);
+      ASSERT_EQ(da.size(), 2u) << seamName;
+      ASSERT_EQ(db.size(), da.size()) << seamName;
+      for (std::size_t k = 0; k < da.size(); ++k) {
+        EXPECT_NEAR(da[k].at, db[k].at, 0.1) << seamName << " dart " << k;
+        EXPECT_NEAR(da[k].intake, db[k].intake, 0.1) << seamName << " dart " << k;
+        worstAt = std::max(worstAt, std::abs(da[k].at - db[k].at));
+        worstIntake = std::max(worstIntake, std::abs(da[k].intake - db[k].intake));
+      }
+    }
+  }
+  std::sort(intakes.begin(), intakes.end());
+  std::printf(
+      "dress skirt side waist -> hip over %zu pieces: outward %.2f (min) %.2f (median) %.2f (max) "
+      "cm, worst inward step %.4f cm; readings within %.4f cm; waist seams within %.4f cm; "
+      "darts meet within %.4f / %.4f cm\n",
+      intakes.size(), intakes.front(), intakes[intakes.size() / 2], intakes.back(), worstInward,
+      worstReading, worstWaist, worstAt, worstIntake);
 }
 
 TEST(Notches, EveryNotchIsInTheDxfAndSvg) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -324,6 +325,101 @@ TEST(PanelMeasure, SleeveHemAndLengthFollowAReshapedSleeve) {
         EXPECT_NEAR(m.at("sleeve_length"), s[static_cast<std::size_t>(h1)].y() - topY, 1e-6)
             << what;
       }
+    }
+  }
+}
+
+// Issue 18: a cap sleeve (no underarm seam) is read at its own hem edge, not at the draft's hem
+// corners: a cap lengthened, flared or tapered after drafting gives its real length (cap top
+// down to the hem), hem (the straight cut between the ends of its lowest run of vertices) and
+// cap (the rest of the outline). Expected values come from the outline alone.
+TEST(PanelMeasure, CapSleeveHemAndLengthFollowAReshapedSleeve) {
+  for (const std::string recipe : {"sleeve", "blouse", "dress"}) {
+    for (const std::string size : {"44", "88"}) {
+      for (const double factor : {0.15, 0.2}) {
+        for (const auto& [longer, widen] : {std::pair{0.0, 0.0}, {3.0, 0.3}, {2.0, -0.25}}) {
+          Pattern pat = draftGarment(recipe, sizeChart("korean_women").body(size),
+                                     {{"sleeve_length", factor}});
+          const std::string what = recipe + " size " + size + " length " + std::to_string(factor) +
+                                   " +" + std::to_string(longer) + " cm, widen " +
+                                   std::to_string(widen);
+          ASSERT_TRUE(std::none_of(pat.seams.begin(), pat.seams.end(),
+                                   [](const SeamPair& x) { return x.name == "sleeve_underarm"; }))
+              << what << ": not a cap sleeve";
+          const Point2 top = pat.points.at("sleeve_cap_top");
+          const double hemLevel = pat.points.at("level_sleeve_hem").y();
+          reshapeBelow(pat, "sleeve", (top.y() + hemLevel) / 2, top.x(), longer, widen);
+          const Polyline& s = pat.panel("sleeve").outline;
+          // The hem: the lowest vertices (a straight, level cut), between its outermost two.
+          double topY = 1e9, lowY = -1e9;
+          for (const auto& v : s) {
+            topY = std::min(topY, v.y());
+            lowY = std::max(lowY, v.y());
+          }
+          Point2 left(1e9, 0), right(-1e9, 0);
+          for (const auto& v : s) {
+            if (v.y() < lowY - 1e-6)
+              continue;
+            if (v.x() < left.x())
+              left = v;
+            if (v.x() > right.x())
+              right = v;
+          }
+          double perimeter = 0;
+          for (std::size_t i = 0; i < s.size(); ++i)
+            perimeter += (s[(i + 1) % s.size()] - s[i]).norm();
+          if (longer > 0) {  // the draft's hem corners are off the panel's: the old defect
+            for (const char* corner : {"sleeve_hem_front", "sleeve_hem_back"}) {
+              const Point2 c = pat.points.at(corner);
+              ASSERT_GT(std::min((c - left).norm(), (c - right).norm()), 2.0) << what << corner;
+            }
+          }
+          const auto m = measurePattern(pat);
+          const double hem = (right - left).norm();
+          EXPECT_NEAR(m.at("sleeve_hem_circ"), hem, 1e-6) << what;
+          EXPECT_NEAR(m.at("sleeve_length"), lowY - topY, 1e-6) << what;
+          EXPECT_NEAR(m.at("sleeve_cap_length"), perimeter - hem, 1e-6) << what;
+        }
+      }
+    }
+  }
+}
+
+// Issue 18: the crotch length is read along the panels' own crotch seams (front and back rise),
+// not between the draft's corners: a crotch deepened and lengthened after drafting is read as
+// made. Expected: the outline walked from the centre waist corner to the crotch point (the
+// panel's vertex furthest toward the crotch extension, +x in both pieces' frame).
+TEST(PanelMeasure, CrotchLengthFollowsAReshapedCrotch) {
+  for (const std::string size : {"44", "66", "88"}) {
+    for (const auto& [dx, dy] : {std::pair{0.0, 0.0}, {3.0, 2.0}, {-1.5, 1.0}}) {
+      Pattern pat = draftGarment("pants", sizeChart("korean_women").body(size));
+      const double yHip = pat.points.at("hip_side_back").y();
+      const double yCrotch = pat.points.at("level_crotch").y();
+      for (auto& panel : pat.panels)
+        for (auto& v : panel.outline) {
+          if (v.y() <= yHip)
+            continue;
+          const double f = std::min(1.0, (v.y() - yHip) / (yCrotch - yHip));
+          v += Point2(dx * f, dy * f);
+        }
+      const std::string what =
+          "size " + size + " crotch +" + std::to_string(dx) + ", +" + std::to_string(dy);
+      double expected = 0;
+      for (const auto& [piece, waist, crotch] :
+           {std::tuple{"pants_front", "waist_cf", "crotch_point_front"},
+            {"pants_back", "waist_cb", "crotch_point_back"}}) {
+        const Polyline& o = pat.panel(piece).outline;
+        int far = 0;
+        for (int i = 1; i < static_cast<int>(o.size()); ++i)
+          if (o[static_cast<std::size_t>(i)].x() > o[static_cast<std::size_t>(far)].x())
+            far = i;
+        if (dx != 0) {  // the draft's crotch point is off the panel's: the old defect
+          ASSERT_GT((o[static_cast<std::size_t>(far)] - pat.points.at(crotch)).norm(), 1.5)
+              << what << " " << piece;
+        }
+        expected += walk(o, nearest(o, pat.points.at(waist)), far);
+      }
+      EXPECT_NEAR(measurePattern(pat).at("crotch_length"), expected, 1e-6) << what;
     }
   }
 }
