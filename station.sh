@@ -31,6 +31,8 @@ PACKAGES=(
   libcamera-dev libgpiod-dev gpiod
   # daemon: service, catalog, config, systemd
   libboost-dev libsqlite3-dev sqlite3 libtoml11-dev libsystemd-dev systemd nettle-dev libzbar-dev
+  # daemon: the ZIP writer's CRC-32 (catalog.zip, streamed at the hub)
+  zlib1g-dev
   # hub (daemon/hub): the chain's catalog on PostgreSQL; its tests run a throwaway server
   postgresql-15 libpqxx-dev
   # hub and station pusher: TLS (Boost.Asio's SSL stream on OpenSSL 3); tests make throwaway
@@ -43,7 +45,8 @@ PACKAGES=(
   python3-ezdxf
   # libFuzzer targets (tests/fuzz, ./station.sh fuzz): clang and its sanitizer/fuzzer runtime
   clang libclang-rt-14-dev
-  # web UI browser test (headless chromium), Valentina .vit interop test, ZIP check
+  # web UI browser test (headless chromium), Valentina .vit interop test, ZIP check (unzip -t
+  # reads the station's and the hub's catalog.zip and the Zip64 archives of zip_writer_test)
   chromium valentina unzip
   # the WebP product photo decoded by libwebp's own dwebp (tests/e2e/export_http_test.cpp)
   webp

@@ -152,6 +152,7 @@ const std::map<std::string, std::map<std::string, Setter>>& schema() {
         {"token", stringKey(&Config::token)},
         {"body_limit_bytes", intKey(&Config::bodyLimitBytes, 1024, 256LL << 20)},
         {"request_timeout_s", intKey(&Config::requestTimeoutS, 1, 3600)},
+        {"min_send_rate", intKey(&Config::minSendRate, 1024, 1LL << 30)},
         {"header_timeout_s", intKey(&Config::headerTimeoutS, 1, 600)},
         {"max_connections", intKey(&Config::maxConnections, 1, 10000)},
         {"max_connections_per_client", intKey(&Config::maxConnectionsPerClient, 1, 10000)},

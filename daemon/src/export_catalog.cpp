@@ -1,6 +1,8 @@
 #include "garmcap/daemon/export_catalog.h"
 
 #include <algorithm>
+#include <array>
+#include <iterator>
 
 #include "garmcap/daemon/export_items.h"
 #include "garmcap/daemon/export_zip.h"
@@ -108,6 +110,69 @@ const char* paperFileTag(drafts::Paper p) {
   return "paper";
 }
 
+std::vector<ZipEntry> catalogItemFiles(
+    const Item& it, const std::optional<nlohmann::json>& guide,
+    const std::map<std::string, nlohmann::json>& pats,
+    const std::function<std::optional<std::string>(const std::string&)>& readImage,
+    const std::function<std::string(const Item&)>& label, std::vector<std::string>& notes) {
+  std::vector<ZipEntry> files;
+  const std::string style = it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
+  for (const auto& im : it.images) {
+    const std::string ext = imageExtension(im.mediaType);
+    if (ext.empty() || !zipImageKind(im.kind))
+      continue;
+    auto bytes = readImage(im.sha256);
+    if (!bytes)
+      throw ExportError("image " + im.sha256 + " is missing from the store");
+    files.push_back({exportImagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
+  }
+  const std::string dir = "patterns/" + std::to_string(it.id) + "/";
+  for (const auto& [size, json] : pats) {
+    try {
+      auto p = drafts::patternFromJsonValue(json, "item " + std::to_string(it.id));
+      const drafts::PieceText t{style, sizeLabel(it, size)};
+      files.push_back({dir + size + ".dxf", drafts::patternDxf(p, t)});
+      files.push_back({dir + size + ".svg", drafts::patternSvg(p, t)});
+      if (size == "base")
+        files.push_back({dir + "garmentcode.json", drafts::garmentCodeJson(p, t)});
+    } catch (const std::exception& e) {
+      notes.push_back(label(it) + " size " + size + ": " + e.what());
+    }
+  }
+  try {
+    if (auto run = gradedRun(it, guide, pats)) {
+      files.push_back({dir + "graded.dxf", drafts::gradedDxf(*run)});
+      files.push_back({dir + "graded.rul", drafts::gradeRuleTable(*run)});
+    }
+    auto base = pats.find("base");
+    auto vm = vitMeasurements(it, base == pats.end() ? std::nullopt : std::optional(base->second));
+    if (!vm.empty())
+      files.push_back({dir + "measurements.vit", drafts::measurementsToVit(vm)});
+  } catch (const std::exception& e) {
+    notes.push_back(label(it) + ": " + e.what());
+  }
+  return files;
+}
+
+std::string catalogReadmeHead(const std::string& heading, std::size_t items, const ShopOptions& o) {
+  return heading + ": " + std::to_string(items) + " approved items.\n" +
+         (o.publicBaseUrl.empty()
+              ? std::string("No public address is set ([shop] public_base_url), "
+                            "so the shop files cannot link the images yet.\n")
+              : "Upload the folder so that images/ is reachable at " + o.publicBaseUrl +
+                    "/images/ before importing the CSVs.\n") +
+         "Patterns: patterns/<item id>/ (DXF in mm, SVG 1:1, GarmentCode JSON, "
+         "Valentina .vit, graded DXF + RUL when graded).\n";
+}
+
+const std::array<CatalogShopFile, 3>& catalogShopFiles() {
+  static const std::array<CatalogShopFile, 3> kFiles{
+      CatalogShopFile{"shopify.csv", &shopifyCsv},
+      CatalogShopFile{"woocommerce.csv", &wooCommerceCsv},
+      CatalogShopFile{"merchant.tsv", &merchantTsv}};
+  return kFiles;
+}
+
 CatalogZip catalogZip(
     const CatalogContent& content, const ShopOptions& o,
     const std::function<std::optional<std::string>(const std::string&)>& readImage,
@@ -117,48 +182,11 @@ CatalogZip catalogZip(
   const std::vector<ExportItem> items = shopItems(content.items, content.sizeGuides, notes, label);
   std::vector<ZipEntry> files;
   for (size_t i = 0; i < content.items.size(); ++i) {
-    const Item& it = content.items[i];
-    const std::string style = it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
-    for (const auto& im : it.images) {
-      const std::string ext = imageExtension(im.mediaType);
-      if (ext.empty() || !zipImageKind(im.kind))
-        continue;
-      auto bytes = readImage(im.sha256);
-      if (!bytes)
-        throw ExportError("image " + im.sha256 + " is missing from the store");
-      files.push_back({exportImagePath(it.id, im.kind, im.mediaType), std::move(*bytes)});
-    }
-    const std::string dir = "patterns/" + std::to_string(it.id) + "/";
-    const auto& pats = content.patterns[i];
-    for (const auto& [size, json] : pats) {
-      try {
-        auto p = drafts::patternFromJsonValue(json, "item " + std::to_string(it.id));
-        const drafts::PieceText t{style, sizeLabel(it, size)};
-        files.push_back({dir + size + ".dxf", drafts::patternDxf(p, t)});
-        files.push_back({dir + size + ".svg", drafts::patternSvg(p, t)});
-        if (size == "base")
-          files.push_back({dir + "garmentcode.json", drafts::garmentCodeJson(p, t)});
-      } catch (const std::exception& e) {
-        notes.push_back(label(it) + " size " + size + ": " + e.what());
-      }
-    }
-    try {
-      if (auto run = gradedRun(it, content.sizeGuides[i], pats)) {
-        files.push_back({dir + "graded.dxf", drafts::gradedDxf(*run)});
-        files.push_back({dir + "graded.rul", drafts::gradeRuleTable(*run)});
-      }
-      auto base = pats.find("base");
-      auto vm =
-          vitMeasurements(it, base == pats.end() ? std::nullopt : std::optional(base->second));
-      if (!vm.empty())
-        files.push_back({dir + "measurements.vit", drafts::measurementsToVit(vm)});
-    } catch (const std::exception& e) {
-      notes.push_back(label(it) + ": " + e.what());
-    }
+    auto itemFiles = catalogItemFiles(content.items[i], content.sizeGuides[i], content.patterns[i],
+                                      readImage, label, notes);
+    std::move(itemFiles.begin(), itemFiles.end(), std::back_inserter(files));
   }
-  for (auto [file, build] :
-       {std::pair{"shopify.csv", &shopifyCsv}, std::pair{"woocommerce.csv", &wooCommerceCsv},
-        std::pair{"merchant.tsv", &merchantTsv}}) {
+  for (const auto& [file, build] : catalogShopFiles()) {
     // A shop file the settings cannot make yet (no public address) is left out with the
     // reason; the patterns and photos are still worth having.
     try {
@@ -170,14 +198,7 @@ CatalogZip catalogZip(
       notes.push_back(std::string(file) + " left out: " + e.what());
     }
   }
-  std::string readme =
-      heading + ": " + std::to_string(items.size()) + " approved items.\n" +
-      (o.publicBaseUrl.empty() ? std::string("No public address is set ([shop] public_base_url), "
-                                             "so the shop files cannot link the images yet.\n")
-                               : "Upload the folder so that images/ is reachable at " +
-                                     o.publicBaseUrl + "/images/ before importing the CSVs.\n") +
-      "Patterns: patterns/<item id>/ (DXF in mm, SVG 1:1, GarmentCode JSON, "
-      "Valentina .vit, graded DXF + RUL when graded).\n";
+  std::string readme = catalogReadmeHead(heading, items.size(), o);
   for (const auto& n : notes)
     readme += "Note: " + n + "\n";
   files.push_back({"README.txt", readme});

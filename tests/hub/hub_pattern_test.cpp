@@ -3,17 +3,28 @@
 // pattern.pdf for any station's item, and the chain's catalog.zip holds every station's photos,
 // pattern files and shop files. Each file is read back by an independent reader: Python's xml
 // and zipfile, ezdxf's audit (Debian's python3-ezdxf), poppler's pdfinfo.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "../e2e/daemon_harness.h"
 #include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/export_catalog.h"
+#include "garmcap/daemon/export_items.h"
+#include "garmcap/hub/hub_exports.h"
 #include "garmcap/hub/hub_service.h"
 #include "temp_postgres.h"
 
@@ -398,6 +409,207 @@ TEST_F(HubPatternTest, TheChainsShopFilesAreWrittenInPagesAndHoldEveryItemOnce) 
   EXPECT_EQ(call(http::verb::get, "/api/export/shopify.csv" + q, "shop1-secret").status, 403);
   EXPECT_EQ(call(http::verb::get, "/api/export/merchant.tsv?station=shop2", "admin-secret").status,
             422);
+}
+
+// Python's zipfile on two archives: both pass testzip (every CRC), and they hold the same entry
+// names in the same order with the same bytes. Prints what differs, or "same N".
+std::string compareZips(const fs::path& a, const fs::path& b) {
+  int st = 0;
+  return run(
+      "/usr/bin/python3 -c 'import sys, zipfile\n"
+      "za, zb = zipfile.ZipFile(sys.argv[1]), zipfile.ZipFile(sys.argv[2])\n"
+      "assert za.testzip() is None and zb.testzip() is None, \"bad CRC\"\n"
+      "na, nb = za.namelist(), zb.namelist()\n"
+      "assert na == nb, (\"names differ\", [x for x in na if x not in nb][:5], "
+      "[x for x in nb if x not in na][:5])\n"
+      "diff = [n for n in na if za.read(n) != zb.read(n)]\n"
+      "print(\"differ\", diff[:5]) if diff else print(\"same\", len(na))' " +
+          quoted(a) + " " + quoted(b) + " 2>&1",
+      st);
+}
+
+// catalog.zip is written as it is read (items in pages of 500, shop files in pieces, the central
+// directory at the end) and holds what the station's in-memory builder makes of the same items:
+// the same entries in the same order, byte for byte (the README's notes too: an item without
+// SKU, a pattern that cannot be read), past a page and past the 2,000 items it was capped at.
+TEST_F(HubPatternTest, TheChainsCatalogZipIsStreamedAndEqualsTheStationsBuilder) {
+  const Json dress = readJson(kDress);
+  push("shop1", 301, "G-301", Json{{"base", dress}, {"55", dress}, {"56", dress}});
+  push("shop1", 302, "", Json{{"base", dress}});
+  push("shop1", 303, "BAD-303", Json{{"base", Json{{"pieces", "not a pattern"}}}});
+  pg_->psql("hub_patterns",
+            "INSERT INTO items(station_id, local_id, sku, title, price_cents, status, type, "
+            "hub_owned, doc) SELECT 'shop1', 200000 + g, 'ZB-' || g, 'Zip skirt ' || g, 1000 + g, "
+            "'approved', 'skirt', true, jsonb_build_object('base_size', '38') FROM "
+            "generate_series(1, 2100) g");
+  pg_->psql("hub_patterns",
+            "INSERT INTO measurements(item_id, name, value_cm) SELECT id, 'waist_circ', 70 FROM "
+            "items WHERE sku LIKE 'ZB-%'");
+  const std::string q =
+      "station=shop1&base_url=https://files.example/chain&brand=Chain"
+      "&store_url=https://shop.example";
+  const auto streamed = call(http::verb::get, "/api/export/catalog.zip?" + q, "admin-secret");
+  ASSERT_EQ(streamed.status, 200) << streamed.body.substr(0, 300);
+  const auto got = save("streamed.zip", streamed.body);
+
+  // The station's builder (daemon::catalogZip) over the same items, as the hub built it before.
+  HubStore store(pg_->url("hub_patterns"), 1);
+  daemon::CatalogContent content;
+  std::map<std::int64_t, std::string> labels;
+  for (const auto& h : store.approvedItems("shop1", true)) {
+    daemon::Item it = catalogItemOf(h);
+    for (const auto& [size, json] : h.patterns)
+      it.sizes.push_back(size);
+    content.items.push_back(std::move(it));
+    content.sizeGuides.push_back(sizeGuideOf(h));
+    content.patterns.push_back(h.patterns);
+    labels[h.id] =
+        "item " + std::to_string(h.id) + " (" + h.station + " #" + std::to_string(h.localId) + ")";
+  }
+  ASSERT_GT(content.items.size(), 2100u);
+  daemon::RouteMatch m;
+  m.query = {{"base_url", "https://files.example/chain"},
+             {"brand", "Chain"},
+             {"store_url", "https://shop.example"}};
+  const auto expected = daemon::catalogZip(
+      content, daemon::shopOptions(m, {}), [&store](const std::string& s) { return store.blob(s); },
+      [&labels](const daemon::Item& it) { return labels.at(it.id); },
+      "GarmCap hub catalog export (station shop1)");
+  const auto want = save("built.zip", expected.bytes);
+  const std::string cmp = compareZips(got, want);
+  EXPECT_EQ(cmp.rfind("same ", 0), 0u) << cmp;
+  // Notes made it: the item without SKU and the pattern that cannot be read.
+  bool skuNote = false, patternNote = false;
+  for (const auto& n : expected.notes) {
+    skuNote = skuNote || n.find("#302") != std::string::npos;
+    patternNote = patternNote || n.find("#303") != std::string::npos;
+  }
+  EXPECT_TRUE(skuNote && patternNote);
+  int st = 0;
+  const std::string unzip = run("unzip -tq " + quoted(got) + " 2>&1", st);
+  EXPECT_EQ(st, 0) << unzip;
+}
+
+// A raw loopback connection that asks for a download, reads `keep` bytes and then stops reading
+// (a small receive buffer, so the hub's writes back up soon).
+class StalledClient {
+ public:
+  StalledClient(std::uint16_t port, const std::string& target, const std::string& token,
+                std::size_t keep) {
+    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    int small = 4096;
+    ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(port);
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0)
+      throw std::runtime_error("connect failed");
+    const std::string req = "GET " + target +
+                            " HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: " + "Bearer " + token +
+                            "\r\n\r\n";
+    if (::send(fd_, req.data(), req.size(), 0) != static_cast<ssize_t>(req.size()))
+      throw std::runtime_error("send failed");
+    char buf[4096];
+    while (got_.size() < keep) {
+      const ssize_t n = ::recv(fd_, buf, std::min(sizeof buf, keep - got_.size()), 0);
+      if (n <= 0)
+        break;
+      got_.append(buf, static_cast<std::size_t>(n));
+    }
+  }
+  ~StalledClient() { ::close(fd_); }
+  const std::string& head() const { return got_; }
+  /// Reads on until the hub closes the connection: true when it did within `limit`.
+  bool closedByHubWithin(std::chrono::seconds limit, std::size_t& total) {
+    timeval tv{static_cast<time_t>(limit.count()), 0};
+    ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    total = got_.size();
+    char buf[65536];
+    for (;;) {
+      const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
+      if (n == 0 || (n < 0 && errno == ECONNRESET))
+        return true;
+      if (n < 0)
+        return false;
+      total += static_cast<std::size_t>(n);
+      last_.assign(buf, static_cast<std::size_t>(n));
+    }
+  }
+  const std::string& lastBytes() const { return last_; }
+
+ private:
+  int fd_ = -1;
+  std::string got_, last_;
+};
+
+// A client that stops reading half-way holds its export slot only until a piece of the download
+// misses its write deadline (request_timeout_s + the piece's size at min_send_rate): then the
+// hub closes the connection without the last chunk, and the slot serves the next export.
+TEST_F(HubPatternTest, AStalledDownloadIsCutAndItsExportSlotServesTheNext) {
+  // Six items of shop2 with a 2 MB photo each: an archive far larger than the socket buffers.
+  pg_->psql("hub_patterns",
+            "INSERT INTO images(sha256, bytes, size) SELECT encode(sha256(b), 'hex'), b, "
+            "length(b) FROM (SELECT convert_to(repeat(md5(g::text), 65536), 'UTF8') b FROM "
+            "generate_series(1, 6) g) x ON CONFLICT DO NOTHING");
+  pg_->psql("hub_patterns",
+            "INSERT INTO items(station_id, local_id, sku, title, price_cents, status, type, "
+            "hub_owned) SELECT 'shop2', 300000 + g, 'BIG-' || g, 'Big photo ' || g, 1000, "
+            "'approved', 'skirt', true FROM generate_series(1, 6) g");
+  pg_->psql("hub_patterns",
+            "INSERT INTO item_images(item_id, kind, sha256, media_type) SELECT i.id, 'product', "
+            "encode(sha256(convert_to(repeat(md5((i.local_id - 300000)::text), 65536), 'UTF8')), "
+            "'hex'), 'image/jpeg' FROM items i WHERE i.sku LIKE 'BIG-%'");
+  HubConfig c;
+  c.databaseUrl = pg_->url("hub_patterns");
+  c.listenPort = 0;
+  c.adminTokenSha256 = tokenHash("admin-secret");
+  c.stationTokenSha256 = {{"shop1", tokenHash("shop1-secret")},
+                          {"shop2", tokenHash("shop2-secret")}};
+  c.requestTimeoutS = 1;     // a piece's deadline: 1 s plus its size at...
+  c.minSendRate = 16 << 20;  // ...16 MiB/s: about 1 s for a 2 MB photo
+  HubService hub(c);
+  hub.start();
+  const std::string target = "/api/export/catalog.zip?station=shop2";
+
+  StalledClient a(hub.port(), target, "admin-secret", 1000);
+  StalledClient b(hub.port(), target, "admin-secret", 1000);
+  ASSERT_EQ(a.head().rfind("HTTP/1.1 200", 0), 0u) << a.head().substr(0, 200);
+  ASSERT_EQ(b.head().rfind("HTTP/1.1 200", 0), 0u) << b.head().substr(0, 200);
+  // Both slots are held: a third export is told to come back.
+  const auto busy =
+      e2e::httpCallWith(hub.port(), http::verb::get, target,
+                        {{"Host", "127.0.0.1"}, {"Authorization", "Bearer admin-secret"}});
+  EXPECT_EQ(busy.status, 503) << busy.body;
+
+  // Neither client reads on: within a few seconds a piece of each misses its deadline, the hub
+  // closes both, and the slots serve the next export, written whole.
+  const auto stalledAt = std::chrono::steady_clock::now();
+  Reply whole;
+  while (std::chrono::steady_clock::now() - stalledAt < std::chrono::seconds(30)) {
+    whole = e2e::httpCallWith(hub.port(), http::verb::get, target,
+                              {{"Host", "127.0.0.1"}, {"Authorization", "Bearer admin-secret"}});
+    if (whole.status != 503)
+      break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  const auto freedAfter =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - stalledAt);
+  ASSERT_EQ(whole.status, 200) << whole.body.substr(0, 300);
+  EXPECT_LT(freedAfter.count(), 15.0);
+  std::cout << "slots freed " << freedAfter.count() << " s after the clients stalled\n";
+  EXPECT_GT(whole.body.size(), 12u << 20);
+  EXPECT_GE(zipNames(save("whole.zip", whole.body)).count("README.txt"), 1u);
+
+  // The stalled clients' connections are closed, their downloads short of the archive and
+  // without the last chunk.
+  for (auto* client : {&a, &b}) {
+    std::size_t total = 0;
+    EXPECT_TRUE(client->closedByHubWithin(std::chrono::seconds(10), total));
+    EXPECT_LT(total, whole.body.size());
+    EXPECT_EQ(client->lastBytes().find("\r\n0\r\n\r\n"), std::string::npos);
+  }
+  hub.stop();
 }
 
 }  // namespace

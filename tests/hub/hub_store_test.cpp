@@ -413,5 +413,26 @@ TEST(HubConfig, ShopSectionTakesTheStationsKeysAndChecks) {
   fs::remove_all(dir);
 }
 
+// The write deadline of responses and downloads: request_timeout_s plus the size at
+// min_send_rate bytes per second (daemon::writeDeadline), both configurable and checked.
+TEST(HubConfig, WriteDeadlineKeys) {
+  namespace fs = std::filesystem;
+  const auto dir = fs::temp_directory_path() / ("garmcap-hubrate-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto file = dir / "hub.toml";
+  EXPECT_EQ(HubConfig{}.requestTimeoutS, 30);
+  EXPECT_EQ(HubConfig{}.minSendRate, 32u * 1024);
+  std::ofstream(file) << "[http]\nrequest_timeout_s = 5\nmin_send_rate = 65536\n";
+  const HubConfig c = loadHubConfig(file);
+  EXPECT_EQ(c.requestTimeoutS, 5);
+  EXPECT_EQ(c.minSendRate, 65536u);
+  for (const std::string bad : {"[http]\nmin_send_rate = 100\n", "[http]\nrequest_timeout_s = 0\n",
+                                "[http]\nmin_send_rate = \"fast\"\n"}) {
+    std::ofstream(file) << bad;
+    EXPECT_THROW(loadHubConfig(file), HubConfigError) << bad;
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace garmcap::hub

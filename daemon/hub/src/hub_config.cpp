@@ -169,6 +169,10 @@ HubConfig loadHubConfig(const std::filesystem::path& file, HubConfig c) {
         if (!v.is_string() || v.as_string().str.empty())
           bad(name, "must be the path of a folder");
         c.webDir = v.as_string().str;
+      } else if (section == "http" && key == "request_timeout_s") {
+        c.requestTimeoutS = static_cast<int>(integer(1, 3600));
+      } else if (section == "http" && key == "min_send_rate") {
+        c.minSendRate = static_cast<std::size_t>(integer(1024, 1LL << 30));
       } else if (section == "http" && key == "threads") {
         c.threads = static_cast<int>(integer(1, 64));
       } else if (section == "tls" && (key == "cert_file" || key == "key_file")) {

@@ -6,13 +6,13 @@
 #include <functional>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "garmcap/daemon/download_sink.h"
 #include "garmcap/daemon/export_items.h"
 #include "garmcap/daemon/export_shop.h"
 #include "garmcap/daemon/utf8.h"
 #include "garmcap/hub/hub_caller.h"
+#include "garmcap/hub/hub_catalog_zip.h"
 
 namespace garmcap::hub {
 
@@ -128,12 +128,7 @@ class ChainShopStream : public std::enable_shared_from_this<ChainShopStream> {
         if (page.empty())
           break;  // an empty export: its header only
       }
-      std::ostringstream size;
-      size << std::hex << piece.size();
-      std::string chunk = size.str() + "\r\n" + piece + "\r\n";
-      if (piece.empty())
-        chunk.clear();
-      download_.writeThen(std::move(chunk), [self = shared_from_this()] { self->next(); });
+      download_.writeThen(daemon::httpChunk(piece), [self = shared_from_this()] { self->next(); });
     } catch (const std::exception& e) {
       spdlog::error("hub: an export failed half-way, the download is cut short: {}", e.what());
       sink_->close();
@@ -218,9 +213,13 @@ std::optional<nlohmann::json> sizeGuideOf(const HubItem& h) {
 void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig& config,
                         const HubLogins* logins) {
   auto running = std::make_shared<std::atomic<int>>(0);
-  auto shopRoute = [&store, &config, logins, running](std::string name, std::string type,
-                                                      ChainShopStream::Build build) {
-    return [&store, &config, logins, running, name, type, build](
+  // What an export does once its caller, scope, options and slot are settled: send the header
+  // and start the download, or throw (BadRequest, ExportError) before any byte of it.
+  using Start = std::function<void(const std::string& scope, const daemon::ShopOptions&,
+                                   std::shared_ptr<daemon::StreamSink>, daemon::DownloadSink&,
+                                   std::shared_ptr<void> slot)>;
+  auto exportRoute = [&store, &config, logins, running](std::string name, Start start) {
+    return [&store, &config, logins, running, name, start](
                const Request& req, const RouteMatch& m, std::shared_ptr<daemon::StreamSink> sink) {
       try {
         const Caller c = callerOf(req, store, config, logins);
@@ -244,15 +243,7 @@ void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig
         auto* download = dynamic_cast<daemon::DownloadSink*>(sink.get());
         if (!download)
           throw std::logic_error("the HTTP server's stream sink cannot carry a download");
-        auto stream = std::make_shared<ChainShopStream>(store.readApproved(*scope), options, build,
-                                                        sink, *download, std::move(slot));
-        Response head = stream->survey();
-        head.set(http::field::content_disposition, "attachment; filename=\"" + name + "\"");
-        head.set(http::field::cache_control, "no-store");
-        head.set(http::field::content_type, type);
-        head.set(http::field::transfer_encoding, "chunked");
-        sink->writeHeader(std::move(head));
-        stream->next();
+        start(*scope, options, sink, *download, std::move(slot));
       } catch (const BadRequest& e) {
         answer(*sink, jsonError(http::status::bad_request, e.what()));
       } catch (const daemon::ExportError& e) {
@@ -262,6 +253,23 @@ void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig
         answer(*sink, jsonError(http::status::internal_server_error, e.what()));
       }
     };
+  };
+  auto shopRoute = [&store, exportRoute](std::string name, std::string type,
+                                         ChainShopStream::Build build) {
+    return exportRoute(name, [&store, name, type, build](
+                                 const std::string& scope, const daemon::ShopOptions& options,
+                                 std::shared_ptr<daemon::StreamSink> sink,
+                                 daemon::DownloadSink& download, std::shared_ptr<void> slot) {
+      auto stream = std::make_shared<ChainShopStream>(store.readApproved(scope), options, build,
+                                                      sink, download, std::move(slot));
+      Response head = stream->survey();
+      head.set(http::field::content_disposition, "attachment; filename=\"" + name + "\"");
+      head.set(http::field::cache_control, "no-store");
+      head.set(http::field::content_type, type);
+      head.set(http::field::transfer_encoding, "chunked");
+      sink->writeHeader(std::move(head));
+      stream->next();
+    });
   };
   auto fixed = [](ShopBuild build) -> ChainShopStream::Build {
     return
@@ -285,6 +293,20 @@ void addHubExportRoutes(daemon::Router& router, HubStore& store, const HubConfig
   router.addStream(http::verb::get, "/api/export/merchant.tsv",
                    shopRoute("merchant.tsv", "text/tab-separated-values; charset=utf-8",
                              fixed(daemon::merchantTsv)));
+  // The station's catalog.zip over the approved items, written as it is read
+  // (hub_catalog_zip.h); it shares the export slots with the shop files.
+  router.addStream(
+      http::verb::get, "/api/export/catalog.zip",
+      exportRoute(
+          "catalog.zip", [&store](const std::string& scope, const daemon::ShopOptions& options,
+                                  std::shared_ptr<daemon::StreamSink> sink,
+                                  daemon::DownloadSink& download, std::shared_ptr<void> slot) {
+            streamChainCatalogZip(
+                store.readApproved(scope), options,
+                "GarmCap hub catalog export (" +
+                    (scope.empty() ? std::string("every station") : "station " + scope) + ")",
+                sink, download, std::move(slot));
+          }));
 
   // The images the exports link to (daemon::exportImagePath, hub ids): "<id>-<kind>" names,
   // resolved through the hub's items, of approved items the caller may read.

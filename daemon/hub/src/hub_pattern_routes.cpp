@@ -33,10 +33,6 @@ bool validSize(const std::string& s) {
   });
 }
 
-// catalog.zip holds every file in memory and is a plain ZIP (65,535 entries: about 9 files an
-// item); past this many approved items the caller is asked to export one station at a time.
-constexpr std::size_t kMaxCatalogZipItems = 2000;
-
 std::string styleOf(const daemon::Item& it) {
   return it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
 }
@@ -161,55 +157,6 @@ void addHubPatternRoutes(daemon::Router& router, HubStore& store, const HubConfi
                    drafts::patternPdf(p, {styleOf(it), daemon::sizeLabel(it, size)}, paper),
                    fileBase(it, size) + "_" + daemon::paperFileTag(paper) + ".pdf");
              }));
-
-  // The chain's catalog.zip: the station's builder over the approved items of every station
-  // (admin) or one (`station=`; a station token: its own).
-  router.add(
-      http::verb::get, "/api/export/catalog.zip",
-      [&store, &config, logins](const Request& req, const RouteMatch& m, Reply reply) {
-        const Caller c = callerOf(req, store, config, logins);
-        if (!c.any())
-          return reply(unauthorized("a station or admin token is required"));
-        const auto scope = readScope(c, m);
-        if (!scope)
-          return reply(jsonError(http::status::forbidden,
-                                 "a station token exports only its own station's items; the "
-                                 "admin token every station's"));
-        const daemon::ShopOptions options = daemon::shopOptions(m, config.shop);
-        const auto hubItems = store.approvedItems(*scope, true, kMaxCatalogZipItems + 1);
-        if (hubItems.size() > kMaxCatalogZipItems)
-          return reply(jsonError(http::status::unprocessable_entity,
-                                 "catalog.zip takes at most " +
-                                     std::to_string(kMaxCatalogZipItems) + " approved items" +
-                                     (scope->empty() ? " (export one station at a time: "
-                                                       "?station=<id>)"
-                                                     : " (this station has more)")));
-        daemon::CatalogContent content;
-        std::map<std::int64_t, std::string> labels;  // hub id -> "item 12 (shop1 #7)"
-        for (const auto& h : hubItems) {
-          daemon::Item it = catalogItemOf(h);
-          for (const auto& [size, json] : h.patterns)
-            it.sizes.push_back(size);
-          content.items.push_back(std::move(it));
-          content.sizeGuides.push_back(sizeGuideOf(h));
-          content.patterns.push_back(h.patterns);
-          labels[h.id] = "item " + std::to_string(h.id) + " (" + h.station + " #" +
-                         std::to_string(h.localId) + ")";
-        }
-        try {
-          daemon::CatalogZip zip = daemon::catalogZip(
-              content, options, [&store](const std::string& sha) { return store.blob(sha); },
-              [&labels](const daemon::Item& it) { return labels.at(it.id); },
-              "GarmCap hub catalog export (" +
-                  (scope->empty() ? std::string("every station") : "station " + *scope) + ")");
-          Response r =
-              daemon::downloadResponse("application/zip", std::move(zip.bytes), "catalog.zip");
-          daemon::setExportWarnings(r, zip.notes);
-          reply(std::move(r));
-        } catch (const daemon::ExportError& e) {
-          reply(jsonError(http::status::unprocessable_entity, e.what()));
-        }
-      });
 }
 
 }  // namespace garmcap::hub

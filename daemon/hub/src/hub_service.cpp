@@ -393,6 +393,8 @@ void HubService::start() {
   http.listenAddress = config_.listenAddress;
   http.listenPort = config_.listenPort;
   http.bodyLimitBytes = config_.bodyLimitBytes;
+  http.requestTimeoutS = config_.requestTimeoutS;
+  http.minSendRate = config_.minSendRate;
   http.token = "";  // every route checks its caller itself (station or admin token)
   std::shared_ptr<boost::asio::ssl::context> tls;
   if (config_.tls())

@@ -657,6 +657,19 @@ class PgApprovedReader : public ApprovedReader {
     return page;
   }
   void rewind() override { after_ = 0; }
+  std::map<std::string, nlohmann::json> patterns(std::int64_t itemId) override {
+    std::map<std::string, nlohmann::json> out;
+    for (const auto& r : tx_.exec_params(
+             "SELECT size, pattern::text FROM item_patterns WHERE item_id = $1", itemId))
+      out[r[0].c_str()] = nlohmann::json::parse(r[1].c_str());
+    return out;
+  }
+  std::optional<std::string> blob(const std::string& sha256) override {
+    const auto r = tx_.exec_params("SELECT bytes FROM images WHERE sha256 = $1", sha256);
+    if (r.empty())
+      return std::nullopt;
+    return pqxx::binarystring(r[0][0]).str();
+  }
 
  private:
   pqxx::connection connection_;

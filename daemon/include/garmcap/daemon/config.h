@@ -58,8 +58,11 @@ struct Config {
   std::uint16_t listenPort = 8080;
   std::string token;  // bearer token; required when the address is not loopback
   std::size_t bodyLimitBytes = 1 << 20;
-  int requestTimeoutS = 30;  // a request's body; a response gets this plus 1 s per 32 KiB
-  int headerTimeoutS = 10;   // a request's header, counted from the connection or last answer
+  int requestTimeoutS = 30;  // a request's body; a response gets this plus 1 s per minSendRate
+  // Bytes per second: a response (or a download's piece) must be written within
+  // requestTimeoutS + its size / minSendRate, or its connection is closed (writeDeadline).
+  std::size_t minSendRate = 32 * 1024;
+  int headerTimeoutS = 10;  // a request's header, counted from the connection or last answer
   int maxConnections = 256;
   // Of those, what one client address may hold: a tablet's browser opens about six, plus the
   // event stream and the preview; a hub pusher one.

@@ -18,3 +18,19 @@ class DownloadSink {
 };
 
 }  // namespace garmcap::daemon
+
+namespace garmcap::daemon {
+
+/// One chunk of an HTTP/1.1 chunked body: hex size, CRLF, the bytes, CRLF. An empty piece gives
+/// "" (a zero-size chunk would end the body; that is the writer's to send, "0\r\n\r\n").
+inline std::string httpChunk(const std::string& piece) {
+  if (piece.empty())
+    return {};
+  static const char* kHex = "0123456789abcdef";
+  std::string size;
+  for (std::size_t n = piece.size(); n; n >>= 4)
+    size.insert(size.begin(), kHex[n & 15]);
+  return size + "\r\n" + piece + "\r\n";
+}
+
+}  // namespace garmcap::daemon

@@ -5,6 +5,7 @@
 // SVG, PDF, GarmentCode, RUL, Valentina). Pure functions of their inputs; the caller reads the
 // catalog (SQLite at a station, PostgreSQL at the hub) and the image bytes.
 
+#include <array>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,7 @@
 
 #include "garmcap/daemon/catalog.h"
 #include "garmcap/daemon/export_shop.h"
+#include "garmcap/daemon/export_zip.h"
 #include "garmcap/daemon/http_router.h"
 #include "garmcap/drafts/export_pdf.h"
 #include "garmcap/drafts/measurements.h"
@@ -55,6 +57,27 @@ struct CatalogZip {
   std::string bytes;
   std::vector<std::string> notes;  // also in its README.txt
 };
+
+/// One item's files in catalog.zip, in order: its shop photos (images/<id>-<kind>.<ext>), then
+/// patterns/<item id>/: per stored size DXF and SVG (and garmentcode.json for "base"), graded
+/// DXF + RUL with two or more graded sizes, measurements.vit. A pattern that fails is added to
+/// `notes` (labelled by `label`), not thrown; a missing image is an ExportError.
+std::vector<ZipEntry> catalogItemFiles(
+    const Item& item, const std::optional<nlohmann::json>& sizeGuide,
+    const std::map<std::string, nlohmann::json>& patterns,
+    const std::function<std::optional<std::string>(const std::string&)>& readImage,
+    const std::function<std::string(const Item&)>& label, std::vector<std::string>& notes);
+
+/// README.txt of catalog.zip before its notes (each note then follows as "Note: <note>\n").
+std::string catalogReadmeHead(const std::string& heading, std::size_t items,
+                              const ShopOptions& options);
+
+/// The shop files of catalog.zip, in their order in the archive, after the items' files.
+struct CatalogShopFile {
+  const char* name;
+  ShopFile (*build)(const std::vector<ExportItem>&, const ShopOptions&);
+};
+const std::array<CatalogShopFile, 3>& catalogShopFiles();
 
 /// catalog.zip: the shop photos (images/), each item's pattern files (patterns/<item id>/: DXF,
 /// SVG, GarmentCode JSON, graded DXF + RUL, Valentina .vit), the three shop files and a README

@@ -1,6 +1,6 @@
 #pragma once
-// A ZIP archive (PKWARE APPNOTE 6.3, "stored" method, no compression: the catalog's images are
-// JPEG/PNG already) built in memory, CRC-32 computed here. Pure function, thread-safe.
+// A ZIP archive built in memory (the station's catalog.zip): ZipWriter's entries with their
+// sizes up front (zip_writer.h), CRC-32 by zlib. Pure function, thread-safe.
 
 #include <string>
 #include <vector>
@@ -12,8 +12,8 @@ struct ZipEntry {
   std::string data;  // file bytes
 };
 
-/// The archive's bytes. Throws ExportError (export_shop.h) for an empty, absolute, duplicate
-/// or ".."-containing path, or an archive past the 4 GiB / 65535-entry limits of plain ZIP.
+/// The archive's bytes, Zip64 where plain ZIP's 4 GiB / 65,535-entry fields overflow. Throws
+/// ExportError (export_shop.h) for an empty, absolute, duplicate or ".."-containing path.
 std::string storeZip(const std::vector<ZipEntry>& entries);
 
 }  // namespace garmcap::daemon

@@ -110,11 +110,13 @@ struct ServerShared {
   LoginSessions logins{};
 };
 
-/// The longest a response of `bytes` may take to write: the request timeout plus the time at
-/// `kMinSendRate`, so a large download to a slow (not stalled) client is not cut.
-inline constexpr std::size_t kMinSendRate = 32 * 1024;  // bytes per second
-inline std::chrono::seconds writeDeadline(std::size_t bytes, int requestTimeoutS) {
-  return std::chrono::seconds(requestTimeoutS + static_cast<long>(bytes / kMinSendRate));
+/// The longest a response, or a download's piece, of `bytes` may take to write: the request
+/// timeout plus the time at `minSendRate` ([http] min_send_rate, Config::minSendRate), so a
+/// large download to a slow (not stalled) client is not cut, and a stalled one is.
+inline std::chrono::seconds writeDeadline(std::size_t bytes, int requestTimeoutS,
+                                          std::size_t minSendRate) {
+  return std::chrono::seconds(requestTimeoutS +
+                              static_cast<long>(bytes / std::max<std::size_t>(minSendRate, 1)));
 }
 
 namespace detail {
@@ -527,7 +529,8 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
     if (!res.has_content_length())
       res.prepare_payload();
     auto sp = std::make_shared<Response>(std::move(res));
-    expiresAfter(writeDeadline(sp->body().size(), shared_->config.requestTimeoutS));
+    expiresAfter(writeDeadline(sp->body().size(), shared_->config.requestTimeoutS,
+                               shared_->config.minSendRate));
     http::async_write(stream_, *sp,
                       [self = this->shared_from_this(), sp](beast::error_code ec, std::size_t) {
                         if (ec)
@@ -545,6 +548,15 @@ class Session : public Evictable, public std::enable_shared_from_this<Session<St
       return;
     }
     rawWriting_ = true;
+    // A download's piece (DownloadSink) must be written within the deadline its size gives, as
+    // a whole response is: a client that stops reading is cut, its connection closed, and the
+    // writer told (drained, with the sink closed), which frees its export slot. A preview or
+    // event stream's chunks have none: their slow clients lose chunks instead.
+    if (rawQueue_.front().drained)
+      expiresAfter(writeDeadline(rawQueue_.front().data.size(), shared_->config.requestTimeoutS,
+                                 shared_->config.minSendRate));
+    else
+      expiresNever();
     asio::async_write(stream_, asio::buffer(rawQueue_.front().data),
                       [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
                         self->rawWriting_ = false;

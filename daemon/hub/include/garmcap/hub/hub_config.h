@@ -9,6 +9,8 @@
 //   admin_token_sha256 = "<64 hex>"   # reads and edits at the hub (garmcap-hub hash-token T)
 //   body_limit_bytes = 67108864       # the largest blob a station may send
 //   web_dir = "/usr/share/garmcap/hub-web"   # the review UI's files (default: the build's)
+//   request_timeout_s = 30            # a request's body; a download's piece: this plus
+//   min_send_rate = 32768             # its size at this many bytes/s, or the client is cut
 //   [tls]                             # HTTPS (docs/hub.md, "TLS")
 //   cert_file = "/etc/garmcap-hub/tls/cert.pem"   # the certificate, then intermediates
 //   key_file = "/etc/garmcap-hub/tls/key.pem"     # its private key, unencrypted
@@ -49,6 +51,11 @@ struct HubConfig {
   std::map<std::string, std::string> stationTokenSha256;  // station id -> token hash
   std::size_t bodyLimitBytes = 64u << 20;
   int threads = 4;
+  // A response, or each piece of an export, must reach the client within requestTimeoutS plus
+  // its size at minSendRate bytes per second (daemon::writeDeadline), or the connection is
+  // closed: a client that stops reading gives its export slot back.
+  int requestTimeoutS = 30;
+  std::size_t minSendRate = 32 * 1024;
   std::string webDir = defaultHubWebDir();  // the review UI's static files, served at "/"
   std::string tlsCertFile;  // both set: HTTPS; both empty: plain HTTP (loopback only)
   std::string tlsKeyFile;

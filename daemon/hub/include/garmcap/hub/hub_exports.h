@@ -5,11 +5,13 @@
 //
 //   GET /api/export/shopify.csv?station=&base_url=&store_url=&brand=&legacy=1 ...
 //   GET /api/export/woocommerce.csv?station=...   GET /api/export/merchant.tsv?station=...
+//   GET /api/export/catalog.zip?station=...  the station's catalog.zip (hub_catalog_zip.h)
 //   GET /api/export/files/images/<hub item id>-<kind>.<jpg|png|webp>   the images they link to
 //
 // The admin token exports every station's items (`station=` one); a station token its own.
 // The shop files are written as they are read (stream routes, chunked): pages of 500 items from
-// one snapshot, so the hub's memory does not grow with the chain (hub_exports.cpp).
+// one snapshot, so the hub's memory does not grow with the chain (hub_exports.cpp); so is
+// catalog.zip. Two exports are written at once at most (a third: 503).
 
 #include <nlohmann/json.hpp>
 #include <optional>

@@ -1,16 +1,15 @@
 #pragma once
-// The patterns of any station's item at the hub, and the chain's catalog.zip (docs/hub.md,
-// "Patterns and catalog.zip"), written from the patterns each station pushes with its items by
-// the drafts library's writers and the station's catalog.zip builder (export_catalog.h):
+// The patterns of any station's item at the hub (docs/hub.md, "Patterns and catalog.zip"),
+// written from the patterns each station pushes with its items by the drafts library's writers
+// (the chain's catalog.zip is an export route: hub_exports.h, hub_catalog_zip.h):
 //
 //   GET /api/items/<hub id>/patterns            {"id", "sizes": [...]}
 //   GET /api/items/<hub id>/pattern.json?size=  the stored pattern (size "base" by default)
 //   GET /api/items/<hub id>/pattern.svg?size=   1:1 SVG, pattern.dxf (DXF-AAMA, mm),
 //   GET /api/items/<hub id>/pattern.pdf?size=&paper=a4|letter|a0
-//   GET /api/export/catalog.zip?station=&base_url=...
 //
 // The admin token reads every station's; a station token its own station's (another's item is
-// a 404, another's catalog a 403).
+// a 404).
 
 #include <map>
 #include <nlohmann/json.hpp>

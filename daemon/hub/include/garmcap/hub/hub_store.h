@@ -127,6 +127,10 @@ class ApprovedReader {
   /// The next page (with measurements and images); empty at the end.
   virtual std::vector<HubItem> next(int limit) = 0;
   virtual void rewind() = 0;
+  /// An item's stored patterns (size -> pattern JSON) and a blob's bytes, in the same snapshot:
+  /// catalog.zip reads them one item at a time.
+  virtual std::map<std::string, nlohmann::json> patterns(std::int64_t itemId) = 0;
+  virtual std::optional<std::string> blob(const std::string& sha256) = 0;
 };
 
 class HubStore {
