@@ -182,6 +182,53 @@ std::pair<int, int> armLimits(const FormView& view, int row, const RowSection& t
   return {left, right};
 }
 
+// One row's reading: the circumference by the similar-section model, the garment's edges, and
+// the form's torso edges there (when the row crosses the torso).
+struct RowValue {
+  double circCm;
+  cv::Point2d left, right;
+  std::optional<RowSection> torso;
+};
+
+// The circumference read at one row; nullopt where the garment is absent. `hidden` is set where
+// the run reaches the arm, or where, between waist and armpit, its side lies more than
+// kSleeveStepCm further out than 1 cm lower (a sleeve hanging over the side).
+std::optional<RowValue> readRow(const Context& c, int row, bool& hidden) {
+  hidden = false;
+  if (row < 0 || row >= c.mask.rows)
+    return std::nullopt;
+  const double h = c.view.heightOfRow(row);
+  const auto section = referenceAt(c.view, h);
+  if (!section)
+    return std::nullopt;
+  const auto torsoHere = c.view.torsoAtRow(row);
+  int limL = -1, limR = -1;
+  if (torsoHere && h < c.view.armpitCm())
+    std::tie(limL, limR) = armLimits(c.view, row, *torsoHere);
+  const int centreCol = static_cast<int>(std::lround(section->centrePx()));
+  const auto run = torsoHere ? runAcrossForm(c.mask, row, centreCol, *torsoHere, limL, limR)
+                             : runAt(c.mask, row, centreCol, limL, limR);
+  if (!run)
+    return std::nullopt;
+  hidden = (limL >= 0 && run->first <= limL) || (limR >= 0 && run->second >= limR + 1);
+  if (!hidden && torsoHere && h < c.view.armpitCm() && h > c.view.waistCm()) {
+    const int below = row + static_cast<int>(std::lround(c.s));
+    const auto torsoBelow = c.view.torsoAtRow(below);
+    int bl = -1, br = -1;
+    if (torsoBelow)
+      std::tie(bl, br) = armLimits(c.view, below, *torsoBelow);
+    const auto runBelow = torsoBelow ? runAcrossForm(c.mask, below, centreCol, *torsoBelow, bl, br)
+                                     : runAt(c.mask, below, centreCol, bl, br);
+    const double step = kSleeveStepCm * c.s;
+    hidden =
+        runBelow && (runBelow->first - run->first > step || run->second - runBelow->second > step);
+  }
+  return RowValue{section->circCm * (run->second - run->first) / section->widthPx(),
+                  {static_cast<double>(run->first), static_cast<double>(row)},
+                  {static_cast<double>(run->second), static_cast<double>(row)},
+                  torsoHere};
+}
+
 // Circumference at form height h by the similar-section model, median over a band of rows.
 // Rows where the garment runs into the form's arm are left out: there a sleeve lying on the
 // bodice hides the body's side seam, and the run holds sleeve and the gap to the arm. When the
@@ -191,54 +238,13 @@ std::optional<double> circumferenceReading(Context& c, double heightCm, const st
   const auto ref = referenceAt(c.view, heightCm);
   if (!ref || ref->widthPx() <= 1 || ref->circCm <= 0)
     return std::nullopt;
-  struct RowValue {
-    double circCm;
-    cv::Point2d left, right;
-  };
-  // Circumference read at one row; nullopt where the garment is absent, `hidden` where the run
-  // reaches the arm.
-  auto readRow = [&](int row, bool& hidden) -> std::optional<RowValue> {
-    hidden = false;
-    if (row < 0 || row >= c.mask.rows)
-      return std::nullopt;
-    const double h = c.view.heightOfRow(row);
-    const auto section = referenceAt(c.view, h);
-    if (!section)
-      return std::nullopt;
-    const auto torsoHere = c.view.torsoAtRow(row);
-    int limL = -1, limR = -1;
-    if (torsoHere && h < c.view.armpitCm())
-      std::tie(limL, limR) = armLimits(c.view, row, *torsoHere);
-    const int centreCol = static_cast<int>(std::lround(section->centrePx()));
-    const auto run = torsoHere ? runAcrossForm(c.mask, row, centreCol, *torsoHere, limL, limR)
-                               : runAt(c.mask, row, centreCol, limL, limR);
-    if (!run)
-      return std::nullopt;
-    hidden = (limL >= 0 && run->first <= limL) || (limR >= 0 && run->second >= limR + 1);
-    if (!hidden && torsoHere && h < c.view.armpitCm() && h > c.view.waistCm()) {
-      const int below = row + static_cast<int>(std::lround(c.s));
-      const auto torsoBelow = c.view.torsoAtRow(below);
-      int bl = -1, br = -1;
-      if (torsoBelow)
-        std::tie(bl, br) = armLimits(c.view, below, *torsoBelow);
-      const auto runBelow = torsoBelow
-                                ? runAcrossForm(c.mask, below, centreCol, *torsoBelow, bl, br)
-                                : runAt(c.mask, below, centreCol, bl, br);
-      const double step = kSleeveStepCm * c.s;
-      hidden = runBelow &&
-               (runBelow->first - run->first > step || run->second - runBelow->second > step);
-    }
-    return RowValue{section->circCm * (run->second - run->first) / section->widthPx(),
-                    {static_cast<double>(run->first), static_cast<double>(row)},
-                    {static_cast<double>(run->second), static_cast<double>(row)}};
-  };
   const int r0 = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm + kBandCm)));
   const int r1 = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm - kBandCm)));
   std::vector<RowValue> clear;
   int covered = 0;
   for (int row = r0; row <= r1; ++row) {
     bool hidden = false;
-    const auto v = readRow(row, hidden);
+    const auto v = readRow(c, row, hidden);
     if (!v)
       continue;
     ++covered;
@@ -264,7 +270,7 @@ std::optional<double> circumferenceReading(Context& c, double heightCm, const st
     double firstClearH = 0;
     for (int row = r1 + 1; row <= rLimit; ++row) {
       bool hidden = false;
-      const auto v = readRow(row, hidden);
+      const auto v = readRow(c, row, hidden);
       const double h = c.view.heightOfRow(row);
       if (v && !hidden) {
         if (clear.empty())
@@ -318,6 +324,78 @@ std::optional<double> circumferenceReading(Context& c, double heightCm, const st
   return median(values);
 }
 
+// Linear-interpolated quantile q (0..1) of a non-empty sample.
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  const double pos = q * static_cast<double>(v.size() - 1);
+  const auto i = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t j = std::min(i + 1, v.size() - 1);
+  return v[i] + (pos - static_cast<double>(i)) * (v[j] - v[i]);
+}
+
+// The bust from the garment's side offsets (docs/measurement_model.md, "The bust's sides").
+// Just below the armhole the cloth of a bodice folds: a sleeveless cut's underarm and a sleeve's
+// underarm hang outside the side for a few cm, as a thin fin that adds much width and little to
+// the section's round (physical rig: a knit top 2.8 cm beyond the form on each side at the bust,
+// 0.8-1.3 cm 3-5 cm lower, its ease). So each side's offset beyond the form's torso edge, as a
+// share of the form's half-width at its row, is collected over kBustSideBandCm worth of clear
+// rows from the bust down (rows hidden by the arm or a sleeve are skipped, down to
+// kHiddenSearchCm + kBandCm below the bust), and its lower tenth taken: a fold is a local bump
+// in that profile, a bodice's side is its floor. The share carries over to the bust's own
+// section (for a garment that is the form's section scaled, the share is the scale at every row,
+// so the reading is exact; a uniform offset differs from it only by the form's change of width
+// over the band). A warning says when the rows reached further down than the band.
+constexpr double kBustSideBandCm = 3.0;
+constexpr double kBustSideQuantile = 0.1;
+
+std::optional<double> bustFromSides(Context& c, double heightCm, const std::string& name) {
+  const auto ref = referenceAt(c.view, heightCm);
+  if (!ref || ref->widthPx() <= 1 || ref->circCm <= 0)
+    return std::nullopt;
+  const int r0 = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm)));
+  const int rLimit =
+      static_cast<int>(std::lround(c.view.rowOfHeight(heightCm - kHiddenSearchCm - kBandCm)));
+  const auto wanted = static_cast<std::size_t>(std::max(3.0, std::round(kBustSideBandCm * c.s)));
+  std::vector<double> left, right;
+  int covered = 0, lastRow = r0;
+  for (int row = r0; row <= rLimit && left.size() < wanted; ++row) {
+    bool hidden = false;
+    const auto v = readRow(c, row, hidden);
+    if (!v)
+      continue;
+    ++covered;
+    if (hidden || !v->torso || v->torso->widthPx() <= 1)
+      continue;
+    const double half = 0.5 * v->torso->widthPx();
+    left.push_back((v->torso->leftPx - v->left.x) / half);
+    right.push_back((v->right.x - v->torso->rightPx) / half);
+    lastRow = row;
+  }
+  if (covered < 2) {
+    c.out.warnings.push_back(name + ": the garment does not cover the form at " +
+                             std::to_string(static_cast<int>(std::lround(heightCm))) + " cm");
+    return std::nullopt;
+  }
+  if (left.size() < 3) {
+    c.out.warnings.push_back(name + ": sleeves cover the garment's sides at " +
+                             std::to_string(static_cast<int>(std::lround(heightCm))) +
+                             " cm and below; not measured");
+    return std::nullopt;
+  }
+  const double lowestCm = heightCm - c.view.heightOfRow(lastRow);
+  if (lowestCm > kBustSideBandCm + 0.5)
+    c.out.warnings.push_back(
+        name + ": sleeves cover the sides at the bust; read from the sides down to " +
+        std::to_string(static_cast<int>(std::lround(lowestCm))) + " cm lower, where they show");
+  const double shareLeft = quantile(left, kBustSideQuantile);
+  const double shareRight = quantile(right, kBustSideQuantile);
+  const double half = 0.5 * ref->widthPx();
+  const double row = c.view.rowOfHeight(heightCm);
+  c.out.landmarks.push_back({"bust_left", {ref->leftPx - shareLeft * half, row}});
+  c.out.landmarks.push_back({"bust_right", {ref->rightPx + shareRight * half, row}});
+  return ref->circCm * (1.0 + 0.5 * (shareLeft + shareRight));
+}
+
 // A garment is worn over the form, so it cannot measure much less round than the form under it
 // (a knit stretches by 10 % or so): a smaller reading means the silhouette lost part of the
 // garment there (a patch the colour of the form cut out of it, say). It is dropped with a
@@ -325,7 +403,8 @@ std::optional<double> circumferenceReading(Context& c, double heightCm, const st
 constexpr double kMinFractionOfForm = 0.85;
 
 std::optional<double> circumferenceAt(Context& c, double heightCm, const std::string& name) {
-  const auto value = circumferenceReading(c, heightCm, name);
+  const auto value = name == "bust_circ" ? bustFromSides(c, heightCm, name)
+                                         : circumferenceReading(c, heightCm, name);
   const auto ref = referenceAt(c.view, heightCm);
   if (value && ref && *value < kMinFractionOfForm * ref->circCm) {
     c.out.warnings.push_back(
@@ -683,10 +762,11 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
   // 20 that is the largest error seen. The large ones are the rig's known failures
   // (docs/physical_rig.md): a form-coloured dress that loses its bodice above the bust (garment
   // length, bust), a loose top hanging straight from the bust, deeper at the waist than the
-  // similar-section model scales the form's waist (waist, hem), the underarm hanging outside the
-  // bust's side (bust), touching legs read as twice their outer half (leg opening).
+  // similar-section model scales the form's waist (waist, hem), a loose woven bodice whose sides
+  // hang further out than its front and back (bust), touching legs read as twice their outer
+  // half (leg opening).
   static const std::map<std::string, double> kU95 = {
-      {"bust_circ", 8.8},         // (13)
+      {"bust_circ", 6.3},         // (13)
       {"waist_circ", 4.3},        // (24)
       {"hip_circ", 2.0},          // (16)
       {"hem_circ", 10.8},         // (19)
