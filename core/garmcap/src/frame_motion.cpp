@@ -31,6 +31,15 @@ cv::Mat motionEdges(const cv::Mat& bgr, double scale) {
   return mag;
 }
 
+// OpenCV 4.6's phaseCorrelate multiplies its inputs by the window in place when their size is
+// already one its DFT takes (no padded copy is made): the bare frame's edges, kept for the life
+// of a calibration, then faded towards the window's centre with every capture, and after nine
+// captures at 480x640 a garment's print outweighed them ("the camera moved by 47.9 px"). Each
+// call gets copies.
+cv::Point2d phaseShift(const cv::Mat& reference, const cv::Mat& moved, const cv::Mat& window) {
+  return cv::phaseCorrelate(reference.clone(), moved.clone(), window);
+}
+
 }  // namespace
 
 double FrameMotion::largestPx(double halfHeight) const {
@@ -69,12 +78,12 @@ MotionReference::Region MotionReference::region(const cv::Rect& rect) const {
   Region r;
   r.rect = rect;
   cv::createHanningWindow(r.window, rect.size(), CV_32F);
-  r.selfReading = cv::phaseCorrelate(edges_(rect), edges_(rect), r.window);
+  r.selfReading = phaseShift(edges_(rect), edges_(rect), r.window);
   return r;
 }
 
 cv::Point2d MotionReference::shiftOf(const Region& r, const cv::Mat& dressedEdges) const {
-  return cv::phaseCorrelate(edges_(r.rect), dressedEdges(r.rect), r.window) - r.selfReading;
+  return phaseShift(edges_(r.rect), dressedEdges(r.rect), r.window) - r.selfReading;
 }
 
 // The parts no garment changes (screen texture, head, arms, legs, the stand) agree at the true
