@@ -1,0 +1,60 @@
+// The GarmentCode JSON of every GRADED size (issue 18): every garment type drafted at a size of
+// each chart the station ships, graded by DSW to every size of that chart (the station's size
+// run, dsw::gradeSizeRun), stored and read back as the station and the hub store it (the
+// pattern JSON), written as GarmentCode and read back independently of the writer
+// (tests/drafts/garmentcode_rebuild.h: loops within 1 mm of the graded pieces, every seam and
+// dart stitched edge to edge). The drafts tests cover drafted sizes only; a graded size is not
+// a draft (its points are warped one by one, so corners and seam ends that coincide in a draft
+// coincide only to rounding, and bends change their angle).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "drafts/garmentcode_rebuild.h"
+#include "garmcap/drafts/export_garmentcode.h"
+#include "garmcap/drafts/pattern_io.h"
+#include "garmcap/drafts/recipes.h"
+#include "garmcap/drafts/size_charts.h"
+#include "garmcap/dsw/size_run.h"
+
+namespace garmcap::dsw {
+namespace {
+
+using nlohmann::json;
+
+// One source size per chart: the smallest, the middle and the largest, so that every size is
+// reached from below and from above (a captured garment's sample size can be any of them).
+void checkRunsFrom(const drafts::SizeChart& chart, const std::string& type,
+                   const std::string& sourceSize) {
+  SCOPED_TRACE(chart.name + " " + type + " from " + sourceSize);
+  const drafts::Pattern source = drafts::draftGarment(type, chart.body(sourceSize));
+  const auto run = gradeSizeRun(source, chart);
+  ASSERT_TRUE(run.has_value()) << run.error().message;
+  ASSERT_EQ(run->sizes, chart.sizes);
+  for (std::size_t i = 0; i < run->sizes.size(); ++i) {
+    SCOPED_TRACE("graded to " + run->sizes[i]);
+    // As stored by the station and the hub, and read back by their garmentcode.json routes.
+    const drafts::Pattern stored =
+        drafts::patternFromJsonValue(drafts::patternToJsonValue(run->patterns[i]), "stored");
+    std::string text;
+    try {
+      text = drafts::garmentCodeJson(stored, {"T-1", run->sizes[i]});
+    } catch (const drafts::GarmentCodeExportError& e) {
+      ADD_FAILURE() << "refused: " << e.what();
+      continue;
+    }
+    drafts::rebuild::checkSpec(stored, json::parse(text));
+  }
+}
+
+TEST(GradedGarmentCode, EverySizeOfEverySizeRunRebuildsWithinAMillimetre) {
+  for (const auto& chart : drafts::sizeCharts())
+    for (const auto& t : drafts::garmentTypes())
+      for (const std::string& from :
+           {chart.sizes.front(), chart.sizes[chart.sizes.size() / 2], chart.sizes.back()})
+        checkRunsFrom(chart, t.name, from);
+}
+
+}  // namespace
+}  // namespace garmcap::dsw
