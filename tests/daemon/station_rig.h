@@ -100,7 +100,7 @@ class FakeProcessor : public CaptureProcessor {
       const auto source =
           drafts::draftGarment("dress", drafts::sizeChart("korean_women").body("55"));
       const auto run = dsw::gradeSizeRun(source, drafts::sizeChart("korean_women"));
-      EXPECT_TRUE(run.has_value()) << run.error().message;
+      EXPECT_TRUE(run) << run.error().message;
       r.patterns["base"] = drafts::patternToJsonValue(source);
       r.baseSize = "55";
       for (std::size_t i = 0; run && i < run->sizes.size(); ++i)

@@ -25,12 +25,9 @@ using nlohmann::json;
 
 // One source size per chart: the smallest, the middle and the largest, so that every size is
 // reached from below and from above (a captured garment's sample size can be any of them).
-void checkRunsFrom(const drafts::SizeChart& chart, const std::string& type,
-                   const std::string& sourceSize) {
-  SCOPED_TRACE(chart.name + " " + type + " from " + sourceSize);
-  const drafts::Pattern source = drafts::draftGarment(type, chart.body(sourceSize));
+void checkRun(const drafts::SizeChart& chart, const drafts::Pattern& source) {
   const auto run = gradeSizeRun(source, chart);
-  ASSERT_TRUE(run.has_value()) << run.error().message;
+  ASSERT_TRUE(run) << run.error().message;
   ASSERT_EQ(run->sizes, chart.sizes);
   for (std::size_t i = 0; i < run->sizes.size(); ++i) {
     SCOPED_TRACE("graded to " + run->sizes[i]);
@@ -48,12 +45,30 @@ void checkRunsFrom(const drafts::SizeChart& chart, const std::string& type,
   }
 }
 
+void checkRunsFrom(const drafts::SizeChart& chart, const std::string& type,
+                   const std::string& sourceSize) {
+  SCOPED_TRACE(chart.name + " " + type + " from " + sourceSize);
+  checkRun(chart, drafts::draftGarment(type, chart.body(sourceSize)));
+}
+
 TEST(GradedGarmentCode, EverySizeOfEverySizeRunRebuildsWithinAMillimetre) {
   for (const auto& chart : drafts::sizeCharts())
     for (const auto& t : drafts::garmentTypes())
       for (const std::string& from :
            {chart.sizes.front(), chart.sizes[chart.sizes.size() / 2], chart.sizes.back()})
         checkRunsFrom(chart, t.name, from);
+}
+
+// The station's designed dress (tests/data/designs/dress_55.json: scoop neckline, skirt flared
+// 8 cm per side seam, drafted on korean_women 55), the source the hub's graded files are
+// tested with, graded to every chart.
+TEST(GradedGarmentCode, TheDesignedDressRebuildsInEverySizeOfEveryChart) {
+  const drafts::Pattern source =
+      drafts::readPatternJson(std::string(GARMCAP_TEST_DATA_DIR) + "/designs/dress_55.json");
+  for (const auto& chart : drafts::sizeCharts()) {
+    SCOPED_TRACE(chart.name + " designed dress");
+    checkRun(chart, source);
+  }
 }
 
 }  // namespace
