@@ -161,8 +161,9 @@ inline double expectedStitchedCm(const Pattern& pat, const Panel& p) {
 
 // The GarmentCode specification `spec` read back and compared with the pattern it was
 // written from: loops within 1 mm of the garment pieces, stitches on real edges with matching
-// lengths, every seam and dart stitched, lower pieces hung below the bodice.
-inline void checkSpec(const Pattern& pat, const json& spec) {
+// lengths, every seam and dart stitched, lower pieces hung below the bodice. `worst`, when
+// given, is raised to the largest distance between a loop and its piece, cm.
+inline void checkSpec(const Pattern& pat, const json& spec, double* worst = nullptr) {
   EXPECT_EQ(spec["properties"]["units_in_meter"], 100);
   EXPECT_EQ(spec["properties"]["curvature_coords"], "relative");
   const json& panels = spec["pattern"]["panels"];
@@ -212,6 +213,8 @@ inline void checkSpec(const Pattern& pat, const json& spec) {
     for (const auto& q : expect)
       err = std::max(err, distToSegments(q, loopSegs));
     EXPECT_LT(err, 0.1) << "GarmentCode loop vs drafted piece, cm";
+    if (worst)
+      *worst = std::max(*worst, err);
   }
 
   // Stitches: real edges; each edge stitched at most once; lengths agree; every seam and dart
