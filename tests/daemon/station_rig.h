@@ -96,9 +96,10 @@ class FakeProcessor : public CaptureProcessor {
       else
         storeBasePattern(r, empty);
     } else if (gradedDress) {
-      // A dress measured as korean_women 55 and its size run, as the pipeline stores them.
+      // The designed dress (scoop neck, flared skirt, drafted on korean_women 55) and its
+      // size run, as the pipeline stores them.
       const auto source =
-          drafts::draftGarment("dress", drafts::sizeChart("korean_women").body("55"));
+          drafts::readPatternJson(std::string(GARMCAP_TEST_DATA_DIR) + "/designs/dress_55.json");
       const auto run = dsw::gradeSizeRun(source, drafts::sizeChart("korean_women"));
       EXPECT_TRUE(run) << run.error().message;
       r.patterns["base"] = drafts::patternToJsonValue(source);
@@ -120,7 +121,7 @@ class FakeProcessor : public CaptureProcessor {
   std::atomic<bool> fail{false};
   std::atomic<bool> undraftable{false};     // measured, but no pattern could be drafted
   std::atomic<bool> draftedPattern{false};  // a real skirt pattern (markers can be laid)
-  std::atomic<bool> gradedDress{false};     // a real dress and its korean_women size run
+  std::atomic<bool> gradedDress{false};     // the designed dress and its korean_women run
   std::atomic<bool> legacyEmptyPattern{
       false};  // ... and an empty pattern row stored (old catalogs)
   double confidence = 0.95;
