@@ -67,8 +67,8 @@ SkirtOptions dressSkirt(const DraftBuilder& b, const BodiceDraft& d) {
 // dart. Every skirt block of research/drafting_blocks.md §2.1 takes part of the waist-hip
 // difference at the side seam, none puts it all in the darts (Bunka [S9] a third of the front's
 // suppression on each piece, Gilewska [S1] (d - 1)/4 and Donnanno [S1] about d/4 of d = (H -
-// W)/2, Aldrich [S2] and Keiko [S7] 1.5-3 cm): a skirt whose side runs straight from the hip to
-// the waist has its whole hip curve in the darts. The bodice's side seam is a straight line
+// W)/2, Aldrich [S2] (H - W)/4 - 2.5, Keiko [S7] 3 cm): a skirt whose side runs straight from the
+// hip to the waist has its whole hip curve in the darts. The bodice's side seam is a straight line
 // from the underarm point, so the change tapers from nothing at the bust level to all of it at
 // the waist; the bodice block keeps its bust (its half width solves for the dart openings at
 // the bust level with the reduced darts). Solved by the secant method on trial bodices drawn
