@@ -440,12 +440,13 @@ class Builder {
     }
   }
 
-  // Corners of one loop closer than kSameBreakCm along it are one corner. A drafted block has
-  // none (its turn points are drawn apart), but a graded size does: DSW warps every point on
-  // its own, so a notch drawn on a seam end, or a bend next to a dart leg, lands a few
-  // micrometres beside it, and the stitch that merges them into one break (stitch()) would
-  // leave the other as the end of an edge of no length that no stitch covers. The corner kept
-  // is the one a seam, a dart or the fold ends on; of two others, the first.
+  // Corners of one loop closer than kSameBreakCm along it are one corner, as stitch() takes
+  // the corners of a seam's two sides. stitch() ends a seam's first and last edges on the
+  // seam's own ends, so a corner that close to a seam end would be left as the end of an edge
+  // of no length that no stitch covers. (No such pair occurs in the drafts nor in the 532
+  // graded sizes of tests/dsw/graded_garmentcode_test.cpp; in a graded size, where DSW warps
+  // every point on its own, corners that meet in the draft meet only to micrometres.) The
+  // corner kept is the one a seam, a dart or the fold ends on; of two others, the first.
   static void mergeCloseBreaks(Loop& l) {
     auto near = [&](double a, double b) {
       return std::min(l.forward(a, b), l.forward(b, a)) <= kSameBreakCm;
@@ -543,13 +544,14 @@ class Builder {
   // Each corner of either side (a break strictly inside it) is a fraction u of the sewn
   // length; fractions closer than kSameBreakCm along the seam are one break (a dress's bodice
   // and skirt darts meet to a few micrometres; in a graded size every pair of corners that
-  // meet in the draft, such as the front and back skirt's hip notches, meets only to the
-  // rounding of DSW's warping). Where such a merged break holds a corner of a side, that side's
-  // edges end exactly on its corner, not at the merged fraction's position a few micrometres
-  // away: a loop's edges run from corner to corner, and a corner left beside the stitch's end
-  // would cut an edge no stitch covers (the refusal "does not end on a corner" of every graded
-  // dress). Dart legs are not pinned: both legs of a dart have the same fraction, and posAtU
-  // picks the near or far one.
+  // meet in the draft, such as the front and back skirt's hip corners, meets only to the
+  // rounding of DSW's warping: 0.002-0.036 mm over the graded sizes of the tests). Where such a
+  // merged break holds a corner of a side, that side's edges end exactly on its corner, not at
+  // the merged fraction's position beside it: a loop's edges run from corner to corner, and a
+  // corner left beside the stitch's end cut an edge no stitch covers (graded sizes were refused
+  // "seam 'skirt_side' ... does not end on a corner"). This pins the corners, it does not widen
+  // kSameBreakCm. Dart legs are not pinned: both legs of a dart have the same fraction, and
+  // posAtU picks the near or far one.
   void stitch(Stitch& st, std::vector<SideStitch>& stitched) {
     Loop& la = loops_[static_cast<size_t>(st.a.loop)];
     Loop& lb = loops_[static_cast<size_t>(st.b.loop)];
