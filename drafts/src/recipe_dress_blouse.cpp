@@ -2,6 +2,7 @@
 // table 5.1 inputs), the woven blouse (§6.2 "Bunka blouse") and the high-waist skirt (§2.3).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "recipe_blocks.h"
 #include "recipe_list.h"
@@ -61,13 +62,18 @@ SkirtOptions dressSkirt(const DraftBuilder& b, const BodiceDraft& d) {
 // larger than the hip): a skirt taking them would be wider at the side waist than at the hip,
 // its side seam running out above the hip. The excess goes from the bodice darts into the
 // bodice side seam instead (BodiceOptions::sideIntakeExtra), just enough for the skirt's side
-// intake to be zero: every skirt side seam then comes in (or runs straight) from the hip to the
-// waist, and the darts still meet dart to dart. The bodice's side seam is a straight line from
-// the underarm point, so the change tapers from nothing at the bust level to all of it at the
-// waist; the bodice block keeps its bust (its half width solves for the dart openings at the
-// bust level with the reduced darts). Solved by the secant method on trial bodices drawn into
-// a scratch pattern.
-double dressSideIntakeExtra(const DraftBuilder& b, const BodiceOptions& o) {
+// intake to be `minSide` (the design parameter skirt_side_intake): every skirt side seam then
+// comes in from the hip to the waist by at least that much, and the darts still meet dart to
+// dart. Every skirt block of research/drafting_blocks.md §2.1 takes part of the waist-hip
+// difference at the side seam, none puts it all in the darts (Bunka [S9] a third of the front's
+// suppression on each piece, Gilewska [S1] (d - 1)/4 and Donnanno [S1] about d/4 of d = (H -
+// W)/2, Aldrich [S2] (H - W)/4 - 2.5, Keiko [S7] 3 cm): a skirt whose side runs straight from the
+// hip to the waist has its whole hip curve in the darts. The bodice's side seam is a straight line
+// from the underarm point, so the change tapers from nothing at the bust level to all of it at
+// the waist; the bodice block keeps its bust (its half width solves for the dart openings at
+// the bust level with the reduced darts). Solved by the secant method on trial bodices drawn
+// into a scratch pattern.
+double dressSideIntakeExtra(const DraftBuilder& b, const BodiceOptions& o, double minSide) {
   const double B = b.measurement("bust_circ"), W = b.measurement("waist_circ");
   const double wbl = b.measurement("neck_back_to_waist_b");
   auto skirtSide = [&](double extra) -> std::optional<double> {
@@ -79,22 +85,49 @@ double dressSideIntakeExtra(const DraftBuilder& b, const BodiceOptions& o) {
     return fit ? std::optional(fit->sideIntake) : std::nullopt;
   };
   const auto s0 = skirtSide(0);
-  if (!s0 || *s0 >= 0)
+  if (!s0 || *s0 >= minSide)
     return 0;  // no excess (or no skirt at all: draftSkirt says why)
-  // Each cm moved adds about half a cm to the skirt's side intake (back and front share it).
-  double x0 = 0, f0 = *s0, x1 = -2 * f0;
-  for (int it = 0; it < 12; ++it) {
-    const auto s1 = skirtSide(x1);
-    if (!s1)
+  // A trial whose bodice the block refuses (its waist darts would keep less than 30 % of their
+  // width, draftBodiceBlock) counts as a skirt side that comes in too far: where the darts
+  // cannot give the whole of minSide the solve stops at the most they can give (the skirt side
+  // then comes in less, still more than with a floor of zero).
+  auto residual = [&](double extra) -> std::optional<double> {
+    try {
+      const auto s = skirtSide(extra);
+      return s ? std::optional(*s - minSide) : std::nullopt;
+    } catch (const DraftError&) {
+      return std::numeric_limits<double>::infinity();
+    }
+  };
+  // Secant steps, and bisection once a trial has come in too far and the secant leaves the
+  // bracket. Each cm moved adds about half a cm to the skirt's side intake (back and front
+  // share it).
+  double lo = 0, hi = 0;
+  bool bracketed = false;
+  double x0 = 0, f0 = *s0 - minSide, x1 = -2 * f0;
+  for (int it = 0; it < 60; ++it) {
+    const auto r1 = residual(x1);
+    if (!r1)
       return x1;  // draftSkirt refuses with its own message
-    if (std::abs(*s1) < 1e-6 || std::abs(*s1 - f0) < 1e-12)
-      return *s1 < 0 ? x1 + 1e-5 : x1;
-    const double x2 = x1 - *s1 * (x1 - x0) / (*s1 - f0);
+    if (std::abs(*r1) < 1e-6)
+      return *r1 < 0 ? x1 + 1e-5 : x1;
+    if (*r1 < 0) {
+      lo = x1;
+    } else {
+      hi = x1;
+      bracketed = true;
+    }
+    if (bracketed && hi - lo < 1e-6)
+      return lo;  // the most the bodice darts can give
+    double x2 = std::isfinite(*r1) && std::abs(*r1 - f0) > 1e-12 ? x1 - *r1 * (x1 - x0) / (*r1 - f0)
+                                                                 : x1 - 2 * *r1;
+    if (bracketed && !(x2 > lo && x2 < hi))
+      x2 = (lo + hi) / 2;
     x0 = x1;
-    f0 = *s1;
+    f0 = *r1;
     x1 = x2;
   }
-  return x1;
+  return lo;
 }
 
 }  // namespace
@@ -105,7 +138,7 @@ void recipeDress(DraftBuilder& b) {
   o.easeWaist = b.design("ease_waist");
   o.bustpointToBustpoint = b.measurement("bustpoint_to_bustpoint");
   o.shoulderTipToTip = b.measurement("shoulder_tip_to_shoulder_tip_b");
-  o.sideIntakeExtra = dressSideIntakeExtra(b, o);
+  o.sideIntakeExtra = dressSideIntakeExtra(b, o, b.design("skirt_side_intake"));
   const BodiceDraft d = draftBodiceBlock(b, b.measurement("bust_circ"), b.measurement("waist_circ"),
                                          b.measurement("neck_back_to_waist_b"), o);
   addBodicePanels(b, d);

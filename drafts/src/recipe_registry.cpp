@@ -64,6 +64,14 @@ std::vector<GarmentTypeInfo> buildTypes() {
                        "arm_shoulder_tip_to_wrist", "arm_wrist_circ"},
                       {easeBust(12, 4, 30), easeWaist(6, 0, 30), easeHip(4, 0, 30), skirtLength(55),
                        hemFlare(0, -3, 25)}};
+    // Every skirt block of research/drafting_blocks.md §2.1 takes part of the waist-hip
+    // difference at the side seam (Bunka [S9] a third of the front's, Gilewska and Donnanno
+    // [S1] about a quarter of d = (H - W)/2, Aldrich [S2] (H - W)/4 - 2.5, Keiko [S7] 3 cm);
+    // 1 cm is below all of them for the charts' bodies, so the darts keep the larger share.
+    d.design.push_back({"skirt_side_intake", 1.0, 0, 3,
+                        "smallest intake of each skirt side seam edge from the hip to the waist, "
+                        "cm; where the bodice's waist darts leave less, the difference moves from "
+                        "them into the bodice side seam"});
     for (auto& p : sleeveParams(3, 1.0, 0, 8))
       d.design.push_back(p);
     d.design.push_back(seamAllowance());

@@ -16,6 +16,7 @@
 #include "garmcap/drafts/pattern_io.h"
 #include "garmcap/drafts/recipes.h"
 #include "garmcap/drafts/size_charts.h"
+#include "garmcap/dsw/size_run.h"
 #include "test_util.h"
 
 namespace garmcap::daemon::test {
@@ -94,6 +95,17 @@ class FakeProcessor : public CaptureProcessor {
         r.patterns["base"] = empty;
       else
         storeBasePattern(r, empty);
+    } else if (gradedDress) {
+      // The designed dress (scoop neck, flared skirt, drafted on korean_women 55) and its
+      // size run, as the pipeline stores them.
+      const auto source =
+          drafts::readPatternJson(std::string(GARMCAP_TEST_DATA_DIR) + "/designs/dress_55.json");
+      const auto run = dsw::gradeSizeRun(source, drafts::sizeChart("korean_women"));
+      EXPECT_TRUE(run) << run.error().message;
+      r.patterns["base"] = drafts::patternToJsonValue(source);
+      r.baseSize = "55";
+      for (std::size_t i = 0; run && i < run->sizes.size(); ++i)
+        r.patterns[run->sizes[i]] = drafts::patternToJsonValue(run->patterns[i]);
     } else if (draftedPattern) {
       r.patterns["base"] = drafts::patternToJsonValue(
           drafts::draftGarment("skirt_h", drafts::sizeChart("korean_women").body("55")));
@@ -109,6 +121,7 @@ class FakeProcessor : public CaptureProcessor {
   std::atomic<bool> fail{false};
   std::atomic<bool> undraftable{false};     // measured, but no pattern could be drafted
   std::atomic<bool> draftedPattern{false};  // a real skirt pattern (markers can be laid)
+  std::atomic<bool> gradedDress{false};     // the designed dress and its korean_women run
   std::atomic<bool> legacyEmptyPattern{
       false};  // ... and an empty pattern row stored (old catalogs)
   double confidence = 0.95;

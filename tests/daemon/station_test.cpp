@@ -120,6 +120,30 @@ TEST(Station, MarkersAreLaidOneAtATime) {
   EXPECT_EQ(rig.call(http::verb::get, marker).result(), http::status::ok);
 }
 
+// Issue 18: the GarmentCode JSON of every stored size of a graded dress (a graded size was
+// refused 422 "seam 'skirt_side' ... does not end on a corner"; the JSON itself is read back
+// against the panels in tests/dsw/graded_garmentcode_test.cpp).
+TEST(Station, GarmentCodeOfEveryGradedSizeIsServed) {
+  Rig rig;
+  addExportRoutes(rig.router, *rig.station);
+  rig.processor->gradedDress = true;
+  ASSERT_EQ(rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"])["state"],
+            "done");
+  const auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  const std::string item = "/api/items/" + std::to_string(job["item_id"].get<std::int64_t>());
+  const auto sizes = rig.json(rig.call(http::verb::get, item))["sizes"];
+  ASSERT_EQ(sizes.size(), 6u) << sizes.dump();  // base and the chart's five
+  for (const auto& size : sizes) {
+    const auto r =
+        rig.call(http::verb::get, item + "/garmentcode.json?size=" + size.get<std::string>());
+    EXPECT_EQ(r.result(), http::status::ok) << size << ": " << r.body().substr(0, 300);
+    if (r.result() == http::status::ok) {
+      EXPECT_FALSE(rig.json(r)["pattern"]["stitches"].empty()) << size;
+    }
+  }
+}
+
 // Issue 18: the pieces a marker may lay are the station's [marker] max_pieces; a marker over it
 // is refused 422 before nesting, naming the count and the limit, and takes no slot for long.
 TEST(Station, MarkerPieceLimitIsTheConfigsAndIsNamedWhenExceeded) {

@@ -246,6 +246,13 @@ TEST_F(HubGradedTest, GradedFilesOfAnyStationsItemAreWrittenFromItsPushedSizeRun
   ASSERT_EQ(st, 0) << gcOut;
   EXPECT_EQ(gcOut, "dict True\n");
   EXPECT_EQ(call(at + "/garmentcode.json?size=XXL", "admin-secret").status, 404);
+  // Every graded size too (a graded size was refused 422: "seam 'skirt_side' ... does not end
+  // on a corner"; tests/dsw/graded_garmentcode_test.cpp reads the JSON back against the panels).
+  for (const auto& size : graded->sizes) {
+    const auto g = call(at + "/garmentcode.json?size=" + size, "admin-secret");
+    EXPECT_EQ(g.status, 200) << size << ": " << g.body.substr(0, 300);
+    EXPECT_EQ(g.disposition, "attachment; filename=\"GR-1_" + size + "_specification.json\"");
+  }
   const auto vit = call(at + "/measurements.vit", "admin-secret");
   ASSERT_EQ(vit.status, 200) << vit.body;
   const std::string vitOut =
