@@ -41,8 +41,26 @@ std::string patternSizeParam(const RouteMatch& m) {
   return size;
 }
 
+namespace {
+
+// An item's file names start with its SKU, else "item-<id>" (the SKU is checked to be a safe
+// file name where it is set).
+std::string itemFileStem(const Item& it) {
+  return it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
+}
+
+}  // namespace
+
 std::string sizeLabel(const Item& it, const std::string& size) {
   return size == "base" && !it.baseSize.empty() ? it.baseSize : size;
+}
+
+std::string patternStyle(const Item& it) {
+  return it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
+}
+
+std::string patternFileBase(const Item& it, const std::string& size) {
+  return itemFileStem(it) + "_" + size;
 }
 
 std::optional<drafts::GradedRun> gradedRun(const Item& it,
@@ -57,7 +75,7 @@ std::optional<drafts::GradedRun> gradedRun(const Item& it,
       if (s != "base")
         sizes.push_back(s);
   drafts::GradedRun run;
-  run.style = it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
+  run.style = patternStyle(it);
   for (const auto& s : sizes) {
     auto p = patterns.find(s);
     if (p == patterns.end())
@@ -116,7 +134,7 @@ std::vector<ZipEntry> catalogItemFiles(
     const std::function<std::optional<std::string>(const std::string&)>& readImage,
     const std::function<std::string(const Item&)>& label, std::vector<std::string>& notes) {
   std::vector<ZipEntry> files;
-  const std::string style = it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku;
+  const std::string style = itemFileStem(it);
   for (const auto& im : it.images) {
     const std::string ext = imageExtension(im.mediaType);
     if (ext.empty() || !zipImageKind(im.kind))

@@ -366,14 +366,6 @@ std::optional<drafts::Pattern> onePattern(const Item& it,
                                       "item " + std::to_string(it.id) + " pattern " + size);
 }
 
-std::string style(const Item& it) {
-  return it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
-}
-
-std::string fileBase(const Item& it, const std::string& size) {
-  return (it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku) + "_" + size;
-}
-
 // GET /api/items/{id}/pattern.dxf
 Response patternDxfFile(const Item& it, const std::optional<nlohmann::json>&,
                         const std::map<std::string, nlohmann::json>& pats,
@@ -381,24 +373,25 @@ Response patternDxfFile(const Item& it, const std::optional<nlohmann::json>&,
   auto p = onePattern(it, pats, size);
   if (!p)
     return noPatternForSize(it, size);
-  return downloadResponse("application/dxf", patternDxf(*p, {style(it), sizeLabel(it, size)}),
-                          fileBase(it, size) + ".dxf");
+  return downloadResponse("application/dxf",
+                          patternDxf(*p, {patternStyle(it), sizeLabel(it, size)}),
+                          patternFileBase(it, size) + ".dxf");
 }
 
 // GET /api/items/{id}/pattern.pdf: tiled for office paper (A4 by default, US Letter) or on A0
 // plotter pages.
 void getPatternPdf(RouteContext* c, const Request& req, const RouteMatch& m, Reply reply) {
   const drafts::Paper paper = paperParam(m);
-  patternRoute(c,
-               [paper](const Item& it, const std::optional<nlohmann::json>&,
-                       const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
-                 auto p = onePattern(it, pats, size);
-                 if (!p)
-                   return noPatternForSize(it, size);
-                 return downloadResponse("application/pdf",
-                                         patternPdf(*p, {style(it), sizeLabel(it, size)}, paper),
-                                         fileBase(it, size) + "_" + paperFileTag(paper) + ".pdf");
-               })(req, m, std::move(reply));
+  patternRoute(
+      c, [paper](const Item& it, const std::optional<nlohmann::json>&,
+                 const std::map<std::string, nlohmann::json>& pats, const std::string& size) {
+        auto p = onePattern(it, pats, size);
+        if (!p)
+          return noPatternForSize(it, size);
+        return downloadResponse("application/pdf",
+                                patternPdf(*p, {patternStyle(it), sizeLabel(it, size)}, paper),
+                                patternFileBase(it, size) + "_" + paperFileTag(paper) + ".pdf");
+      })(req, m, std::move(reply));
 }
 
 // GET /api/items/{id}/garmentcode.json
@@ -408,8 +401,9 @@ Response garmentCodeFile(const Item& it, const std::optional<nlohmann::json>&,
   auto p = onePattern(it, pats, size);
   if (!p)
     return noPatternForSize(it, size);
-  return downloadResponse("application/json", garmentCodeJson(*p, {style(it), sizeLabel(it, size)}),
-                          fileBase(it, size) + "_specification.json");
+  return downloadResponse("application/json",
+                          garmentCodeJson(*p, {patternStyle(it), sizeLabel(it, size)}),
+                          patternFileBase(it, size) + "_specification.json");
 }
 
 // Files of the item's graded size run; an item whose garment could not be drafted says why.
@@ -429,27 +423,28 @@ Handler gradedRoute(RouteContext* c, GradedWrite write) {
 }
 
 Response gradedDxfFile(const Item& it, const GradedRun& run) {
-  return downloadResponse("application/dxf", gradedDxf(run), style(it) + ".dxf");
+  return downloadResponse("application/dxf", gradedDxf(run), patternStyle(it) + ".dxf");
 }
 
 Response gradedRulFile(const Item& it, const GradedRun& run) {
-  return downloadResponse("text/plain; charset=us-ascii", gradeRuleTable(run), style(it) + ".rul");
+  return downloadResponse("text/plain; charset=us-ascii", gradeRuleTable(run),
+                          patternStyle(it) + ".rul");
 }
 
 // Nested grading: every size of the run superimposed per piece, the sample size marked.
 Response nestedGradingSvgFile(const Item& it, const GradedRun& run) {
   return downloadResponse("image/svg+xml", drafts::nestedGradingSvg(run),
-                          style(it) + "_nested_grading.svg");
+                          patternStyle(it) + "_nested_grading.svg");
 }
 
 Response nestedGradingPdfFile(const Item& it, const GradedRun& run) {
   return downloadResponse("application/pdf", drafts::nestedGradingPdf(run),
-                          style(it) + "_nested_grading.pdf");
+                          patternStyle(it) + "_nested_grading.pdf");
 }
 
 Response nestedGradingDxfFile(const Item& it, const GradedRun& run) {
   return downloadResponse("application/dxf", drafts::nestedGradingDxf(run),
-                          style(it) + "_nested_grading.dxf");
+                          patternStyle(it) + "_nested_grading.dxf");
 }
 
 // A marker of the sizes `q` asks for (default: the item's own) in `format`.
@@ -489,10 +484,11 @@ Response markerFile(MarkerFile format, const MarkerQuery& q, const Item& it,
                      std::string(e.what()) + " (the station's [marker] max_pieces is " +
                          std::to_string(q.maxPieces) + ")");
   }
-  std::string title = style(it) + " " + sized.front().pattern.type + " size";
+  std::string title = patternStyle(it) + " " + sized.front().pattern.type + " size";
   for (const auto& sp : sized)
     title += " " + sp.size;
-  const std::string name = fileBase(it, "marker_" + labels + "_" + widthTag(q.widthCm) + "cm");
+  const std::string name =
+      patternFileBase(it, "marker_" + labels + "_" + widthTag(q.widthCm) + "cm");
   switch (format) {
     case MarkerFile::kSvg:
       return downloadResponse("image/svg+xml", drafts::markerSvg(laid, title), name + ".svg");
@@ -539,7 +535,7 @@ Response measurementsVitFile(const Item& it, const std::optional<nlohmann::json>
     return jsonError(http::status::not_found,
                      "item " + std::to_string(it.id) + " has no body measurements Valentina knows");
   return downloadResponse("application/xml", drafts::measurementsToVit(m),
-                          fileBase(it, "body") + ".vit");
+                          patternFileBase(it, "body") + ".vit");
 }
 
 }  // namespace

@@ -56,14 +56,6 @@ Response noPattern(const daemon::Item& it, const std::string& size) {
           (have.empty() ? " (its station sent no pattern)" : " (sizes: " + have + ")"));
 }
 
-std::string styleOf(const daemon::Item& it) {
-  return it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
-}
-
-std::string fileBase(const daemon::Item& it, const std::string& size) {
-  return (it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku) + "_" + size;
-}
-
 // The files of the item's graded run (every stored size but "base", in size-guide order); an
 // item with fewer than two graded sizes has none (404), as at the station.
 Write graded(std::function<Response(const daemon::Item&, const drafts::GradedRun&)> write) {
@@ -108,45 +100,46 @@ void addHubGradedRoutes(daemon::Router& router, HubStore& store, const HubConfig
   router.add(http::verb::get, "/api/items/{id}/pattern_graded.dxf",
              route(graded([](const daemon::Item& it, const drafts::GradedRun& run) {
                return daemon::downloadResponse("application/dxf", drafts::gradedDxf(run),
-                                               styleOf(it) + ".dxf");
+                                               daemon::patternStyle(it) + ".dxf");
              })));
   router.add(http::verb::get, "/api/items/{id}/pattern_graded.rul",
              route(graded([](const daemon::Item& it, const drafts::GradedRun& run) {
                return daemon::downloadResponse("text/plain; charset=us-ascii",
-                                               drafts::gradeRuleTable(run), styleOf(it) + ".rul");
+                                               drafts::gradeRuleTable(run),
+                                               daemon::patternStyle(it) + ".rul");
              })));
   router.add(http::verb::get, "/api/items/{id}/nested_grading.svg",
              route(graded([](const daemon::Item& it, const drafts::GradedRun& run) {
                return daemon::downloadResponse("image/svg+xml", drafts::nestedGradingSvg(run),
-                                               styleOf(it) + "_nested_grading.svg");
+                                               daemon::patternStyle(it) + "_nested_grading.svg");
              })));
   router.add(http::verb::get, "/api/items/{id}/nested_grading.pdf",
              route(graded([](const daemon::Item& it, const drafts::GradedRun& run) {
                return daemon::downloadResponse("application/pdf", drafts::nestedGradingPdf(run),
-                                               styleOf(it) + "_nested_grading.pdf");
+                                               daemon::patternStyle(it) + "_nested_grading.pdf");
              })));
   router.add(http::verb::get, "/api/items/{id}/nested_grading.dxf",
              route(graded([](const daemon::Item& it, const drafts::GradedRun& run) {
                return daemon::downloadResponse("application/dxf", drafts::nestedGradingDxf(run),
-                                               styleOf(it) + "_nested_grading.dxf");
+                                               daemon::patternStyle(it) + "_nested_grading.dxf");
              })));
 
-  router.add(
-      http::verb::get, "/api/items/{id}/garmentcode.json",
-      route([](const StoredItem& s, const RouteMatch& m) {
-        const std::string size = daemon::patternSizeParam(m);
-        const auto p = s.patterns.find(size);
-        if (p == s.patterns.end())
-          return noPattern(s.item, size);
-        if (noPieces(p->second))
-          return notDrafted(s.item, size);
-        const auto pattern = drafts::patternFromJsonValue(
-            p->second, "item " + std::to_string(s.item.id) + " pattern " + size);
-        return daemon::downloadResponse(
-            "application/json",
-            drafts::garmentCodeJson(pattern, {styleOf(s.item), daemon::sizeLabel(s.item, size)}),
-            fileBase(s.item, size) + "_specification.json");
-      }));
+  router.add(http::verb::get, "/api/items/{id}/garmentcode.json",
+             route([](const StoredItem& s, const RouteMatch& m) {
+               const std::string size = daemon::patternSizeParam(m);
+               const auto p = s.patterns.find(size);
+               if (p == s.patterns.end())
+                 return noPattern(s.item, size);
+               if (noPieces(p->second))
+                 return notDrafted(s.item, size);
+               const auto pattern = drafts::patternFromJsonValue(
+                   p->second, "item " + std::to_string(s.item.id) + " pattern " + size);
+               return daemon::downloadResponse(
+                   "application/json",
+                   drafts::garmentCodeJson(
+                       pattern, {daemon::patternStyle(s.item), daemon::sizeLabel(s.item, size)}),
+                   daemon::patternFileBase(s.item, size) + "_specification.json");
+             }));
 
   router.add(http::verb::get, "/api/items/{id}/measurements.vit",
              route([](const StoredItem& s, const RouteMatch&) {
@@ -160,7 +153,7 @@ void addHubGradedRoutes(daemon::Router& router, HubStore& store, const HubConfig
                                   "item " + std::to_string(s.item.id) +
                                       " has no body measurements Valentina knows");
                return daemon::downloadResponse("application/xml", drafts::measurementsToVit(body),
-                                               fileBase(s.item, "body") + ".vit");
+                                               daemon::patternFileBase(s.item, "body") + ".vit");
              }));
 }
 

@@ -33,14 +33,6 @@ bool validSize(const std::string& s) {
   });
 }
 
-std::string styleOf(const daemon::Item& it) {
-  return it.sku.empty() ? "GC-" + std::to_string(it.id) : it.sku;
-}
-
-std::string fileBase(const daemon::Item& it, const std::string& size) {
-  return (it.sku.empty() ? "item-" + std::to_string(it.id) : it.sku) + "_" + size;
-}
-
 // What a pattern route writes from one stored pattern.
 using PatternWrite = std::function<Response(const daemon::Item&, const drafts::Pattern&,
                                             const std::string& size, const RouteMatch&)>;
@@ -137,26 +129,27 @@ void addHubPatternRoutes(daemon::Router& router, HubStore& store, const HubConfi
                              const std::string& size, const RouteMatch&) {
                return daemon::downloadResponse(
                    "image/svg+xml",
-                   drafts::patternSvg(p, {styleOf(it), daemon::sizeLabel(it, size)}),
-                   fileBase(it, size) + ".svg");
+                   drafts::patternSvg(p, {daemon::patternStyle(it), daemon::sizeLabel(it, size)}),
+                   daemon::patternFileBase(it, size) + ".svg");
              }));
   router.add(http::verb::get, "/api/items/{id}/pattern.dxf",
              patternRoute([](const daemon::Item& it, const drafts::Pattern& p,
                              const std::string& size, const RouteMatch&) {
                return daemon::downloadResponse(
                    "application/dxf",
-                   drafts::patternDxf(p, {styleOf(it), daemon::sizeLabel(it, size)}),
-                   fileBase(it, size) + ".dxf");
+                   drafts::patternDxf(p, {daemon::patternStyle(it), daemon::sizeLabel(it, size)}),
+                   daemon::patternFileBase(it, size) + ".dxf");
              }));
-  router.add(http::verb::get, "/api/items/{id}/pattern.pdf",
-             patternRoute([](const daemon::Item& it, const drafts::Pattern& p,
-                             const std::string& size, const RouteMatch& m) {
-               const drafts::Paper paper = daemon::paperParam(m);
-               return daemon::downloadResponse(
-                   "application/pdf",
-                   drafts::patternPdf(p, {styleOf(it), daemon::sizeLabel(it, size)}, paper),
-                   fileBase(it, size) + "_" + daemon::paperFileTag(paper) + ".pdf");
-             }));
+  router.add(
+      http::verb::get, "/api/items/{id}/pattern.pdf",
+      patternRoute([](const daemon::Item& it, const drafts::Pattern& p, const std::string& size,
+                      const RouteMatch& m) {
+        const drafts::Paper paper = daemon::paperParam(m);
+        return daemon::downloadResponse(
+            "application/pdf",
+            drafts::patternPdf(p, {daemon::patternStyle(it), daemon::sizeLabel(it, size)}, paper),
+            daemon::patternFileBase(it, size) + "_" + daemon::paperFileTag(paper) + ".pdf");
+      }));
 }
 
 }  // namespace garmcap::hub

@@ -30,6 +30,14 @@ std::string patternSizeParam(const RouteMatch& m);
 /// How a pattern file names a size: the chart size the garment was measured as for "base".
 std::string sizeLabel(const Item& it, const std::string& size);
 
+/// The style name pattern files carry (DXF-AAMA STYLE, .RUL, GarmentCode): the SKU, else
+/// "GC-<id>". Station and hub name an item's files alike, so a pattern maker gets the same
+/// names from either.
+std::string patternStyle(const Item& it);
+
+/// The stem of an item's per-size pattern file names: "<sku>_<size>", else "item-<id>_<size>".
+std::string patternFileBase(const Item& it, const std::string& size);
+
 /// The graded run of an item: every stored size but "base", in size-guide order when there is
 /// one; the sample size is the one the garment was measured as. None with fewer than 2 sizes.
 std::optional<drafts::GradedRun> gradedRun(const Item& it,
