@@ -6,14 +6,6 @@
 
 namespace garmcap::drafts {
 
-namespace {
-
-double cross(const Point2& a, const Point2& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
-}  // namespace
-
 double degToRad(double degrees) {
   return degrees * kPi / 180.0;
 }
@@ -46,7 +38,7 @@ double angleBetween(const Point2& dirA, const Point2& dirB) {
   if (na < kGeometryEpsCm || nb < kGeometryEpsCm)
     return 0.0;
   // atan2 of cross and dot is accurate near 0 and 180 where acos of the dot is not.
-  return radToDeg(std::atan2(std::abs(cross(dirA, dirB)), dirA.dot(dirB)));
+  return radToDeg(std::atan2(std::abs(cross2d(dirA, dirB)), dirA.dot(dirB)));
 }
 
 std::optional<Point2> unitVector(const Point2& v) {
@@ -175,12 +167,12 @@ Point2 closestPointOnSegment(const Point2& p, const Point2& a, const Point2& b) 
 std::optional<Point2> intersectLines(const Line& a, const Line& b) {
   const Point2 da = a.direction.normalized();
   const Point2 db = b.direction.normalized();
-  const double denom = cross(da, db);
+  const double denom = cross2d(da, db);
   // sin of the angle between the lines: below ~1e-9 rad the intersection is kilometres away
   // or undefined; a draft never wants that point.
   if (std::abs(denom) < 1e-9)
     return std::nullopt;
-  const double t = cross(b.origin - a.origin, db) / denom;
+  const double t = cross2d(b.origin - a.origin, db) / denom;
   return Point2(a.origin + t * da);
 }
 
@@ -188,7 +180,7 @@ std::optional<Point2> intersectSegments(const Point2& a0, const Point2& a1, cons
                                         const Point2& b1) {
   const Point2 r = a1 - a0;
   const Point2 s = b1 - b0;
-  const double denom = cross(r, s);
+  const double denom = cross2d(r, s);
   const double scale = r.norm() * s.norm();
   if (scale < kGeometryEpsCm * kGeometryEpsCm) {
     // A degenerate segment (a point): report it when it lies on the other segment.
@@ -203,8 +195,8 @@ std::optional<Point2> intersectSegments(const Point2& a0, const Point2& a1, cons
   if (std::abs(denom) < 1e-12 * scale)
     return std::nullopt;  // parallel or collinear
   const Point2 q = b0 - a0;
-  const double t = cross(q, s) / denom;
-  const double u = cross(q, r) / denom;
+  const double t = cross2d(q, s) / denom;
+  const double u = cross2d(q, r) / denom;
   // Tolerance in parameter space equivalent to kGeometryEpsCm along each segment, so that a
   // crossing exactly at an end point is not lost to rounding.
   const double et = kGeometryEpsCm / r.norm();

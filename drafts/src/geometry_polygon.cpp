@@ -10,10 +10,6 @@ namespace garmcap::drafts {
 
 namespace {
 
-double cross(const Point2& a, const Point2& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 // Do segments [a0, a1] and [b0, b1] share at least one point (touching counts)?
 bool segmentsTouch(const Point2& a0, const Point2& a1, const Point2& b0, const Point2& b1) {
   if (intersectSegments(a0, a1, b0, b1))
@@ -24,8 +20,8 @@ bool segmentsTouch(const Point2& a0, const Point2& a1, const Point2& b0, const P
   const double rn = r.norm();
   if (rn < kGeometryEpsCm)
     return false;
-  if (std::abs(cross(r, b0 - a0)) / rn > kGeometryEpsCm ||
-      std::abs(cross(r, b1 - a0)) / rn > kGeometryEpsCm) {
+  if (std::abs(cross2d(r, b0 - a0)) / rn > kGeometryEpsCm ||
+      std::abs(cross2d(r, b1 - a0)) / rn > kGeometryEpsCm) {
     return false;
   }
   const Point2 u = r / rn;
@@ -40,7 +36,7 @@ double signedArea(const Polyline& polygon) {
   double twice = 0;
   const size_t n = polygon.size();
   for (size_t i = 0; i < n; ++i)
-    twice += cross(polygon[i], polygon[(i + 1) % n]);
+    twice += cross2d(polygon[i], polygon[(i + 1) % n]);
   return 0.5 * twice;
 }
 
@@ -103,7 +99,7 @@ std::optional<std::pair<int, int>> findSelfIntersection(const Polyline& polygon)
     // back along the first (a zero-angle spike).
     const Point2 d0 = p(i + 1) - p(i);
     const Point2 d1 = p(i + 2) - p(i + 1);
-    return std::abs(cross(d0, d1)) < kGeometryEpsCm * d0.norm() && d0.dot(d1) < 0;
+    return std::abs(cross2d(d0, d1)) < kGeometryEpsCm * d0.norm() && d0.dot(d1) < 0;
   };
   // The usual answer, none, without testing all n²/2 pairs: edges sorted by the left side of
   // their box, each compared with the following ones whose box starts before its own ends
@@ -141,7 +137,7 @@ std::optional<std::pair<int, int>> findSelfIntersection(const Polyline& polygon)
     {
       const Point2 d0 = p(i + 1) - p(i);
       const Point2 d1 = p(i + 2) - p(i + 1);
-      if (std::abs(cross(d0, d1)) < kGeometryEpsCm * d0.norm() && d0.dot(d1) < 0) {
+      if (std::abs(cross2d(d0, d1)) < kGeometryEpsCm * d0.norm() && d0.dot(d1) < 0) {
         return std::make_pair(std::min(i, (i + 1) % n), std::max(i, (i + 1) % n));
       }
     }
@@ -219,7 +215,7 @@ std::optional<Polyline> offsetPolygon(const Polyline& polygon, double distanceCm
     // The miter grows without bound only at corners that are sharp on the side we offset
     // toward: convex corners going outward, reflex corners going inward. Corners of the other
     // kind always take the miter (their offset edges cross close to the vertex).
-    const bool convex = cross(pts[i] - pts[prev], pts[next] - pts[i]) * orientation > 0;
+    const bool convex = cross2d(pts[i] - pts[prev], pts[next] - pts[i]) * orientation > 0;
     const bool sharpSide = convex == (distanceCm > 0);
     if (miter && (!sharpSide || (*miter - pts[i]).norm() <= limit)) {
       out.push_back(*miter);

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "export_util.h"
+#include "garmcap/drafts/geometry_lines.h"
 
 namespace garmcap::drafts {
 
@@ -28,7 +29,6 @@ std::string pieceTitle(const std::string& panelName) {
 }
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTurnAngleDeg = 20.0;  // a sharper bend than this is a corner, not a curve
 }  // namespace
 

@@ -22,6 +22,8 @@ inline constexpr int kSideCurveCount = 13;
 inline constexpr int kWaistPieceCount = 7;
 inline constexpr int kHemCount = 13;
 inline constexpr int kCrotchCount = 17;
+// Fine sampling of the waist and hip curves that darts are later opened in (skirt, pants).
+inline constexpr int kFineCurveCount = 400;
 
 /// Smooth curve through nodes, sampled at exactly `count` points equally spaced by arc length.
 Polyline curve(const std::vector<CurveNode>& nodes, int count);

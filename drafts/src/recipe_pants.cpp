@@ -17,8 +17,6 @@
 namespace garmcap::drafts::detail {
 namespace {
 
-constexpr int kFine = 400;
-
 template <class F>
 std::optional<double> bisect(F f, double lo, double hi) {
   double fl = f(lo), fh = f(hi);
@@ -109,7 +107,8 @@ void recipePants(DraftBuilder& b) {
   };
   auto frontWaist = [&](const Polyline& side) {
     const Point2 cfDir = (c - cfw).normalized();
-    return curve({{side.front(), perpPlusX(side[1] - side[0])}, {cfw, perpPlusX(cfDir)}}, kFine);
+    return curve({{side.front(), perpPlusX(side[1] - side[0])}, {cfw, perpPlusX(cfDir)}},
+                 kFineCurveCount);
   };
   double sIn = 2;
   for (int i = 0; i < 4; ++i) {
@@ -183,7 +182,8 @@ void recipePants(DraftBuilder& b) {
                   Polyline{hemOutB});
   };
   auto backWaist = [&](const Polyline& side) {
-    return curve({{side.front(), perpPlusX(side[1] - side[0])}, {rp, perpPlusX(up)}}, kFine);
+    return curve({{side.front(), perpPlusX(side[1] - side[0])}, {rp, perpPlusX(up)}},
+                 kFineCurveCount);
   };
   double sInB = 2;
   Polyline sideB;

@@ -9,8 +9,6 @@
 namespace garmcap::drafts::detail {
 namespace {
 
-constexpr int kFine = 400;  // fine sampling of curves before darts are opened in them
-
 // Arc length along a left-to-right polyline where it crosses x.
 double arcAtX(const Polyline& pl, double x) {
   auto hit = firstIntersection(pl, Line::vertical(x));
@@ -56,8 +54,10 @@ SkirtWaist skirtWaist(const SkirtOptions& o, double s, double shift) {
   Point2 wF(tF.y(), -tF.x());
   if (wF.x() < 0)
     wF = -wF;
-  w.waistBFine = isHigh ? Polyline{cbw, w.swb} : curve({{cbw, Point2(1, 0)}, {w.swb, wB}}, kFine);
-  w.waistFFine = isHigh ? Polyline{w.swf, cfw} : curve({{w.swf, wF}, {cfw, Point2(1, 0)}}, kFine);
+  w.waistBFine =
+      isHigh ? Polyline{cbw, w.swb} : curve({{cbw, Point2(1, 0)}, {w.swb, wB}}, kFineCurveCount);
+  w.waistFFine =
+      isHigh ? Polyline{w.swf, cfw} : curve({{w.swf, wF}, {cfw, Point2(1, 0)}}, kFineCurveCount);
   return w;
 }
 

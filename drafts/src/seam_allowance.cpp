@@ -55,10 +55,6 @@ Point2 outwardNormal(const Point2& a, const Point2& b, bool positiveArea) {
   return positiveArea ? Point2(e.y(), -e.x()) : Point2(-e.y(), e.x());
 }
 
-double cross2(const Point2& a, const Point2& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 // Removes the small loops an outward offset makes where short edges turn sharply inward (a
 // concave curve sampled finely): each pair of crossing edges within half the polygon is
 // joined at its crossing and the loop between them dropped.
@@ -123,7 +119,7 @@ bool appendDartCap(Polyline& out, const Line& before, const Line& after, const P
     return false;
   const Point2 u1 = (leg1At - *apex).normalized(), u2 = (leg2At - *apex).normalized();
   // Rotation about the apex taking the second leg onto the first, and back.
-  const double c = u2.dot(u1), s = cross2(u2, u1);
+  const double c = u2.dot(u1), s = cross2d(u2, u1);
   const Line afterClosed{
       rotated(after.origin, *apex, c, s),
       rotated(after.origin + after.direction, *apex, c, s) - rotated(after.origin, *apex, c, s)};
@@ -132,8 +128,8 @@ bool appendDartCap(Polyline& out, const Line& before, const Line& after, const P
     return false;
   // Which side of the first leg the corner falls on: the piece before the dart, or the intake
   // (where, closed, the piece after the dart lies).
-  const double intakeSide = cross2(u1, u2);
-  const bool cornerBeforeLeg = cross2(u1, *m - *apex) * intakeSide < 0;
+  const double intakeSide = cross2d(u1, u2);
+  const bool cornerBeforeLeg = cross2d(u1, *m - *apex) * intakeSide < 0;
   // The closed cut line on the first piece's side, ending where it crosses the first leg.
   Polyline firstSide;
   if (cornerBeforeLeg) {
@@ -405,7 +401,7 @@ Polyline cutOutline(const Panel& panel, const Pattern& pattern) {
     const double db = dist[static_cast<size_t>(wrap(b, n))];
     const Point2 ua = (P(a + 1) - P(a)).normalized(), ub = (P(b + 1) - P(b)).normalized();
     const Point2 pa = P(v) + da * normal(a), pb = P(v) + db * normal(b);
-    const double turn = cross2(ua, ub) * orientation;  // > 0: convex corner
+    const double turn = cross2d(ua, ub) * orientation;  // > 0: convex corner
     if (std::abs(turn) < kParallelSin && ua.dot(ub) > 0) {
       raw.push_back(pa);  // straight on: one point, or a step where the allowance changes
       if ((pb - pa).norm() > kGeometryEpsCm)

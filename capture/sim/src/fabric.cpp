@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "garmcap/drafts/file_io.h"
@@ -10,8 +11,6 @@
 namespace garmcap::sim {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Anti-aliased step: the fraction of a pixel of width `w` (same units as x) centred at x that
 // lies above `edge`.
@@ -107,7 +106,7 @@ Fabric Fabric::fromJson(const nlohmann::json& j, const std::string& what) {
 }
 
 cv::Vec3f fabricColour(const Fabric& fabric, double uCm, double vCm, double footprintCm) {
-  const double a = fabric.angleDeg * kPi / 180.0;
+  const double a = fabric.angleDeg * std::numbers::pi / 180.0;
   const double along = uCm * std::cos(a) + vCm * std::sin(a);    // across the stripes
   const double across = -uCm * std::sin(a) + vCm * std::cos(a);  // along the stripes
   cv::Vec3f c = fabric.base;
@@ -159,8 +158,8 @@ cv::Vec3f fabricColour(const Fabric& fabric, double uCm, double vCm, double foot
   }
   // Weave: a fine twill-like ripple, below the pixel size at low resolutions (then it averages).
   if (fabric.weaveContrast > 0 && footprintCm < 0.15) {
-    const double w =
-        std::sin((uCm + vCm) * 2 * kPi / 0.12) * std::sin((uCm - vCm) * 2 * kPi / 0.17);
+    const double w = std::sin((uCm + vCm) * 2 * std::numbers::pi / 0.12) *
+                     std::sin((uCm - vCm) * 2 * std::numbers::pi / 0.17);
     c *= static_cast<float>(1.0 + fabric.weaveContrast * w * (1.0 - footprintCm / 0.15));
   }
   return c;

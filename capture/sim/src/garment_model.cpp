@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -15,7 +16,6 @@ using calib::RowSection;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Skirts and pants: the waistband's top edge sits this far above the form's waist.
 constexpr double kWaistbandRiseCm = 2.0;
 
@@ -350,7 +350,7 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
     for (int x = x0; x <= x1; ++x) {
       double bottom = spec.type == "pants" ? lowRowC : hemRowC;
       if (spec.type != "pants" && waveAmpPx > 0) {
-        bottom += waveAmpPx * std::sin(2 * kPi * (x - mid) / waveLambdaPx);
+        bottom += waveAmpPx * std::sin(2 * std::numbers::pi * (x - mid) / waveLambdaPx);
       }
       const double vTop = upper ? 1.0 : std::clamp(y - topRowC + 0.5, 0.0, 1.0);
       const double vBot = std::clamp(bottom - y + 0.5, 0.0, 1.0);
@@ -527,8 +527,9 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
         const double u = std::clamp((i - mid) / hw, -0.999, 0.999);
         const double lambda = (aLine ? 9.0 + 6.0 * v : 7.0) * s;
         const double f =
-            amp * (0.6 * std::sin(2 * kPi * (i - view.axisXPx()) / lambda + ph1 + 2.0 * v) +
-                   0.4 * std::sin(2 * kPi * (i - view.axisXPx()) / (0.47 * lambda) + ph2));
+            amp *
+            (0.6 * std::sin(2 * std::numbers::pi * (i - view.axisXPx()) / lambda + ph1 + 2.0 * v) +
+             0.4 * std::sin(2 * std::numbers::pi * (i - view.axisXPx()) / (0.47 * lambda) + ph2));
         const double nx = u + 0.25 * f;
         const double nz = std::sqrt(std::max(0.05, 1.0 - std::min(1.0, nx * nx)));
         g.normals(y, i) = cv::Vec3f(static_cast<float>(nx), 0.f, static_cast<float>(nz));

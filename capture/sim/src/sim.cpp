@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
@@ -11,8 +12,6 @@
 namespace garmcap::sim {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 calib::FormPose withoutRoll(calib::FormPose p) {
   p.rollRad = 0;
@@ -92,7 +91,7 @@ cv::Mat SceneRenderer::render(bool dressed) const {
 
   // Illumination of the screen: gradient, cloth unevenness (static between the two shots).
   cv::Mat1f illum(size);
-  const double ga = L.gradientAngleDeg * kPi / 180.0;
+  const double ga = L.gradientAngleDeg * std::numbers::pi / 180.0;
   const double half = 0.5 * std::hypot(size.width, size.height);
   const cv::Mat1f uneven = smoothField(size, scene_.seed ^ 0xA5A5A5A5ULL, 6, 0.03);
   for (int y = 0; y < size.height; ++y) {
@@ -201,7 +200,7 @@ cv::Mat SceneRenderer::render(bool dressed) const {
       cv::Mat r1 =
           cv::getRotationMatrix2D(cv::Point2f(static_cast<float>(scene_.pose.offsetPx.x()),
                                               static_cast<float>(scene_.pose.offsetPx.y())),
-                                  roll * 180.0 / kPi, 1.0);
+                                  roll * 180.0 / std::numbers::pi, 1.0);
       cv::Mat m = cv::Mat::eye(3, 3, CV_64F);
       r1.copyTo(m.rowRange(0, 2));
       if (shake) {

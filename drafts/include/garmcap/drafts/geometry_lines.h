@@ -15,6 +15,12 @@ inline constexpr double kPi = 3.14159265358979323846;
 /// Two points closer than this are the same point for the kernel (1 µm).
 inline constexpr double kGeometryEpsCm = 1e-6;
 
+/// The z component of the cross product of two plane vectors (> 0: b turns left of a, in
+/// x-right/y-up terms; on the page, with y down, clockwise).
+inline double cross2d(const Point2& a, const Point2& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
 double degToRad(double degrees);
 double radToDeg(double radians);
 
