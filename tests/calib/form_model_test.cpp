@@ -14,7 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path tempDir() {
+fs::path formTempDir() {
   const fs::path d =
       fs::temp_directory_path() / ("garmcap_calib_form_" + std::to_string(::getpid()));
   fs::create_directories(d);
@@ -76,13 +76,13 @@ TEST(FormModel, FormArgumentAcceptsMeshOrSidecar) {
   EXPECT_EQ(resolveFormSidecar(dir / "mean_female.obj"), dir / "form.json");
   EXPECT_EQ(resolveFormSidecar(dir / "form.json"), dir / "form.json");
   EXPECT_THROW(resolveFormSidecar(dir / "mean_female.yaml"), drafts::FileError);
-  EXPECT_THROW(resolveFormSidecar(tempDir() / "nothing.obj"), drafts::FileError);
+  EXPECT_THROW(resolveFormSidecar(formTempDir() / "nothing.obj"), drafts::FileError);
 }
 
 // Writes mesh + sidecar to a temp folder and loads them; `edit` changes the sidecar.
 FormModel loadWith(const TriMesh& mesh, const std::string& units,
                    const std::function<void(nlohmann::json&)>& edit) {
-  const fs::path dir = tempDir();
+  const fs::path dir = formTempDir();
   writeObj(dir / "f.obj", mesh, "test");
   nlohmann::json j = {
       {"mesh", "f.obj"},

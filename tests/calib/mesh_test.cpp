@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path tempDir() {
+fs::path meshTempDir() {
   const fs::path d =
       fs::temp_directory_path() / ("garmcap_calib_mesh_" + std::to_string(::getpid()));
   fs::create_directories(d);
@@ -29,7 +29,7 @@ const char* kTetraObj =
     "f 1/1 3/1 2/1\nf 1 2 4\nf -4 -1 -2\nf 2 3 4\n";
 
 TEST(Mesh, ReadsObjWithTextureIndicesAndNegativeIndices) {
-  const fs::path p = tempDir() / "tetra.obj";
+  const fs::path p = meshTempDir() / "tetra.obj";
   drafts::writeFileAtomic(p, kTetraObj);
   const TriMesh m = readMesh(p);
   EXPECT_EQ(m.vertices.size(), 4u);
@@ -39,7 +39,7 @@ TEST(Mesh, ReadsObjWithTextureIndicesAndNegativeIndices) {
 }
 
 TEST(Mesh, ObjErrorsNameFileAndLine) {
-  const fs::path p = tempDir() / "bad.obj";
+  const fs::path p = meshTempDir() / "bad.obj";
   drafts::writeFileAtomic(p, "v 0 0 0\nv 1 0 0\nv 0 1 x\n");
   try {
     readObj(p);
@@ -52,7 +52,7 @@ TEST(Mesh, ObjErrorsNameFileAndLine) {
 }
 
 TEST(Mesh, ReadsAsciiAndBinaryPly) {
-  const fs::path a = tempDir() / "tetra_ascii.ply";
+  const fs::path a = meshTempDir() / "tetra_ascii.ply";
   drafts::writeFileAtomic(a,
                           "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
                           "property float y\nproperty float z\nelement face 4\n"
@@ -73,7 +73,7 @@ TEST(Mesh, ReadsAsciiAndBinaryPly) {
     bin.push_back(3);
     bin.append(reinterpret_cast<const char*>(face), sizeof face);
   }
-  const fs::path b = tempDir() / "tetra_bin.ply";
+  const fs::path b = meshTempDir() / "tetra_bin.ply";
   drafts::writeFileAtomic(b, bin);
   const TriMesh mb = readMesh(b);
   ASSERT_EQ(mb.vertices.size(), 4u);
@@ -100,7 +100,7 @@ TEST(Mesh, PlyCountsAndIndicesTheFileCannotHoldAreRefused) {
        "more than the file holds"},
       {"ply\nformat ascii 1.0\nelement vertex many\nend_header\n", "not 'element NAME COUNT'"},
   };
-  const fs::path p = tempDir() / "corrupt.ply";
+  const fs::path p = meshTempDir() / "corrupt.ply";
   for (const auto& [text, expected] : cases) {
     drafts::writeFileAtomic(p, text);
     try {
@@ -117,7 +117,7 @@ TEST(Mesh, PlyCountsAndIndicesTheFileCannotHoldAreRefused) {
 }
 
 TEST(Mesh, OpenMeshHasOpenEdges) {
-  const fs::path p = tempDir() / "open.obj";
+  const fs::path p = meshTempDir() / "open.obj";
   drafts::writeFileAtomic(p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n");
   EXPECT_EQ(openEdgeCount(readObj(p)), 3u);
 }

@@ -21,13 +21,6 @@
 namespace garmcap::capture {
 namespace {
 
-CameraOptions options(const std::string& backend, const std::string& device = {}) {
-  CameraOptions o;
-  o.backend = backend;
-  o.device = device;
-  return o;
-}
-
 using std::chrono::milliseconds;
 
 struct Subject {
@@ -72,7 +65,7 @@ std::optional<Subject> replay(std::string&) {
 // The synthetic camera is the simulator's (garmcap::sim), made by sim::makeCamera; it must
 // behave like every other back end towards the station.
 std::optional<Subject> synthetic(std::string&) {
-  CameraOptions o = options("synthetic");
+  CameraOptions o = cameraOptions("synthetic");
   o.formPath = std::string(GARMCAP_SHARED_DIR) + "/data/forms/garmentcode_mean_female/form.json";
   o.seed = 11;
   o.syntheticSize = {240, 320};  // small: the renderer's cost grows with the pixels
@@ -91,7 +84,7 @@ std::optional<Subject> realV4l2(std::string& whyNot) {
     return std::nullopt;
   }
   Subject s;
-  s.camera = makeCamera(options("v4l2", "/dev/video0"));
+  s.camera = makeCamera(cameraOptions("v4l2", "/dev/video0"));
   return s;
 }
 
@@ -101,7 +94,7 @@ std::optional<Subject> realLibcamera(std::string& whyNot) {
     return std::nullopt;
   }
   Subject s;
-  s.camera = makeCamera(options("libcamera"));
+  s.camera = makeCamera(cameraOptions("libcamera"));
   return s;
 }
 
@@ -258,7 +251,7 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<Backend>& info) { return info.param.name; });
 
 TEST(CameraFactory, SyntheticWithoutAFormSaysSo) {
-  std::unique_ptr<Camera> cam = sim::makeCamera(options("synthetic"));
+  std::unique_ptr<Camera> cam = sim::makeCamera(cameraOptions("synthetic"));
   EXPECT_EQ(cam->backend(), "synthetic");
   try {
     cam->open();
@@ -271,7 +264,7 @@ TEST(CameraFactory, SyntheticWithoutAFormSaysSo) {
 
 TEST(CameraFactory, NamesAndPixelFormats) {
   EXPECT_EQ(cameraBackends(), (std::vector<std::string>{"libcamera", "v4l2", "replay"}));
-  EXPECT_EQ(makeCamera(options("v4l2"))->device(), "/dev/video0");
+  EXPECT_EQ(makeCamera(cameraOptions("v4l2"))->device(), "/dev/video0");
   EXPECT_EQ(parsePixelFormat("MJPEG"), PixelFormat::kMjpeg);
   EXPECT_EQ(parsePixelFormat("yuyv"), PixelFormat::kYuyv);
   EXPECT_THROW(parsePixelFormat("h264"), std::invalid_argument);
@@ -280,7 +273,7 @@ TEST(CameraFactory, NamesAndPixelFormats) {
 // capture does not link the simulator: its factory refuses "synthetic" and says who makes it.
 TEST(CameraFactory, CaptureRefersSyntheticToTheSimulator) {
   try {
-    makeCamera(options("synthetic"));
+    makeCamera(cameraOptions("synthetic"));
     FAIL() << "capture::makeCamera made a synthetic camera";
   } catch (const CameraError& e) {
     EXPECT_EQ(e.kind(), CameraErrorKind::kNotAvailable);
@@ -292,12 +285,12 @@ TEST(CameraFactory, CaptureRefersSyntheticToTheSimulator) {
 TEST(CameraFactory, SimulatorFactoryAddsSyntheticAndForwardsTheRest) {
   EXPECT_EQ(sim::cameraBackends(),
             (std::vector<std::string>{"libcamera", "v4l2", "replay", "synthetic"}));
-  const auto v4l2 = sim::makeCamera(options("v4l2"));
+  const auto v4l2 = sim::makeCamera(cameraOptions("v4l2"));
   EXPECT_EQ(v4l2->backend(), "v4l2");
   EXPECT_EQ(v4l2->device(), "/dev/video0");
-  EXPECT_THROW(sim::makeCamera(options("replay")), std::invalid_argument);  // no rig folder
+  EXPECT_THROW(sim::makeCamera(cameraOptions("replay")), std::invalid_argument);  // no rig folder
   try {
-    sim::makeCamera(options("webcam"));
+    sim::makeCamera(cameraOptions("webcam"));
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("known: libcamera, v4l2, replay, synthetic)"),

@@ -15,13 +15,6 @@
 namespace garmcap::capture {
 namespace {
 
-CameraOptions options(const std::string& backend, const std::string& device = {}) {
-  CameraOptions o;
-  o.backend = backend;
-  o.device = device;
-  return o;
-}
-
 using std::chrono::milliseconds;
 namespace fs = std::filesystem;
 
@@ -291,19 +284,19 @@ TEST(ReplayFaults, ConfiguredStillSizeResizes) {
 TEST(ReplayFactory, MakeCameraBuildsReplayAndRejectsUnknownNames) {
   TempRig rig("factory");
   rig.make(1, {64, 48});
-  auto cam = makeCamera(options("replay", rig.dir.string()));
+  auto cam = makeCamera(cameraOptions("replay", rig.dir.string()));
   EXPECT_EQ(cam->backend(), "replay");
   cam->open();
   EXPECT_EQ(cam->captureStill().bgr.size(), cv::Size(64, 48));
   try {
-    makeCamera(options("webcam"));
+    makeCamera(cameraOptions("webcam"));
     FAIL();
   } catch (const std::invalid_argument& e) {
     // capture's own back ends only: "synthetic" is the simulator's (sim::makeCamera).
     EXPECT_NE(std::string(e.what()).find("known: libcamera, v4l2, replay)"), std::string::npos)
         << e.what();
   }
-  EXPECT_THROW(makeCamera(options("replay")), std::invalid_argument);
+  EXPECT_THROW(makeCamera(cameraOptions("replay")), std::invalid_argument);
 }
 
 }  // namespace

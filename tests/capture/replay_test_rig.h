@@ -12,7 +12,17 @@
 #include <sstream>
 #include <string>
 
+#include "garmcap/capture/camera.h"
+
 namespace garmcap::capture {
+
+/// The options a station's config gives for a camera back end (`device`: a node or a rig folder).
+inline CameraOptions cameraOptions(const std::string& backend, const std::string& device = {}) {
+  CameraOptions o;
+  o.backend = backend;
+  o.device = device;
+  return o;
+}
 
 struct TempRig {
   std::filesystem::path dir;

@@ -67,7 +67,7 @@ fs::path indexFor(const fs::path& caseDir, const std::string& extra = "") {
   return dir;
 }
 
-std::string errorOf(const std::function<void()>& f) {
+std::string rigErrorOf(const std::function<void()>& f) {
   try {
     f();
   } catch (const RigError& e) {
@@ -208,9 +208,9 @@ TEST(Rig, JpegQualityOutsideOneToHundredIsRefused) {
 TEST(Rig, BothFormatsOfAFrameAreRefusedNamingTheFiles) {
   const auto dir = copyCase("both", RigImageFormat::kJpeg);
   fs::copy_file(dir / "dressed.jpg", dir / "dressed.png");  // content does not matter
-  const std::string msg = errorOf([&] { loadRigCase(dir); });
+  const std::string msg = rigErrorOf([&] { loadRigCase(dir); });
   expectHas(msg, {dir.string(), "dressed.png", "dressed.jpg", "both present"});
-  const std::string atIndex = errorOf([&] { readRig(indexFor(dir)); });
+  const std::string atIndex = rigErrorOf([&] { readRig(indexFor(dir)); });
   expectHas(atIndex, {dir.string(), "dressed.png", "dressed.jpg", "both present", "case 'c'"});
 }
 
@@ -218,9 +218,9 @@ TEST(Rig, NeitherFormatOfAFrameIsRefusedNamingTheFiles) {
   for (const RigImageFormat f : {RigImageFormat::kPng, RigImageFormat::kJpeg}) {
     const auto dir = copyCase("neither", f);
     fs::remove(dir / (std::string("empty.") + rigImageExtension(f)));
-    const std::string msg = errorOf([&] { loadRigCase(dir); });
+    const std::string msg = rigErrorOf([&] { loadRigCase(dir); });
     expectHas(msg, {(dir / "empty.png").string() + ": missing", "empty.jpg"});
-    const std::string atIndex = errorOf([&] { readRig(indexFor(dir)); });
+    const std::string atIndex = rigErrorOf([&] { readRig(indexFor(dir)); });
     expectHas(atIndex, {(dir / "empty.png").string() + ": missing", "empty.jpg", "case 'c'"});
   }
 }
@@ -228,10 +228,10 @@ TEST(Rig, NeitherFormatOfAFrameIsRefusedNamingTheFiles) {
 TEST(Rig, CorruptPngIsNamed) {
   const auto dir = copyCase("corrupt", RigImageFormat::kPng);
   writeBytes(dir / "dressed.png", "\x89PNG\r\n\x1a\n garbage");
-  expectHas(errorOf([&] { loadRigCase(dir); }),
+  expectHas(rigErrorOf([&] { loadRigCase(dir); }),
             {(dir / "dressed.png").string(), "not a readable image"});
   writeBytes(dir / "dressed.png", "GIF89a not a png");
-  expectHas(errorOf([&] { loadRigCase(dir); }), {(dir / "dressed.png").string(), "not a PNG"});
+  expectHas(rigErrorOf([&] { loadRigCase(dir); }), {(dir / "dressed.png").string(), "not a PNG"});
 }
 
 // libjpeg decodes a JPEG cut short into a partly grey image with only a warning on stderr: the
@@ -241,7 +241,7 @@ TEST(Rig, TruncatedJpegIsNamed) {
   const std::string whole = readBytes(dir / "dressed.jpg");
   for (const std::size_t keep : {whole.size() / 2, whole.size() - 1, std::size_t{200}}) {
     writeBytes(dir / "dressed.jpg", whole.substr(0, keep));
-    expectHas(errorOf([&] { loadRigCase(dir); }),
+    expectHas(rigErrorOf([&] { loadRigCase(dir); }),
               {(dir / "dressed.jpg").string(), "truncated JPEG", "FF D9"});
   }
   // Zero padding after the end marker (as UVC cameras deliver) is fine.
@@ -254,17 +254,17 @@ TEST(Rig, GarbageJpegIsNamed) {
   const fs::path file = dir / "empty.jpg";
   // Not a JPEG at all.
   writeBytes(file, std::string(4000, 'x'));
-  expectHas(errorOf([&] { loadRigCase(dir); }), {file.string(), "not a JPEG", "FF D8"});
+  expectHas(rigErrorOf([&] { loadRigCase(dir); }), {file.string(), "not a JPEG", "FF D8"});
   // A PNG under a .jpg name.
   writeRigFrame(dir, "scratch", committedCase().empty, {});
   fs::rename(dir / "scratch.png", file);
-  expectHas(errorOf([&] { loadRigCase(dir); }), {file.string(), "not a JPEG"});
+  expectHas(rigErrorOf([&] { loadRigCase(dir); }), {file.string(), "not a JPEG"});
   // A stub.
   writeBytes(file, "\xFF\xD8\xFF\xD9");
-  expectHas(errorOf([&] { loadRigCase(dir); }), {file.string(), "not a JPEG", "4 bytes"});
+  expectHas(rigErrorOf([&] { loadRigCase(dir); }), {file.string(), "not a JPEG", "4 bytes"});
   // Well framed, garbage inside.
   writeBytes(file, "\xFF\xD8" + std::string(4000, '\x55') + "\xFF\xD9");
-  expectHas(errorOf([&] { loadRigCase(dir); }), {file.string(), "not a readable image"});
+  expectHas(rigErrorOf([&] { loadRigCase(dir); }), {file.string(), "not a readable image"});
 }
 
 TEST(Rig, FramesOfDifferentSizesAreRefused) {
@@ -274,7 +274,7 @@ TEST(Rig, FramesOfDifferentSizesAreRefused) {
     cv::resize(committedCase().dressed, small,
                cv::Size(committedCase().dressed.cols - 2, committedCase().dressed.rows));
     writeRigFrame(dir, "dressed", small, {f, kDefaultJpegQuality});
-    expectHas(errorOf([&] { loadRigCase(dir); }),
+    expectHas(rigErrorOf([&] { loadRigCase(dir); }),
               {"differs from", (dir / (std::string("empty.") + rigImageExtension(f))).string()});
   }
   // Mixed formats are read, and still held to one size.
@@ -282,7 +282,7 @@ TEST(Rig, FramesOfDifferentSizesAreRefused) {
   cv::Mat small;
   cv::resize(committedCase().dressed, small, cv::Size(), 0.5, 0.5);
   writeRigFrame(dir, "dressed", small, {RigImageFormat::kJpeg, 90});
-  expectHas(errorOf([&] { loadRigCase(dir); }),
+  expectHas(rigErrorOf([&] { loadRigCase(dir); }),
             {(dir / "dressed.jpg").string(), "differs from", (dir / "empty.png").string()});
 }
 
@@ -291,11 +291,12 @@ TEST(Rig, ImageFormatOfTheIndexIsChecked) {
   const auto dir = copyCase("declared", RigImageFormat::kJpeg);
   EXPECT_NO_THROW(readRig(indexFor(dir, R"("image_format": "jpg", "jpeg_quality": 92, )")));
   EXPECT_NO_THROW(readRig(indexFor(dir)));
-  expectHas(errorOf([&] { readRig(indexFor(dir, R"("image_format": "png", )")); }),
+  expectHas(rigErrorOf([&] { readRig(indexFor(dir, R"("image_format": "png", )")); }),
             {(dir / "empty.jpg").string(), "image_format"});
-  expectHas(errorOf([&] { readRig(indexFor(dir, R"("image_format": "jpeg", )")); }),
+  expectHas(rigErrorOf([&] { readRig(indexFor(dir, R"("image_format": "jpeg", )")); }),
             {"image_format", "jpeg"});
-  expectHas(errorOf([&] { readRig(indexFor(dir, R"("jpeg_quality": 120, )")); }), {"jpeg_quality"});
+  expectHas(rigErrorOf([&] { readRig(indexFor(dir, R"("jpeg_quality": 120, )")); }),
+            {"jpeg_quality"});
 }
 
 TEST(Rig, UnknownFieldInIndexIsRefused) {

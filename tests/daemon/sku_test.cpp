@@ -72,13 +72,13 @@ cv::Mat ean13(const std::string& twelve, int check = -1) {
   return code;
 }
 
-void requireZbar() {
+void requireZbarForQr() {
   if (hangTagDecoder() != "zbar")
     GTEST_SKIP() << "built without zbar (libzbar-dev): Debian's OpenCV decodes no QR codes";
 }
 
 TEST(HangTagSku, QrCodeOnTheTag) {
-  requireZbar();
+  requireZbarForQr();
   cv::Mat frame = greenFrame();
   pasteTag(frame, qr("SKU-2024.07_A1"), 4, 300, 60);
   EXPECT_EQ(decodeHangTagSku(frame), "SKU-2024.07_A1");
@@ -95,7 +95,7 @@ TEST(HangTagSku, NothingOrNotASku) {
 }
 
 TEST(HangTagSku, Ean13BarcodeOnTheTag) {
-  requireZbar();
+  requireZbarForQr();
   cv::Mat frame = greenFrame();
   pasteTag(frame, ean13("400638133393"), 3, 60, 400);
   EXPECT_EQ(decodeHangTagSku(frame), "4006381333931");

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../common/run_command.h"
 #include "garmcap/daemon/export_shop.h"
 #include "garmcap/daemon/export_zip.h"
 #include "garmcap/daemon/spill_buffer.h"
@@ -19,19 +20,9 @@
 namespace garmcap::daemon {
 namespace {
 
-namespace fs = std::filesystem;
+using garmcap::testing::runCommand;
 
-std::string run(const std::string& cmd, int& status) {
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p)
-    throw std::runtime_error("cannot run " + cmd);
-  std::string out;
-  char buf[4096];
-  while (const std::size_t n = std::fread(buf, 1, sizeof buf, p))
-    out.append(buf, n);
-  status = ::pclose(p);
-  return out;
-}
+namespace fs = std::filesystem;
 
 // Hex of bytes, as zip_read_check.py --data reports them.
 std::string hex(const std::string& bytes) {
@@ -63,16 +54,16 @@ class ZipWriterTest : public ::testing::Test {
   nlohmann::json python(const fs::path& zip, bool data) {
     int st = 0;
     const std::string out =
-        run("/usr/bin/python3 " GARMCAP_SOURCE_DIR "/tests/daemon/zip_read_check.py '" +
-                zip.string() + "'" + (data ? " --data" : "") + " 2>&1",
-            st);
+        runCommand("/usr/bin/python3 " GARMCAP_SOURCE_DIR "/tests/daemon/zip_read_check.py '" +
+                       zip.string() + "'" + (data ? " --data" : "") + " 2>&1",
+                   st);
     EXPECT_EQ(st, 0) << out;
     return st == 0 ? nlohmann::json::parse(out) : nlohmann::json::object();
   }
   // Info-ZIP's own test of every entry.
   void unzipTest(const fs::path& zip) {
     int st = 0;
-    const std::string out = run("unzip -tq '" + zip.string() + "' 2>&1", st);
+    const std::string out = runCommand("unzip -tq '" + zip.string() + "' 2>&1", st);
     EXPECT_EQ(st, 0) << out;
   }
   // Whole entries, an entry in three pieces, an empty one in pieces, a binary one.
@@ -148,11 +139,11 @@ TEST_F(ZipWriterTest, MoreThan65535EntriesTakeZip64) {
   unzipTest(p);
   // Python reads a file from the far end of the archive back right.
   int st = 0;
-  const std::string out =
-      run("/usr/bin/python3 -c 'import sys, zipfile; "
-          "print(zipfile.ZipFile(sys.argv[1]).read(\"f/65599.txt\").decode())' '" +
-              p.string() + "' 2>&1",
-          st);
+  const std::string out = runCommand(
+      "/usr/bin/python3 -c 'import sys, zipfile; "
+      "print(zipfile.ZipFile(sys.argv[1]).read(\"f/65599.txt\").decode())' '" +
+          p.string() + "' 2>&1",
+      st);
   EXPECT_EQ(out, std::to_string(65599 * 7) + "\n");
 }
 

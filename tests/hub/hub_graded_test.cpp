@@ -14,6 +14,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../common/run_command.h"
 #include "../e2e/daemon_harness.h"
 #include "garmcap/drafts/panel_measure.h"
 #include "garmcap/drafts/pattern_io.h"
@@ -26,22 +27,12 @@
 namespace garmcap::hub {
 namespace {
 
+using garmcap::testing::runCommand;
+
 using e2e::Json;
 using e2e::Reply;
 namespace http = e2e::http;
 namespace fs = std::filesystem;
-
-std::string run(const std::string& cmd, int& status) {
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p)
-    throw std::runtime_error("cannot run " + cmd);
-  std::string out;
-  char buf[4096];
-  while (const std::size_t n = std::fread(buf, 1, sizeof buf, p))
-    out.append(buf, n);
-  status = ::pclose(p);
-  return out;
-}
 
 class HubGradedTest : public ::testing::Test {
  protected:
@@ -105,7 +96,7 @@ class HubGradedTest : public ::testing::Test {
 test::TempPostgres* HubGradedTest::pg_ = nullptr;
 HubService* HubGradedTest::service_ = nullptr;
 
-const fs::path kDress = fs::path(GARMCAP_TEST_DATA_DIR) / "designs" / "dress_55.json";
+const fs::path kDesignedDress = fs::path(GARMCAP_TEST_DATA_DIR) / "designs" / "dress_55.json";
 
 // ezdxf's view of a graded DXF-AAMA file: "<size> <height mm>" per block of a piece in a size
 // (the block's sew line, layer 14), sorted; "ERRORS n" from its audit first.
@@ -114,21 +105,21 @@ std::string gradedBlocks(const fs::path& dxf, const std::vector<std::string>& si
   for (const auto& s : sizes)
     list += (list.empty() ? "" : ",") + s;
   int st = 0;
-  const std::string out =
-      run("/usr/bin/python3 -c '\n"
-          "import sys, ezdxf\n"
-          "d = ezdxf.readfile(sys.argv[1]); a = d.audit(); print(\"ERRORS\", len(a.errors))\n"
-          "sizes = sys.argv[2].split(\",\")\n"
-          "rows = []\n"
-          "for b in d.blocks:\n"
-          "  if b.name.startswith(\"*\") or b.name.rsplit(\"_\", 1)[-1] not in sizes: continue\n"
-          "  for e in b:\n"
-          "    if e.dxftype() == \"POLYLINE\" and e.dxf.layer == \"14\":\n"
-          "      ys = [v.dxf.location.y for v in e.vertices]\n"
-          "      rows.append(\"%s %.1f\" % (b.name.rsplit(\"_\", 1)[-1], max(ys) - min(ys)))\n"
-          "print(\"\\n\".join(sorted(rows)))' '" +
-              dxf.string() + "' '" + list + "' 2>&1",
-          st);
+  const std::string out = runCommand(
+      "/usr/bin/python3 -c '\n"
+      "import sys, ezdxf\n"
+      "d = ezdxf.readfile(sys.argv[1]); a = d.audit(); print(\"ERRORS\", len(a.errors))\n"
+      "sizes = sys.argv[2].split(\",\")\n"
+      "rows = []\n"
+      "for b in d.blocks:\n"
+      "  if b.name.startswith(\"*\") or b.name.rsplit(\"_\", 1)[-1] not in sizes: continue\n"
+      "  for e in b:\n"
+      "    if e.dxftype() == \"POLYLINE\" and e.dxf.layer == \"14\":\n"
+      "      ys = [v.dxf.location.y for v in e.vertices]\n"
+      "      rows.append(\"%s %.1f\" % (b.name.rsplit(\"_\", 1)[-1], max(ys) - min(ys)))\n"
+      "print(\"\\n\".join(sorted(rows)))' '" +
+          dxf.string() + "' '" + list + "' 2>&1",
+      st);
   if (st != 0)
     throw std::runtime_error("ezdxf refused " + dxf.string() + ": " + out);
   return out;
@@ -136,7 +127,7 @@ std::string gradedBlocks(const fs::path& dxf, const std::vector<std::string>& si
 
 TEST_F(HubGradedTest, GradedFilesOfAnyStationsItemAreWrittenFromItsPushedSizeRun) {
   // The station's graded run of a dress measured as 55: every korean_women size, and its guide.
-  const drafts::Pattern source = drafts::readPatternJson(kDress);
+  const drafts::Pattern source = drafts::readPatternJson(kDesignedDress);
   const drafts::SizeChart& chart = drafts::sizeChart("korean_women");
   const auto graded = dsw::gradeSizeRun(source, chart);
   ASSERT_TRUE(graded) << graded.error().message;
@@ -188,12 +179,12 @@ TEST_F(HubGradedTest, GradedFilesOfAnyStationsItemAreWrittenFromItsPushedSizeRun
   const auto rul = call(at + "/pattern_graded.rul", "shop1-secret");
   ASSERT_EQ(rul.status, 200) << rul.body;
   int st = 0;
-  const std::string rulOut =
-      run("/usr/bin/python3 -c 'import re, sys; t = open(sys.argv[1], encoding=\"ascii\").read(); "
-          "print(\" \".join(re.search(r\"^SIZE LIST:(.*)$\", t, re.M).group(1).split()), \"/\", "
-          "re.search(r\"^SAMPLE SIZE:\\s*(\\S+)\", t, re.M).group(1))' '" +
-              save("g.rul", rul.body).string() + "' 2>&1",
-          st);
+  const std::string rulOut = runCommand(
+      "/usr/bin/python3 -c 'import re, sys; t = open(sys.argv[1], encoding=\"ascii\").read(); "
+      "print(\" \".join(re.search(r\"^SIZE LIST:(.*)$\", t, re.M).group(1).split()), \"/\", "
+      "re.search(r\"^SAMPLE SIZE:\\s*(\\S+)\", t, re.M).group(1))' '" +
+          save("g.rul", rul.body).string() + "' 2>&1",
+      st);
   ASSERT_EQ(st, 0) << rulOut;
   std::string sizes;
   for (const auto& s : graded->sizes)
@@ -204,12 +195,12 @@ TEST_F(HubGradedTest, GradedFilesOfAnyStationsItemAreWrittenFromItsPushedSizeRun
   // piece and size; the PDF one page.
   const auto ndxf = call(at + "/nested_grading.dxf", "admin-secret");
   ASSERT_EQ(ndxf.status, 200) << ndxf.body;
-  const std::string layers =
-      run("/usr/bin/python3 -c 'import sys, ezdxf; d = ezdxf.readfile(sys.argv[1]); "
-          "print(len(d.audit().errors), \" \".join(sorted(l.dxf.name for l in d.layers if "
-          "l.dxf.name.startswith(\"SIZE_\"))))' '" +
-              save("n.dxf", ndxf.body).string() + "' 2>&1",
-          st);
+  const std::string layers = runCommand(
+      "/usr/bin/python3 -c 'import sys, ezdxf; d = ezdxf.readfile(sys.argv[1]); "
+      "print(len(d.audit().errors), \" \".join(sorted(l.dxf.name for l in d.layers if "
+      "l.dxf.name.startswith(\"SIZE_\"))))' '" +
+          save("n.dxf", ndxf.body).string() + "' 2>&1",
+      st);
   ASSERT_EQ(st, 0) << layers;
   std::string sizeLayers;
   for (const auto& s : graded->sizes)
@@ -217,19 +208,20 @@ TEST_F(HubGradedTest, GradedFilesOfAnyStationsItemAreWrittenFromItsPushedSizeRun
   EXPECT_EQ(layers, "0" + sizeLayers + "\n");
   const auto nsvg = call(at + "/nested_grading.svg", "admin-secret");
   ASSERT_EQ(nsvg.status, 200) << nsvg.body;
-  const std::string polygons =
-      run("/usr/bin/python3 -c 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1])"
-          ".getroot(); ps = [e for e in r.iter() if e.tag.endswith(\"polygon\") and "
-          "e.get(\"data-size\")]; print(len(ps), sum(1 for e in ps if e.get(\"data-sample\")))' '" +
-              save("n.svg", nsvg.body).string() + "' 2>&1",
-          st);
+  const std::string polygons = runCommand(
+      "/usr/bin/python3 -c 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1])"
+      ".getroot(); ps = [e for e in r.iter() if e.tag.endswith(\"polygon\") and "
+      "e.get(\"data-size\")]; print(len(ps), sum(1 for e in ps if e.get(\"data-sample\")))' '" +
+          save("n.svg", nsvg.body).string() + "' 2>&1",
+      st);
   ASSERT_EQ(st, 0) << polygons;
   const std::size_t pieces = source.panels.size();
   EXPECT_EQ(polygons,
             std::to_string(pieces * graded->sizes.size()) + " " + std::to_string(pieces) + "\n");
   const auto npdf = call(at + "/nested_grading.pdf", "admin-secret");
   ASSERT_EQ(npdf.status, 200) << npdf.body;
-  const std::string info = run("pdfinfo '" + save("n.pdf", npdf.body).string() + "' 2>&1", st);
+  const std::string info =
+      runCommand("pdfinfo '" + save("n.pdf", npdf.body).string() + "' 2>&1", st);
   ASSERT_EQ(st, 0) << info;
   EXPECT_NE(info.find("\nPages:           1\n"), std::string::npos) << info;
 
@@ -238,11 +230,11 @@ TEST_F(HubGradedTest, GradedFilesOfAnyStationsItemAreWrittenFromItsPushedSizeRun
   const auto gc = call(at + "/garmentcode.json", "admin-secret");
   ASSERT_EQ(gc.status, 200) << gc.body;
   EXPECT_EQ(gc.disposition, "attachment; filename=\"GR-1_base_specification.json\"");
-  const std::string gcOut =
-      run("/usr/bin/python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); "
-          "print(type(d).__name__, len(d) > 0)' '" +
-              save("g.json", gc.body).string() + "' 2>&1",
-          st);
+  const std::string gcOut = runCommand(
+      "/usr/bin/python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); "
+      "print(type(d).__name__, len(d) > 0)' '" +
+          save("g.json", gc.body).string() + "' 2>&1",
+      st);
   ASSERT_EQ(st, 0) << gcOut;
   EXPECT_EQ(gcOut, "dict True\n");
   EXPECT_EQ(call(at + "/garmentcode.json?size=XXL", "admin-secret").status, 404);
@@ -255,11 +247,11 @@ TEST_F(HubGradedTest, GradedFilesOfAnyStationsItemAreWrittenFromItsPushedSizeRun
   }
   const auto vit = call(at + "/measurements.vit", "admin-secret");
   ASSERT_EQ(vit.status, 200) << vit.body;
-  const std::string vitOut =
-      run("/usr/bin/python3 -c 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1])"
-          ".getroot(); print(r.tag, len(r.findall(\".//m\")) > 0)' '" +
-              save("b.vit", vit.body).string() + "' 2>&1",
-          st);
+  const std::string vitOut = runCommand(
+      "/usr/bin/python3 -c 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1])"
+      ".getroot(); print(r.tag, len(r.findall(\".//m\")) > 0)' '" +
+          save("b.vit", vit.body).string() + "' 2>&1",
+      st);
   ASSERT_EQ(st, 0) << vitOut;
   EXPECT_EQ(vitOut, "vit True\n");
 

@@ -20,6 +20,7 @@
 #include <sstream>
 #include <thread>
 
+#include "../common/run_command.h"
 #include "../e2e/daemon_harness.h"
 #include "garmcap/daemon/content_store.h"
 #include "garmcap/daemon/export_catalog.h"
@@ -31,22 +32,12 @@
 namespace garmcap::hub {
 namespace {
 
+using garmcap::testing::runCommand;
+
 using e2e::Json;
 using e2e::Reply;
 namespace http = e2e::http;
 namespace fs = std::filesystem;
-
-std::string run(const std::string& cmd, int& status) {
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p)
-    throw std::runtime_error("cannot run " + cmd);
-  std::string out;
-  char buf[4096];
-  while (const std::size_t n = std::fread(buf, 1, sizeof buf, p))
-    out.append(buf, n);
-  status = ::pclose(p);
-  return out;
-}
 
 std::string quoted(const fs::path& p) {
   return "'" + p.string() + "'";
@@ -171,12 +162,12 @@ TEST_F(HubPatternTest, PatternFilesOfAnyStationsItemAreServedAndReadBackByIndepe
            "shop1-secret");
   ASSERT_EQ(svg.status, 200) << svg.body;
   int st = 0;
-  const std::string svgOut =
-      run("/usr/bin/python3 -c 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1])"
-          ".getroot(); print(r.tag.split(\"}\")[-1], sum(1 for e in r.iter() if e.tag.split(\"}\")"
-          "[-1] in (\"path\", \"polygon\", \"polyline\")))' " +
-              quoted(save("a.svg", svg.body)) + " 2>&1",
-          st);
+  const std::string svgOut = runCommand(
+      "/usr/bin/python3 -c 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1])"
+      ".getroot(); print(r.tag.split(\"}\")[-1], sum(1 for e in r.iter() if e.tag.split(\"}\")"
+      "[-1] in (\"path\", \"polygon\", \"polyline\")))' " +
+          quoted(save("a.svg", svg.body)) + " 2>&1",
+      st);
   ASSERT_EQ(st, 0) << svgOut;
   std::istringstream svgWords(svgOut);
   std::string root;
@@ -190,11 +181,11 @@ TEST_F(HubPatternTest, PatternFilesOfAnyStationsItemAreServedAndReadBackByIndepe
                         "admin-secret");
   ASSERT_EQ(dxf.status, 200) << dxf.body;
   EXPECT_NE(dxf.disposition.find("P2-11_55.dxf"), std::string::npos) << dxf.disposition;
-  const std::string dxfOut =
-      run("/usr/bin/python3 -c 'import sys, ezdxf; d = ezdxf.readfile(sys.argv[1]); a = d.audit(); "
-          "print(len(d.modelspace().query(\"INSERT\")), len(a.errors))' " +
-              quoted(save("b.dxf", dxf.body)) + " 2>&1",
-          st);
+  const std::string dxfOut = runCommand(
+      "/usr/bin/python3 -c 'import sys, ezdxf; d = ezdxf.readfile(sys.argv[1]); a = d.audit(); "
+      "print(len(d.modelspace().query(\"INSERT\")), len(a.errors))' " +
+          quoted(save("b.dxf", dxf.body)) + " 2>&1",
+      st);
   ASSERT_EQ(st, 0) << dxfOut;
   std::istringstream dxfWords(dxfOut);
   std::size_t inserts = 0, errors = 1;
@@ -208,7 +199,7 @@ TEST_F(HubPatternTest, PatternFilesOfAnyStationsItemAreServedAndReadBackByIndepe
         call(http::verb::get, "/api/items/" + std::to_string(a) + "/pattern.pdf?paper=" + paper,
              "admin-secret");
     ASSERT_EQ(pdf.status, 200) << pdf.body;
-    const std::string info = run("pdfinfo " + quoted(save("a.pdf", pdf.body)) + " 2>&1", st);
+    const std::string info = runCommand("pdfinfo " + quoted(save("a.pdf", pdf.body)) + " 2>&1", st);
     ASSERT_EQ(st, 0) << info;
     EXPECT_NE(info.find("Pages:"), std::string::npos) << info;
     if (paper == "a0") {
@@ -250,12 +241,12 @@ TEST_F(HubPatternTest, PatternFilesOfAnyStationsItemAreServedAndReadBackByIndepe
 // The names in a ZIP as Python's zipfile reads them, after its CRC check of every member.
 std::set<std::string> zipNames(const fs::path& file) {
   int st = 0;
-  const std::string out =
-      run("/usr/bin/python3 -c 'import sys, zipfile; z = zipfile.ZipFile(sys.argv[1]); "
-          "bad = z.testzip(); print(\"BAD\", bad) if bad else None; [print(n) for n in "
-          "z.namelist()]' " +
-              quoted(file) + " 2>&1",
-          st);
+  const std::string out = runCommand(
+      "/usr/bin/python3 -c 'import sys, zipfile; z = zipfile.ZipFile(sys.argv[1]); "
+      "bad = z.testzip(); print(\"BAD\", bad) if bad else None; [print(n) for n in "
+      "z.namelist()]' " +
+          quoted(file) + " 2>&1",
+      st);
   if (st != 0 || out.rfind("BAD", 0) == 0)
     throw std::runtime_error("python3 zipfile refused " + file.string() + ": " + out);
   std::set<std::string> names;
@@ -302,24 +293,24 @@ TEST_F(HubPatternTest, TheChainsCatalogZipHoldsEveryStationsPatternsPhotosAndSho
 
   // The DXF inside is the one pattern.dxf serves, and ezdxf audits it clean.
   int st = 0;
-  const std::string out =
-      run("cd " + quoted(dir_) +
-              " && /usr/bin/python3 -c 'import sys, zipfile, ezdxf, io; "
-              "z = zipfile.ZipFile(\"all.zip\"); d = ezdxf.read(io.StringIO(z.read(sys.argv[1])"
-              ".decode(\"cp1252\"))); print(len(d.audit().errors))' patterns/" +
-              std::to_string(b) + "/55.dxf 2>&1",
-          st);
+  const std::string out = runCommand(
+      "cd " + quoted(dir_) +
+          " && /usr/bin/python3 -c 'import sys, zipfile, ezdxf, io; "
+          "z = zipfile.ZipFile(\"all.zip\"); d = ezdxf.read(io.StringIO(z.read(sys.argv[1])"
+          ".decode(\"cp1252\"))); print(len(d.audit().errors))' patterns/" +
+          std::to_string(b) + "/55.dxf 2>&1",
+      st);
   EXPECT_EQ(st, 0) << out;
   EXPECT_EQ(out, "0\n") << out;
   const auto served = call(
       http::verb::get, "/api/items/" + std::to_string(b) + "/pattern.dxf?size=55", "admin-secret");
   save("served.dxf", served.body);
-  const std::string same =
-      run("cd " + quoted(dir_) +
-              " && /usr/bin/python3 -c 'import sys, zipfile; z = zipfile.ZipFile(\"all.zip\"); "
-              "print(z.read(sys.argv[1]) == open(\"served.dxf\", \"rb\").read())' patterns/" +
-              std::to_string(b) + "/55.dxf 2>&1",
-          st);
+  const std::string same = runCommand(
+      "cd " + quoted(dir_) +
+          " && /usr/bin/python3 -c 'import sys, zipfile; z = zipfile.ZipFile(\"all.zip\"); "
+          "print(z.read(sys.argv[1]) == open(\"served.dxf\", \"rb\").read())' patterns/" +
+          std::to_string(b) + "/55.dxf 2>&1",
+      st);
   EXPECT_EQ(same, "True\n") << same;
 }
 
@@ -327,14 +318,14 @@ TEST_F(HubPatternTest, TheChainsCatalogZipHoldsEveryStationsPatternsPhotosAndSho
 std::vector<std::vector<std::string>> csvRows(const fs::path& file, char delimiter) {
   int st = 0;
   const std::string out =
-      run(std::string("/usr/bin/python3 -c 'import csv, json, sys\n") +
-              "rows = list(csv.reader(open(sys.argv[1], newline=\"\", encoding=\"utf-8\"), "
-              "delimiter=sys.argv[2], strict=True))\n"
-              "assert all(len(r) == len(rows[0]) for r in rows), \"ragged rows\"\n"
-              "print(json.dumps(rows))' " +
-              quoted(file) + " '" + (delimiter == '\t' ? std::string("\t") : std::string(",")) +
-              "' 2>&1",
-          st);
+      runCommand(std::string("/usr/bin/python3 -c 'import csv, json, sys\n") +
+                     "rows = list(csv.reader(open(sys.argv[1], newline=\"\", encoding=\"utf-8\"), "
+                     "delimiter=sys.argv[2], strict=True))\n"
+                     "assert all(len(r) == len(rows[0]) for r in rows), \"ragged rows\"\n"
+                     "print(json.dumps(rows))' " +
+                     quoted(file) + " '" +
+                     (delimiter == '\t' ? std::string("\t") : std::string(",")) + "' 2>&1",
+                 st);
   if (st != 0)
     throw std::runtime_error("python3 csv (strict) refused " + file.string() + ": " + out);
   return Json::parse(out).get<std::vector<std::vector<std::string>>>();
@@ -415,7 +406,7 @@ TEST_F(HubPatternTest, TheChainsShopFilesAreWrittenInPagesAndHoldEveryItemOnce) 
 // names in the same order with the same bytes. Prints what differs, or "same N".
 std::string compareZips(const fs::path& a, const fs::path& b) {
   int st = 0;
-  return run(
+  return runCommand(
       "/usr/bin/python3 -c 'import sys, zipfile\n"
       "za, zb = zipfile.ZipFile(sys.argv[1]), zipfile.ZipFile(sys.argv[2])\n"
       "assert za.testzip() is None and zb.testzip() is None, \"bad CRC\"\n"
@@ -486,7 +477,7 @@ TEST_F(HubPatternTest, TheChainsCatalogZipIsStreamedAndEqualsTheStationsBuilder)
   }
   EXPECT_TRUE(skuNote && patternNote);
   int st = 0;
-  const std::string unzip = run("unzip -tq " + quoted(got) + " 2>&1", st);
+  const std::string unzip = runCommand("unzip -tq " + quoted(got) + " 2>&1", st);
   EXPECT_EQ(st, 0) << unzip;
 }
 
