@@ -126,7 +126,8 @@ fuzz() {
   cmake -S "$ROOT/tests/fuzz" -B "$ROOT/build-fuzz" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo
   cmake --build "$ROOT/build-fuzz" -j"$(nproc)"
-  local name seeds corpus limit
+  local entry name seeds corpus limit failed=0
+  local -a names=()
   # target:seed folder under tests/fuzz/corpus
   for entry in http_request:http pattern_json:pattern config_toml:toml measurements:measurements \
     calibration_json:calibration mesh:mesh; do
@@ -135,12 +136,35 @@ fuzz() {
     mkdir -p "$corpus"
     [ -d "$seeds" ] || { echo "fuzz: no seed folder $seeds" >&2; return 1; }
     cp "$seeds/"* "$corpus/"
-    if [ -n "${FUZZ_RUNS:-}" ]; then limit="-runs=$FUZZ_RUNS"; else limit="-max_total_time=${FUZZ_SECONDS:-60}"; fi
-    echo "fuzz: $name ($limit)"
-    (cd "$ROOT/build-fuzz" && "./fuzz_$name" "$limit" -timeout=10 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "$corpus" 2>&1 |
-      grep -E "^(Done|stat::number_of_executed_units|stat::peak_rss_mb|==[0-9]+==ERROR|SUMMARY)" ;
-      exit "${PIPESTATUS[0]}")
+    names+=("$name")
   done
+  if [ -n "${FUZZ_RUNS:-}" ]; then limit="-runs=$FUZZ_RUNS"; else limit="-max_total_time=${FUZZ_SECONDS:-60}"; fi
+  # The targets run side by side, JOBS at a time (each is one process on one core); each one's
+  # output is kept in build-fuzz/fuzz_<name>.log and its summary printed in the list's order.
+  run_one() {
+    (cd "$ROOT/build-fuzz" && "./fuzz_$1" "$limit" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+      -print_final_stats=1 "corpus/$1" > "fuzz_$1.log" 2>&1)
+  }
+  local -A pid=()
+  local running=0
+  for name in "${names[@]}"; do
+    if [ "$running" -ge "$JOBS" ]; then wait -n || true; running=$((running - 1)); fi
+    run_one "$name" & pid[$name]=$!
+    running=$((running + 1))
+  done
+  for name in "${names[@]}"; do
+    local rc=0
+    wait "${pid[$name]}" || rc=$?
+    echo "fuzz: $name ($limit)"
+    grep -E "^(Done|stat::number_of_executed_units|stat::peak_rss_mb|==[0-9]+==ERROR|SUMMARY)" \
+      "$ROOT/build-fuzz/fuzz_$name.log" || true
+    if [ "$rc" -ne 0 ]; then
+      echo "fuzz: $name FAILED (exit $rc); its output: build-fuzz/fuzz_$name.log" >&2
+      tail -n 40 "$ROOT/build-fuzz/fuzz_$name.log" >&2
+      failed=1
+    fi
+  done
+  return "$failed"
 }
 
 case "${1:-}" in
