@@ -233,21 +233,27 @@ void compareFormats(const cv::Mat& photo, int w, int h) {
   struct Format {
     const char* ext;
     int quality;
+    int method;  // libwebp's method (image_files.h); OpenCV's encoder always takes 4
   };
-  for (const Format f : {Format{".jpg", 90}, Format{".webp", 80}, Format{".webp", 85},
-                         Format{".webp", 88}, Format{".webp", 90}, Format{".webp", 95}}) {
-    const std::vector<int> params =
-        std::string(f.ext) == ".jpg"
-            ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, f.quality, cv::IMWRITE_JPEG_OPTIMIZE, 1}
-            : std::vector<int>{cv::IMWRITE_WEBP_QUALITY, f.quality};
+  for (const Format f : {Format{".jpg", 90, 0}, Format{".webp", 80, 4}, Format{".webp", 85, 4},
+                         Format{".webp", 88, 4}, Format{".webp", 90, 4}, Format{".webp", 95, 4},
+                         Format{".webp", 88, 3}, Format{".webp", 88, 2}, Format{".webp", 90, 2},
+                         Format{".webp", 92, 2}, Format{".webp", 88, 1}, Format{".webp", 90, 1}}) {
+    const bool jpeg = std::string(f.ext) == ".jpg";
     std::vector<uchar> buf;
     const auto t0 = Clock::now();
-    if (!cv::imencode(f.ext, photo, buf, params))
-      throw std::runtime_error(std::string("cannot encode ") + f.ext);
+    if (jpeg) {
+      if (!cv::imencode(f.ext, photo, buf,
+                        {cv::IMWRITE_JPEG_QUALITY, f.quality, cv::IMWRITE_JPEG_OPTIMIZE, 1}))
+        throw std::runtime_error(std::string("cannot encode ") + f.ext);
+    } else {
+      const std::string bytes = garmcap::pipeline::encodeWebp(photo, f.quality, f.method);
+      buf.assign(bytes.begin(), bytes.end());
+    }
     const double ms = msSince(t0);
     const cv::Mat back = cv::imdecode(buf, cv::IMREAD_COLOR);
-    std::printf("%4dx%-5d %-5s %3d %9.0f %7d %10zu %8.4f %7.2f\n", w, h, f.ext + 1, f.quality, ms,
-                photo.cols, buf.size(), ssim(photo, back), cv::PSNR(photo, back));
+    std::printf("%4dx%-5d %-5s %3d %6d %9.0f %7d %10zu %8.4f %7.2f\n", w, h, f.ext + 1, f.quality,
+                f.method, ms, photo.cols, buf.size(), ssim(photo, back), cv::PSNR(photo, back));
   }
 }
 
@@ -389,8 +395,8 @@ int main(int argc, char** argv) {
       pngs.push_back({w, h, "overlay", full.overlay});
       pngs.push_back({w, h, "silhouette", full.silhouette});
     }
-    std::printf("\n%-10s %-5s %3s %9s %7s %10s %8s %7s\n", "size", "file", "q", "encode_ms", "side",
-                "bytes", "ssim", "psnr");
+    std::printf("\n%-10s %-5s %3s %6s %9s %7s %10s %8s %7s\n", "size", "file", "q", "method",
+                "encode_ms", "side", "bytes", "ssim", "psnr");
     for (const auto& sq : squares)
       compareFormats(sq.photo, sq.w, sq.h);
     std::printf("\n%-10s %7s %9s %9s %9s %9s %9s %9s %6s %8s %8s\n", "size", "side", "old_off",
