@@ -15,7 +15,8 @@
 // full-size passes). The first table gives the median wall time of making and of encoding, the
 // photo's side and the stored bytes. Wall-clock: compare the rows of one run, not times between
 // machines. A second table compares the square photo stored as JPEG (quality 90) and as WebP at
-// qualities 80-95: encoding time, bytes, SSIM and PSNR against the lossless photo. A third gives
+// qualities 80-95 and libwebp methods 1-4 (pipeline::encodeWebp; the station takes 88 at method
+// 2, image_files.h): encoding time, bytes, SSIM and PSNR against the lossless photo. A third gives
 // the soft shadow's cost (ms the two white photos, unscaled, take with it minus without it) by
 // the code before it was made cheaper (kept below as the reference) and by makeProductImages now,
 // their ratio (new / old), and the grey levels between the two shadowed squares. A fourth compares
