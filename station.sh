@@ -25,8 +25,8 @@ PACKAGES=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
   # drafts: markers nested by libnest2d (header-only; its clipper backend and NLopt optimizers)
   libnest2d-dev libpolyclipping-dev libnlopt-cxx-dev
-  # calib, core/garmcap: images
-  libopencv-dev
+  # calib, core/garmcap: images (libwebp: the WebP copies at a chosen encoder method)
+  libopencv-dev libwebp-dev
   # capture: cameras and GPIO
   libcamera-dev libgpiod-dev gpiod
   # daemon: service, catalog, config, systemd

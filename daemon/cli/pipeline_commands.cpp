@@ -60,7 +60,7 @@ void writeCaptureOutputs(const fs::path& out, const pipeline::CaptureResult& r) 
     drafts::writePatternSvg(out / "pattern.svg", r.pattern);
   }
   // Encoded as the station stores them (image_files.h): the shop photos as JPEG and WebP.
-  const std::pair<const char*, const cv::Mat&> images[] = {
+  const std::vector<std::pair<std::string, cv::Mat>> images = {
       {"cutout", r.cutout},
       {"product", r.product},
       {"product_4x5", r.productPortrait},
@@ -72,9 +72,8 @@ void writeCaptureOutputs(const fs::path& out, const pipeline::CaptureResult& r) 
       {"product_back_4x5", r.backProductPortrait},
       {"product_ghost", r.ghostProduct},
       {"product_ghost_4x5", r.ghostProductPortrait}};
-  for (const auto& [kind, image] : images)
-    for (const pipeline::EncodedImage& e : pipeline::encodeImageFiles(kind, image))
-      drafts::writeFileAtomic(out / e.fileName, e.bytes);
+  for (const pipeline::EncodedImage& e : pipeline::encodeImageSet(images))
+    drafts::writeFileAtomic(out / e.fileName, e.bytes);
 }
 
 // Per measurement: the absolute errors of the readings taken and the readings missing (a truth

@@ -5,7 +5,11 @@
 #include <algorithm>
 #include <boost/asio/post.hpp>
 #include <chrono>
+#include <exception>
+#include <map>
+#include <opencv2/core/utility.hpp>
 #include <utility>
+#include <vector>
 
 #include "garmcap/capture/camera.h"
 #include "garmcap/daemon/disk_full.h"
@@ -38,6 +42,39 @@ const std::vector<std::string>& backShotKinds() {
                                                  "product_ghost_4x5",
                                                  "product_ghost_4x5_webp"};
   return kinds;
+}
+
+// A job's images encoded (image_files.h: side by side) and stored, in the order of `images` and
+// of each kind's encodings. Blobs are durable before the transaction that names them
+// (content_store.h); they are hashed, written and fsynced side by side too (a 12 MP overlay or
+// cut-out takes a while), the store takes concurrent writers. Throws the first failure.
+std::vector<ImageRef> storeImages(const ContentStore& store,
+                                  const std::map<std::string, cv::Mat>& images) {
+  const std::vector<pipeline::EncodedImage> encoded =
+      pipeline::encodeImageSet({images.begin(), images.end()});
+  std::vector<std::string> shas(encoded.size());
+  std::vector<std::exception_ptr> failed(encoded.size());
+  cv::parallel_for_(
+      cv::Range(0, static_cast<int>(encoded.size())),
+      [&](const cv::Range& r) {
+        for (int i = r.start; i < r.end; ++i) {
+          const auto at = static_cast<std::size_t>(i);
+          try {
+            shas[at] = store.put(encoded[at].bytes);
+          } catch (...) {
+            failed[at] = std::current_exception();
+          }
+        }
+      },
+      static_cast<double>(encoded.size()));
+  std::vector<ImageRef> refs;
+  for (std::size_t i = 0; i < encoded.size(); ++i) {
+    if (failed[i])
+      std::rethrow_exception(failed[i]);
+    refs.push_back({encoded[i].kind, shas[i], encoded[i].mediaType,
+                    static_cast<std::int64_t>(encoded[i].bytes.size())});
+  }
+  return refs;
 }
 
 }  // namespace
@@ -317,11 +354,8 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<Stored
       item->calibrationId = cal.id;
       item->jobId = req.jobId;
       item->needsReview = r.confidence < threshold || !r.warnings.empty();
-      // Blobs are durable before the transaction that names them (content_store.h).
-      for (const auto& [kind, image] : r.images)
-        for (const pipeline::EncodedImage& e : pipeline::encodeImageFiles(kind, image))
-          item->images.push_back({e.kind, store_->put(e.bytes), e.mediaType,
-                                  static_cast<std::int64_t>(e.bytes.size())});
+      for (ImageRef& ref : storeImages(*store_, r.images))
+        item->images.push_back(std::move(ref));
       const StoredFrame frame = stored.get();  // throws what storing the still threw
       item->images.push_back({"dressed", frame.sha256, "image/png", 0});
       item->images.push_back({"empty", cal.emptySha256, "image/png", 0});
@@ -421,12 +455,7 @@ void Station::runBack(Pending req, cv::Mat back, std::string backSha, std::int64
           };
           ProcessedCapture r = processor_->processBack(empty, dressed, back, cal.json, progress);
           postToStrand([this] { setStage("store", 0.92, false); });
-          auto images = std::make_shared<std::vector<ImageRef>>();
-          // Blobs are durable before the transaction that names them (content_store.h).
-          for (const auto& [kind, image] : r.images)
-            for (const pipeline::EncodedImage& e : pipeline::encodeImageFiles(kind, image))
-              images->push_back({e.kind, store_->put(e.bytes), e.mediaType,
-                                 static_cast<std::int64_t>(e.bytes.size())});
+          auto images = std::make_shared<std::vector<ImageRef>>(storeImages(*store_, r.images));
           images->push_back({"back", backSha, "image/png", backBytes});
           // Not filed: the item's result.json stays the front's (docs/api.md); the log has them.
           spdlog::info("station: job {}: {}", req.jobId, r.result.dump());

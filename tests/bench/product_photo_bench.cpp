@@ -15,7 +15,8 @@
 // full-size passes). The first table gives the median wall time of making and of encoding, the
 // photo's side and the stored bytes. Wall-clock: compare the rows of one run, not times between
 // machines. A second table compares the square photo stored as JPEG (quality 90) and as WebP at
-// qualities 80-95: encoding time, bytes, SSIM and PSNR against the lossless photo. A third gives
+// qualities 80-95 and libwebp methods 1-4 (pipeline::encodeWebp; the station takes 88 at method
+// 2, image_files.h): encoding time, bytes, SSIM and PSNR against the lossless photo. A third gives
 // the soft shadow's cost (ms the two white photos, unscaled, take with it minus without it) by
 // the code before it was made cheaper (kept below as the reference) and by makeProductImages now,
 // their ratio (new / old), and the grey levels between the two shadowed squares. A fourth compares
@@ -233,21 +234,27 @@ void compareFormats(const cv::Mat& photo, int w, int h) {
   struct Format {
     const char* ext;
     int quality;
+    int method;  // libwebp's method (image_files.h); OpenCV's encoder always takes 4
   };
-  for (const Format f : {Format{".jpg", 90}, Format{".webp", 80}, Format{".webp", 85},
-                         Format{".webp", 88}, Format{".webp", 90}, Format{".webp", 95}}) {
-    const std::vector<int> params =
-        std::string(f.ext) == ".jpg"
-            ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, f.quality, cv::IMWRITE_JPEG_OPTIMIZE, 1}
-            : std::vector<int>{cv::IMWRITE_WEBP_QUALITY, f.quality};
+  for (const Format f : {Format{".jpg", 90, 0}, Format{".webp", 80, 4}, Format{".webp", 85, 4},
+                         Format{".webp", 88, 4}, Format{".webp", 90, 4}, Format{".webp", 95, 4},
+                         Format{".webp", 88, 3}, Format{".webp", 88, 2}, Format{".webp", 90, 2},
+                         Format{".webp", 92, 2}, Format{".webp", 88, 1}, Format{".webp", 90, 1}}) {
+    const bool jpeg = std::string(f.ext) == ".jpg";
     std::vector<uchar> buf;
     const auto t0 = Clock::now();
-    if (!cv::imencode(f.ext, photo, buf, params))
-      throw std::runtime_error(std::string("cannot encode ") + f.ext);
+    if (jpeg) {
+      if (!cv::imencode(f.ext, photo, buf,
+                        {cv::IMWRITE_JPEG_QUALITY, f.quality, cv::IMWRITE_JPEG_OPTIMIZE, 1}))
+        throw std::runtime_error(std::string("cannot encode ") + f.ext);
+    } else {
+      const std::string bytes = garmcap::pipeline::encodeWebp(photo, f.quality, f.method);
+      buf.assign(bytes.begin(), bytes.end());
+    }
     const double ms = msSince(t0);
     const cv::Mat back = cv::imdecode(buf, cv::IMREAD_COLOR);
-    std::printf("%4dx%-5d %-5s %3d %9.0f %7d %10zu %8.4f %7.2f\n", w, h, f.ext + 1, f.quality, ms,
-                photo.cols, buf.size(), ssim(photo, back), cv::PSNR(photo, back));
+    std::printf("%4dx%-5d %-5s %3d %6d %9.0f %7d %10zu %8.4f %7.2f\n", w, h, f.ext + 1, f.quality,
+                f.method, ms, photo.cols, buf.size(), ssim(photo, back), cv::PSNR(photo, back));
   }
 }
 
@@ -389,8 +396,8 @@ int main(int argc, char** argv) {
       pngs.push_back({w, h, "overlay", full.overlay});
       pngs.push_back({w, h, "silhouette", full.silhouette});
     }
-    std::printf("\n%-10s %-5s %3s %9s %7s %10s %8s %7s\n", "size", "file", "q", "encode_ms", "side",
-                "bytes", "ssim", "psnr");
+    std::printf("\n%-10s %-5s %3s %6s %9s %7s %10s %8s %7s\n", "size", "file", "q", "method",
+                "encode_ms", "side", "bytes", "ssim", "psnr");
     for (const auto& sq : squares)
       compareFormats(sq.photo, sq.w, sq.h);
     std::printf("\n%-10s %7s %9s %9s %9s %9s %9s %9s %6s %8s %8s\n", "size", "side", "old_off",
