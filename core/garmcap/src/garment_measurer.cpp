@@ -775,7 +775,7 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
       {"sleeve_length", 2.0},     // (14)
       {"outseam", 1.0},           // (5)
       {"inseam", 0.7},            // (5)
-      {"leg_opening_circ", 6.9},  // (5)
+      {"leg_opening_circ", 6.8},  // (5)
   };
   const auto it = kU95.find(name);
   if (it == kU95.end())
