@@ -43,6 +43,13 @@ void printTable(const nlohmann::json& rows, std::size_t taped) {
   std::printf("%-6s %-18s %3s %-12s %8s %6s %9s\n", "type", "measurement", "n", "kind", "offset",
               "scale", "LOO (cm)");
   for (const auto& c : rows) {
+    if (c["kind"] == "none" && c.contains("reason")) {
+      std::printf("%-6s %-18s %3d %-12s (not applied: left-out error %.2f cm, raw %.2f cm)\n",
+                  c["type"].get<std::string>().c_str(), c["measurement"].get<std::string>().c_str(),
+                  c["n"].get<int>(), "none", c["residual_cm"].get<double>(),
+                  c["raw_error_cm"].get<double>());
+      continue;
+    }
     if (c["kind"] == "none") {
       std::printf("%-6s %-18s %3d %-12s (tape %d more)\n", c["type"].get<std::string>().c_str(),
                   c["measurement"].get<std::string>().c_str(), c["n"].get<int>(), "none",

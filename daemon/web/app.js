@@ -496,14 +496,14 @@ async function loadTape(it) {
 function renderCorrections(rows, type) {
   const box = $('#corrections');
   if (!rows || !rows.length) { box.replaceChildren(el('span', { class: 'muted', text: 'Nothing taped yet.' })); return; }
-  const fmt = (r) => r.kind === 'none' ? 'none yet (' + r.needs + ' more)'
+  const fmt = (r) => r.kind === 'none' ? (r.reason ? 'none: it would not help' : 'none yet (' + r.needs + ' more)')
     : (r.kind === 'scale_offset' ? '\u00d7' + r.scale.toFixed(3) + ' ' : '') + (r.offset_cm >= 0 ? '+' : '') + cm(r.offset_cm) + ' cm';
   box.replaceChildren(el('table', { class: 'guide' },
     el('thead', {}, el('tr', {}, ...['Type', 'Measurement', 'n', 'Correction', 'Left-out error'].map((t) => el('th', { text: t })))),
     el('tbody', {}, ...rows.map((r) => el('tr', { class: r.type === type ? 'base' : '' },
       el('td', { text: TYPE_NAMES[r.type] || r.type }), el('td', { text: measName(r.measurement) }),
       el('td', { text: String(r.n) }), el('td', { text: fmt(r) }),
-      el('td', { text: r.kind === 'none' ? '\u2013' : cm(r.residual_cm) + ' cm (was ' + cm(r.raw_error_cm) + ')' }))))));
+      el('td', { text: r.kind === 'none' && !r.reason ? '\u2013' : cm(r.residual_cm) + ' cm (was ' + cm(r.raw_error_cm) + ')' }))))));
 }
 async function saveTape(ev) {
   ev.preventDefault();

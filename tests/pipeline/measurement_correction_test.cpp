@@ -104,6 +104,42 @@ TEST(TapeCorrection, ScaleNotBetterOutOfSampleFallsBackToOffset) {
   EXPECT_EQ(c->kind, CorrectionKind::kOffset);
 }
 
+TEST(TapeCorrection, ACorrectionThatDoesNotBeatTheRawReadingIsNotApplied) {
+  // Unbiased errors, tape - measured: -2, +2, -2, +2. Leaving one out, the median of the other
+  // three is the one left out's opposite sign: each held-out garment is predicted 4 cm off
+  // against 2 cm raw, so the offset is listed with its figures and not applied.
+  const std::vector<TapePair> p = {{80, 78}, {90, 92}, {100, 98}, {110, 112}};
+  const auto c = fitCorrection(p);
+  ASSERT_TRUE(c);
+  EXPECT_NEAR(c->rawMeanCm, 2, 1e-12);
+  EXPECT_GT(c->looMeanCm, c->rawMeanCm);
+  EXPECT_FALSE(c->helps);
+  std::vector<TapeRecord> r;
+  for (const auto& x : p)
+    r.push_back({"top", "bust_circ", x.measuredCm, x.tapeCm});
+  r.push_back({"top", "bust_circ", 95, 95});  // median offset now 0 +- noise; still no gain
+  const auto t = fitCorrections(r);
+  std::map<std::string, double> m = {{"bust_circ", 101.5}};
+  nlohmann::json result = {{"measurements", m}, {"warnings", nlohmann::json::array()}};
+  EXPECT_TRUE(applyCorrections(t, "top", m, result).empty());
+  EXPECT_DOUBLE_EQ(m.at("bust_circ"), 101.5);
+  EXPECT_FALSE(result.contains("corrections"));
+  const auto j = correctionTableJson(t);
+  ASSERT_EQ(j.size(), 1u);
+  EXPECT_EQ(j[0]["kind"], "none");
+  EXPECT_EQ(j[0]["reason"], "no_gain");
+  EXPECT_TRUE(j[0].contains("residual_cm"));
+  // A consistent offset with the same spread around it does help, and is applied.
+  std::vector<TapeRecord> biased;
+  for (const auto& x : p)
+    biased.push_back({"top", "bust_circ", x.measuredCm, x.tapeCm - 5});
+  const auto tb = fitCorrections(biased);
+  std::map<std::string, double> mb = {{"bust_circ", 101.5}};
+  nlohmann::json rb = {{"measurements", mb}, {"warnings", nlohmann::json::array()}};
+  EXPECT_EQ(applyCorrections(tb, "top", mb, rb).size(), 1u);
+  EXPECT_NEAR(mb.at("bust_circ"), 96.5, 1e-12);
+}
+
 TEST(TapeCorrection, NonFinitePairsAreNotCounted) {
   auto p = linePairs(1, 1, 3);
   p.push_back({NAN, 90});

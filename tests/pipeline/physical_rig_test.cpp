@@ -48,14 +48,16 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 // reading missing (case_014's bust, its long sleeves cover the sides 8 cm below it),
 // garment_length 2.28 / 20.67, bust 3.68 / 8.74 (case_019's, missing before, +2.3). h/acc15:
 // the bust from the floor of its sides' offset profile below it (a fold under the armhole is
-// not the bodice's side): bust 2.29 / 6.22. Per measurement {mean, max} absolute error in cm.
+// not the bodice's side): bust 2.29 / 6.22. h/acc15c: both pants legs' openings read above the
+// higher of their two hems (a shadow tail under one leg is not read as the leg): leg openings
+// 4.81 / 6.81 -> 4.19 / 6.71. Per measurement {mean, max} absolute error in cm.
 constexpr int kMinTypesRight = 23;
 constexpr int kMaxMissing = 2;
 const std::map<std::string, std::pair<double, double>> kBounds = {
     {"bust_circ", {2.8, 7.2}},        {"waist_circ", {2.7, 13.0}},     {"hip_circ", {1.3, 2.3}},
     {"hem_circ", {3.8, 12.4}},        {"garment_length", {2.7, 23.0}}, {"skirt_length", {0.7, 1.5}},
     {"sleeve_length", {1.2, 2.7}},    {"outseam", {0.7, 1.2}},         {"inseam", {0.6, 1.0}},
-    {"leg_opening_circ", {5.3, 7.5}},
+    {"leg_opening_circ", {4.7, 7.4}},
 };
 
 // Issue 15's acceptance on a rig: type >= 95 %, every measurement mean <= 1.0 cm, max <= 3.0 cm,

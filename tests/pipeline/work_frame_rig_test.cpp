@@ -375,3 +375,52 @@ TEST(Measure, AFoldBesideTheBustDoesNotWidenIt) {
   }
   EXPECT_EQ(checked, 2) << "a top's sides were hidden: the test checked less than it says";
 }
+
+// A pants leg's hem with the garment's shadow on the shin below it: a tail under one leg, its
+// inner edge notched as on a physical rig's slim pants (90 % of the leg's width at the hem,
+// narrowing to 65 % over 2 cm, so the leg's hem rule keeps it). Both openings are read above
+// the higher of the two hems, so the tail is not read as the leg (the old reading, 1.25 cm above
+// the tail's bottom, was across the notch).
+TEST(Measure, AShadowTailUnderOneLegDoesNotNarrowItsOpening) {
+  int checked = 0;
+  for (const unsigned seed : {1u, 2u}) {
+    const sim::SceneRenderer r = scene("pants", seed, {720, 960});
+    const auto ctx = pipeline::buildCaptureContext(r.calibration(), pipeline::kDefaultSizeChart);
+    const calib::FormView& view = *ctx->view;
+    const cv::Mat full = r.garmentCoverage() > 0.5f;
+    const auto intact = pipeline::measureGarment(full, view, "pants");
+    ASSERT_TRUE(intact.measurements.count("leg_opening_circ")) << "seed " << seed;
+    const double s = r.calibration().at("pose").at("px_per_cm").get<double>();
+    const int axis = static_cast<int>(std::lround(view.axisXPx()));
+    // The right leg's hem: the lowest row with garment right of the axis.
+    int hem = -1;
+    for (int row = full.rows - 1; row >= 0 && hem < 0; --row)
+      for (int x = axis + 1; x < full.cols; ++x)
+        if (full.at<uchar>(row, x)) {
+          hem = row;
+          break;
+        }
+    ASSERT_GT(hem, 0) << "seed " << seed;
+    int l = -1, rr = -1;
+    for (int x = axis + 1; x < full.cols; ++x)
+      if (full.at<uchar>(hem, x)) {
+        l = l < 0 ? x : l;
+        rr = x;
+      }
+    ASSERT_GT(rr - l, 10) << "seed " << seed;
+    const int rows = static_cast<int>(std::lround(2.0 * s));
+    cv::Mat tailed = full.clone();
+    for (int k = 1; k <= rows && hem + k < full.rows; ++k) {
+      const double share = 0.9 - 0.25 * k / rows;
+      const int from = rr - static_cast<int>(std::lround(share * (rr - l)));
+      tailed(cv::Range(hem + k, hem + k + 1), cv::Range(from, rr + 1)).setTo(255);
+    }
+    const auto m = pipeline::measureGarment(tailed, view, "pants");
+    ASSERT_TRUE(m.measurements.count("leg_opening_circ")) << "seed " << seed;
+    ++checked;
+    EXPECT_NEAR(m.measurements.at("leg_opening_circ"), intact.measurements.at("leg_opening_circ"),
+                0.5)
+        << "seed " << seed;
+  }
+  EXPECT_EQ(checked, 2);
+}

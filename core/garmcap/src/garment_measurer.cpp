@@ -775,7 +775,7 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
       {"sleeve_length", 2.0},     // (14)
       {"outseam", 1.0},           // (5)
       {"inseam", 0.7},            // (5)
-      {"leg_opening_circ", 6.9},  // (5)
+      {"leg_opening_circ", 6.8},  // (5)
   };
   const auto it = kU95.find(name);
   if (it == kU95.end())
@@ -823,17 +823,31 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
         break;
       }
     std::vector<double> hems, openings;
+    std::optional<int> lows[2];
     for (int side = 0; side < 2 && crotchRow; ++side) {
       const auto leg = view.legAtRow(*crotchRow + static_cast<int>(5 * c.s), side);
       if (!leg)
         continue;
-      const auto low = legHemRow(c, side, *crotchRow + static_cast<int>(5 * c.s), axisCol);
-      if (!low)
+      lows[side] = legHemRow(c, side, *crotchRow + static_cast<int>(5 * c.s), axisCol);
+      if (!lows[side])
         continue;
-      hems.push_back(*low + 1.0);  // bottom edge of the last covered row
+      hems.push_back(*lows[side] + 1.0);  // bottom edge of the last covered row
       out.landmarks.push_back(
-          {side == 0 ? "hem_left" : "hem_right", {leg->centrePx(), *low + 1.0}});
-      const int row = static_cast<int>(std::lround(*low - kAboveHemCm * c.s));
+          {side == 0 ? "hem_left" : "hem_right", {leg->centrePx(), *lows[side] + 1.0}});
+    }
+    // Both openings are read above the higher of the two hems: a pair's legs are cut alike and
+    // hang alike, and what makes one leg's hem lower than the other's is the garment's shadow on
+    // the shin joining it as a tail that narrows by less than kHemTailShare at first (a physical
+    // rig's slim pants: one leg's hem 1.2 cm lower, read across the tail's notch at 53 px
+    // against the other leg's 69, the opening 5.7 cm small).
+    std::optional<int> highestLow;
+    for (const auto& l : lows)
+      if (l)
+        highestLow = highestLow ? std::min(*highestLow, *l) : *l;
+    for (int side = 0; side < 2 && highestLow; ++side) {
+      if (!lows[side])
+        continue;
+      const int row = static_cast<int>(std::lround(*highestLow - kAboveHemCm * c.s));
       const auto legHere = view.legAtRow(row, side);
       const auto run =
           legHere ? runAt(garmentMask, row, static_cast<int>(std::lround(legHere->centrePx())),

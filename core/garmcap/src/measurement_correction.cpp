@@ -109,22 +109,29 @@ std::optional<Correction> fitCorrection(const std::vector<TapePair>& all) {
 
   c.offsetCm = medianOffset(p);
   std::tie(c.looMeanCm, c.looMaxCm) = looResiduals(p, offsetFit);
+  // The same test once more against no correction at all: where the pipeline's errors on this
+  // shop's garments have no bias (or one smaller than their spread), an offset or slope fitted
+  // on a few of them moves every later reading by their noise.
+  const auto judged = [](Correction& r) -> Correction& {
+    r.helps = r.looMeanCm < r.rawMeanCm;
+    return r;
+  };
   if (c.n < kMinPairsForScale)
-    return c;
+    return judged(c);
   const auto line = leastSquares(p);
   if (!line || line->scale < kMinPlausibleScale || line->scale > kMaxPlausibleScale)
-    return c;
+    return judged(c);
   // Six garments fit two parameters, but barely: a slope that does not predict the held-out
   // garments better than the offset does is noise, and the simpler correction is kept.
   const auto [looMean, looMax] = looResiduals(p, scaleFit);
   if (!(looMean < c.looMeanCm))
-    return c;
+    return judged(c);
   c.kind = CorrectionKind::kScaleOffset;
   c.scale = line->scale;
   c.offsetCm = line->offset;
   c.looMeanCm = looMean;
   c.looMaxCm = looMax;
-  return c;
+  return judged(c);
 }
 
 CorrectionTable fitCorrections(const std::vector<TapeRecord>& records) {
@@ -156,7 +163,9 @@ nlohmann::json correctionTableJson(const CorrectionTable& table) {
       row["needs"] = kMinPairsForOffset - n;
     } else {
       const Correction& c = it->second;
-      row["kind"] = toString(c.kind);
+      row["kind"] = c.helps ? toString(c.kind) : "none";
+      if (!c.helps)
+        row["reason"] = "no_gain";
       row["offset_cm"] = round3(c.offsetCm);
       row["scale"] = round3(c.scale);
       row["residual_cm"] = round3(c.looMeanCm);
@@ -178,6 +187,8 @@ std::vector<std::string> applyCorrections(const CorrectionTable& table, const st
     if (it == table.corrections.end())
       continue;
     const Correction& c = it->second;
+    if (!c.helps)
+      continue;
     const double corrected = c.apply(value);
     if (!(std::isfinite(corrected) && corrected > 0)) {
       if (result.is_object())

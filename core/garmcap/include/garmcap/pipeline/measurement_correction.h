@@ -11,7 +11,11 @@
 //   the median of 3 ignores one outlier, the mean does not);
 // - kMinPairsForScale or more: scale and offset by least squares, unless the scale is outside
 //   [kMinPlausibleScale, kMaxPlausibleScale] or its leave-one-out residual is no better than the
-//   offset's: then the offset (see fitCorrection).
+//   offset's: then the offset (see fitCorrection);
+// - a correction whose leave-one-out residual is no smaller than the raw error of its pairs is
+//   fitted and listed but not applied: it does not predict a held-out garment better than the
+//   pipeline's own reading does (unbiased errors leave an offset nothing to remove but noise; the
+//   physical rig's bust, leave-one-out, read 2.29 cm raw and 2.76 corrected so).
 // The residual reported is the leave-one-out one: each pair predicted by the correction fitted on
 // the others, so it is the error a new garment can expect, not the fit's own (optimistic) error.
 //
@@ -53,6 +57,7 @@ struct Correction {
   double looMeanCm = 0;  // mean |leave-one-out residual| (the honest expected error)
   double looMaxCm = 0;   // max |leave-one-out residual|
   double rawMeanCm = 0;  // mean |tape - measured| of the pairs, uncorrected, for comparison
+  bool helps = true;     // looMeanCm < rawMeanCm: only then is it applied
 
   double apply(double measuredCm) const { return scale * measuredCm + offsetCm; }
 };
@@ -80,13 +85,16 @@ struct CorrectionTable {
 
 CorrectionTable fitCorrections(const std::vector<TapeRecord>& records);
 
-/// API/listing form: [{type, measurement, n, kind ("none" below 3 pairs), offset_cm, scale,
-/// residual_cm (LOO mean), residual_max_cm, raw_error_cm}], sorted by type then measurement.
+/// API/listing form: [{type, measurement, n, kind ("none" below 3 pairs, with `needs`; "none" with
+/// `reason` "no_gain" and the figures below when the correction would not help), offset_cm,
+/// scale, residual_cm (LOO mean), residual_max_cm, raw_error_cm}], sorted by type then
+/// measurement.
 nlohmann::json correctionTableJson(const CorrectionTable& table);
 
 /// Applies the corrections of `type` to `measurements` (cm, in place) and records them in the
 /// result.json `result`: `measurements` gets the corrected values, `corrections` per corrected
-/// measurement {kind, offset_cm, scale, n, residual_cm, raw_cm}. Only measurements present are
+/// measurement {kind, offset_cm, scale, n, residual_cm, raw_cm}. Corrections that do not help
+/// (Correction::helps) are not applied. Only measurements present are
 /// corrected (a correction never adds one); a corrected value that is not positive is left raw
 /// and a warning names it. Returns the names corrected.
 std::vector<std::string> applyCorrections(const CorrectionTable& table, const std::string& type,
