@@ -9,6 +9,7 @@
 #include <sstream>
 #include <toml.hpp>
 
+#include "garmcap/daemon/toml_input.h"
 #include "garmcap/daemon/utf8.h"
 #include "garmcap/drafts/size_charts.h"
 
@@ -358,18 +359,12 @@ std::optional<HubAddress> parseHubUrl(const std::string& url) {
 Config loadConfig(const std::filesystem::path& file, Config config) {
   toml::value root;
   try {
-    // TOML is UTF-8; checking first also keeps invalid bytes away from toml11 3.7, whose literal
-    // string parser reads past its buffer on them (found by tests/fuzz/fuzz_config_toml).
     std::ifstream in(file, std::ios::binary);
     if (!in)
       throw ConfigError(file.string() + ": cannot be read");
     std::ostringstream text;
     text << in.rdbuf();
-    const std::string bytes = text.str();
-    if (!validUtf8(bytes))
-      throw ConfigError(file.string() + ": not valid UTF-8 (TOML files are UTF-8)");
-    std::istringstream stream(bytes);
-    root = toml::parse(stream, file.string());
+    root = parseTomlText(text.str(), file.string());
   } catch (const ConfigError&) {
     throw;
   } catch (const std::exception& e) {

@@ -378,6 +378,16 @@ TEST(HubConfig, ReadsTomlStrictlyAndRefusesUnsafeListen) {
   }
   std::ofstream(file) << "[http]\nport = 1\n";
   EXPECT_THROW(loadHubConfig(file), HubConfigError);
+  // Read through the station's TOML checks: toml11 3.7.1 overflowed its stack on this (SIGSEGV).
+  std::ofstream(file) << "[stations]\nx = " << std::string(100000, '[') << "\n";
+  try {
+    loadHubConfig(file);
+    FAIL();
+  } catch (const HubConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 2: arrays, inline tables or table headers nested"),
+              std::string::npos)
+        << e.what();
+  }
   HubConfig dup;
   dup.databaseUrl = "x";
   addStation(dup, "a=" + h1, "--station");

@@ -7,6 +7,7 @@
 
 #include "garmcap/daemon/config.h"
 #include "garmcap/daemon/content_store.h"
+#include "garmcap/daemon/toml_input.h"
 #include "garmcap/daemon/utf8.h"
 
 namespace garmcap::hub {
@@ -112,12 +113,7 @@ HubConfig loadHubConfig(const std::filesystem::path& file, HubConfig c) {
       throw HubConfigError(f + ": cannot be read");
     std::ostringstream text;
     text << in.rdbuf();
-    const std::string bytes = text.str();
-    // toml11 3.7 reads past its buffer on invalid UTF-8 (see daemon/src/config.cpp).
-    if (!daemon::validUtf8(bytes))
-      throw HubConfigError(f + ": not valid UTF-8 (TOML files are UTF-8)");
-    std::istringstream stream(bytes);
-    root = toml::parse(stream, f);
+    root = daemon::parseTomlText(text.str(), f);
   } catch (const HubConfigError&) {
     throw;
   } catch (const std::exception& e) {
