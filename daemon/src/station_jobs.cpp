@@ -190,7 +190,7 @@ void Station::startNext() {
           runDressed(req, bgr, frameStored);
         });
         try {
-          const std::string png = pipeline::encodeFramePng(frame.bgr);
+          const std::string png = pipeline::encodePng(frame.bgr);
           const auto t2 = Clock::now();
           stored->set_value({store_->put(png), static_cast<std::int64_t>(png.size()), true});
           spdlog::info("station: job {}: still {} ms, PNG {} ms, stored {} ms", req.jobId,
@@ -201,7 +201,7 @@ void Station::startNext() {
         postToStrand([this] { stillInFlight_ = false; });
         return;
       }
-      const std::string png = pipeline::encodeFramePng(frame.bgr);
+      const std::string png = pipeline::encodePng(frame.bgr);
       const auto t2 = Clock::now();
       const std::string sha = store_->put(png);
       spdlog::info("station: job {}: still {} ms, PNG {} ms, stored {} ms", req.jobId,

@@ -80,12 +80,6 @@ std::string encodePng(const cv::Mat& image) {
   return encode(".png", image, {}, "PNG");  // no level: OpenCV's fast path (image_files.h)
 }
 
-std::string encodeFramePng(const cv::Mat& image) {
-  // A strategy alone keeps the fast path; only a compression level leaves it (image_files.h).
-  return encode(".png", image, {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY},
-                "PNG");
-}
-
 bool canWriteWebp() {
 #ifdef GARMCAP_HAVE_LIBWEBP
   return true;

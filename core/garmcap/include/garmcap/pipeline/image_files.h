@@ -29,14 +29,6 @@ struct EncodedImage {
 /// Throws std::runtime_error if OpenCV cannot encode the image.
 std::string encodePng(const cv::Mat& image);
 
-/// A camera frame (the station's stills) as lossless PNG on the same fast path, with zlib's
-/// Huffman-only strategy instead of OpenCV's default run-length one: after the Sub filter a
-/// sensor's frame is noise-like residuals that neither finds runs nor matches in, and Huffman
-/// alone spends no time looking (a 12 MP rig frame: 0.29-0.30 s of CPU against 0.34-0.39 s, the
-/// same bytes to 0.1 %). The masks and the cut-out, with long runs, stay with encodePng (Huffman
-/// alone makes the silhouette 60 times larger). Throws as encodePng.
-std::string encodeFramePng(const cv::Mat& image);
-
 /// Whether WebP can be written: always when built with libwebp (GARMCAP_HAVE_LIBWEBP), else when
 /// this OpenCV writes it (Debian's links libwebp). Without it the photos are JPEG only.
 bool canWriteWebp();
