@@ -15,11 +15,12 @@ namespace {
 // (scaled up by 1.5x at most when the garment spans less of the frame).
 constexpr int kShopZoomPx = 2048;
 
-// The review overlay: the garment's outline and the landmarks on the dressed work frame. It is a
-// review aid, not a product file: at the work frame's size (about 2 MP) it shows the outline to
-// a work pixel, and costs a twentieth of the full frame's copy and PNG (12 MP: a 36 MB copy and
-// about 0.35 s of PNG encoding, 20 MB stored per capture). The outline is the full-resolution
-// mask's, scaled down, so it shows the cut the measurements and photos used.
+// The review overlay: the garment's outline and the landmarks on the dressed work frame (upright,
+// registered and lightly denoised). It is a review aid, not a product file: at the work frame's
+// size (about 2 MP) it shows the outline to a work pixel, where the full frame's copy and PNG
+// cost a 36 MB copy, about 0.35 s of encoding and 20 MB stored per 12 MP capture (1.7 MB now).
+// The outline is the full-resolution mask's, scaled down: the cut the measurements and photos
+// used.
 cv::Mat drawOverlay(const cv::Mat& work, double scale, const cv::Mat& garmentMask,
                     const GarmentMeasurement& m, const calib::Calibration& cal) {
   cv::Mat overlay = work.clone();
