@@ -2,6 +2,8 @@
 // on a green-screen frame the size of the rig's.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/objdetect.hpp>
 #include <string>
@@ -82,6 +84,57 @@ TEST(HangTagSku, QrCodeOnTheTag) {
   cv::Mat frame = greenFrame();
   pasteTag(frame, qr("SKU-2024.07_A1"), 4, 300, 60);
   EXPECT_EQ(decodeHangTagSku(frame), "SKU-2024.07_A1");
+}
+
+// A QR code printed at 8 samples per module and shrunk with area averaging to `modulePx` px per
+// module at a sub-pixel offset, lens blur and sensor noise on top: what a camera sees of a tag.
+cv::Mat cameraQr(const std::string& text, double modulePx, double offset, std::uint64_t seed) {
+  constexpr int kOver = 8;
+  cv::Mat code = qr(text), print;
+  cv::resize(code, print, {}, kOver, kOver, cv::INTER_NEAREST);
+  cv::Mat padded(print.rows + 4 * kOver, print.cols + 4 * kOver, CV_8UC1, cv::Scalar(255));
+  print.copyTo(padded(cv::Rect(2 * kOver, 2 * kOver, print.cols, print.rows)));
+  const double f = modulePx / kOver;
+  const cv::Matx23d m(f, 0, offset, 0, f, offset);
+  cv::Mat small;
+  cv::warpAffine(padded, small, m,
+                 cv::Size(cvRound(padded.cols * f) + 2, cvRound(padded.rows * f) + 2),
+                 cv::INTER_AREA, cv::BORDER_CONSTANT, cv::Scalar(255));
+  cv::GaussianBlur(small, small, cv::Size(0, 0), 0.7);
+  cv::Mat noise(small.size(), CV_16SC1);
+  cv::RNG(seed).fill(noise, cv::RNG::NORMAL, 0, 4);
+  cv::Mat out;
+  small.convertTo(out, CV_16SC1);
+  out += noise;
+  out.convertTo(out, CV_8UC1);
+  return out;
+}
+
+// How small a QR code's module may get in the frame and still read, over a few sub-pixel
+// placements (printed for the docs; 3 px per module is required).
+TEST(HangTagSku, SmallestReadableQrModule) {
+  requireZbarForQr();
+  double smallest = 0;
+  for (double px = 4.0; px >= 0.99; px -= 0.25) {
+    int read = 0;
+    for (int k = 0; k < 4; ++k) {
+      const cv::Mat code =
+          cameraQr("GC-24071-M", px, 0.25 * k, static_cast<std::uint64_t>(px * 100 + k));
+      cv::Mat frame = greenFrame();
+      cv::Mat bgr;
+      cv::cvtColor(code, bgr, cv::COLOR_GRAY2BGR);
+      bgr.copyTo(frame(cv::Rect(40, 40, bgr.cols, bgr.rows)));
+      read += decodeHangTagSku(frame) == "GC-24071-M";
+    }
+    if (px >= 3.0) {
+      EXPECT_EQ(read, 4) << "a QR code at " << px << " px per module";
+    }
+    if (read < 4)
+      break;
+    smallest = px;
+  }
+  std::printf("[qr] reads at every placement down to %.2f px per module (blur 0.7, noise 4)\n",
+              smallest);
 }
 
 TEST(HangTagSku, NothingOrNotASku) {

@@ -91,7 +91,8 @@ CaptureResult runPrepared(const PreparedCapture& prepared, const cv::Mat& dresse
 
   // 8. Images, from the garment's part of the full frame only.
   const PhotoLayer front = makeCaptureImages(
-      ctx, {dressedFull, garment, gm, bare, dressed.key.screenBgr}, options, timer, result);
+      ctx, {dressedFull, dressed.work, g.scale, garment, gm, bare, dressed.key.screenBgr}, options,
+      timer, result);
 
   // 9. The optional back shot: back photos and the ghost-mannequin front.
   if (!options.backFrame.empty())

@@ -1,6 +1,7 @@
 #include "garmcap/pipeline/product_images.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -32,25 +33,65 @@ constexpr double kShadowOpacity = 0.2;  // darkest: white to 204 grey; just unde
 
 // CIELAB (L 0..100, a and b in their units) through OpenCV's 8-bit conversion: its tables make
 // it about ten times faster than the float one on a 12 MP garment's crop, and its steps (0.4 L,
-// 1 a* or b*) are well below the thresholds used here.
+// 1 a* or b*) are well below the thresholds used here. The 8-bit values go to float through a
+// table in one pass (convertTo, then multiply and subtract, were three passes over a float image
+// of the crop's size); each value is the same float those made: v * float(100 / 255) for L,
+// v - 128 for a and b.
 cv::Mat3f labOf(const cv::Mat3b& bgr) {
+  static const std::array<std::array<float, 256>, 2> toLab = [] {
+    std::array<std::array<float, 256>, 2> t{};
+    for (int v = 0; v < 256; ++v) {
+      t[0][static_cast<std::size_t>(v)] =
+          static_cast<float>(v) * static_cast<float>(100.0 / 255.0) - 0.0f;
+      t[1][static_cast<std::size_t>(v)] = static_cast<float>(v) * 1.0f - 128.0f;
+    }
+    return t;
+  }();
   cv::Mat3b lab8;
   cv::cvtColor(bgr, lab8, cv::COLOR_BGR2Lab);
-  cv::Mat3f lab;
-  lab8.convertTo(lab, CV_32F);
-  cv::multiply(lab, cv::Scalar(100.0 / 255.0, 1.0, 1.0), lab);
-  cv::subtract(lab, cv::Scalar(0.0, 128.0, 128.0), lab);
+  cv::Mat3f lab(lab8.size());
+  for (int y = 0; y < lab8.rows; ++y) {
+    const cv::Vec3b* in = lab8.ptr<cv::Vec3b>(y);
+    cv::Vec3f* out = lab.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < lab8.cols; ++x)
+      out[x] = cv::Vec3f(toLab[0][in[x][0]], toLab[1][in[x][1]], toLab[1][in[x][2]]);
+  }
   return lab;
 }
 
+// labOf's inverse, in one pass: (L + 0) * float(255 / 100) and a + 128, b + 128, rounded as
+// convertTo rounds.
 cv::Mat3b bgrOf(const cv::Mat3f& lab) {
-  cv::Mat3f scaled;
-  cv::add(lab, cv::Scalar(0.0, 128.0, 128.0), scaled);
-  cv::multiply(scaled, cv::Scalar(255.0 / 100.0, 1.0, 1.0), scaled);
-  cv::Mat3b lab8, bgr;
-  scaled.convertTo(lab8, CV_8U);
+  const float kL = static_cast<float>(255.0 / 100.0);
+  cv::Mat3b lab8(lab.size());
+  for (int y = 0; y < lab.rows; ++y) {
+    const cv::Vec3f* in = lab.ptr<cv::Vec3f>(y);
+    cv::Vec3b* out = lab8.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < lab.cols; ++x)
+      out[x] = cv::Vec3b(cv::saturate_cast<uchar>((in[x][0] + 0.0f) * kL),
+                         cv::saturate_cast<uchar>((in[x][1] + 128.0f) * 1.0f),
+                         cv::saturate_cast<uchar>((in[x][2] + 128.0f) * 1.0f));
+  }
+  cv::Mat3b bgr;
   cv::cvtColor(lab8, bgr, cv::COLOR_Lab2BGR);
   return bgr;
+}
+
+// The CIELAB distance of two images pixel by pixel, in one pass (a difference, three products and
+// two sums were a float image each): the same float operations in the same order.
+cv::Mat1f labDistance(const cv::Mat3f& p, const cv::Mat3f& q) {
+  cv::Mat1f out(p.size());
+  for (int y = 0; y < p.rows; ++y) {
+    const cv::Vec3f* a = p.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* b = q.ptr<cv::Vec3f>(y);
+    float* o = out.ptr<float>(y);
+    for (int x = 0; x < p.cols; ++x) {
+      const float d0 = a[x][0] - b[x][0], d1 = a[x][1] - b[x][1], d2 = a[x][2] - b[x][2];
+      const float sq01 = d0 * d0 + d1 * d1;
+      o[x] = std::sqrt(sq01 + d2 * d2);
+    }
+  }
+  return out;
 }
 
 // Distance (px) of each pixel of `inside` to the nearest pixel outside it.
@@ -214,13 +255,38 @@ cv::Mat1f refinedAlpha(const cv::Mat3b& bgr, const cv::Mat1b& mask, int radiusPx
   cv::Mat1f I;
   grey8.convertTo(I, CV_32F, 1.0 / 255.0);
   const int r = radiusPx;
+  // The element-wise steps each in one pass over the crop (as matrix expressions they made a
+  // float image per product, difference and quotient): the same float operations in the same
+  // order, so the same alpha.
+  const auto eachPixel = [&I](auto&& f) {
+    for (int y = 0; y < I.rows; ++y)
+      for (int x = 0; x < I.cols; ++x)
+        f(y, x);
+  };
+  cv::Mat1f II(I.size()), IP(I.size());
+  eachPixel([&](int y, int x) {
+    const float i = I(y, x);
+    II(y, x) = i * i;
+    IP(y, x) = i * alpha(y, x);
+  });
   const cv::Mat1f meanI = boxMean(I, r), meanP = boxMean(alpha, r);
-  const cv::Mat1f varI = boxMean(I.mul(I), r) - meanI.mul(meanI);
-  const cv::Mat1f covIP = boxMean(I.mul(alpha), r) - meanI.mul(meanP);
-  const cv::Mat1f a = covIP / (varI + static_cast<float>(kGuideEps));
-  const cv::Mat1f b = meanP - a.mul(meanI);
-  cv::Mat1f q = boxMean(a, r).mul(I) + boxMean(b, r);
-  cv::min(cv::max(q, 0.0f), 1.0f, q);
+  const cv::Mat1f meanII = boxMean(II, r), meanIP = boxMean(IP, r);
+  cv::Mat1f a(I.size()), b(I.size());
+  const float eps = static_cast<float>(kGuideEps);
+  eachPixel([&](int y, int x) {
+    const float mI = meanI(y, x), mP = meanP(y, x);
+    const float varI = meanII(y, x) - mI * mI;
+    const float covIP = meanIP(y, x) - mI * mP;
+    const float ay = covIP / (varI + eps);
+    a(y, x) = ay;
+    b(y, x) = mP - ay * mI;
+  });
+  const cv::Mat1f meanA = boxMean(a, r), meanB = boxMean(b, r);
+  cv::Mat1f q(I.size());
+  eachPixel([&](int y, int x) {
+    const float v = meanA(y, x) * I(y, x) + meanB(y, x);
+    q(y, x) = std::min(std::max(v, 0.0f), 1.0f);
+  });
   // Only the outline's band takes the filter's answer: deep inside and far outside the mask
   // stays as segmentation decided (a print's contrast must not open holes).
   const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
@@ -241,14 +307,7 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
   cv::GaussianBlur(dressed, d, cv::Size(3, 3), 0.8);
   cv::GaussianBlur(bare, e, cv::Size(3, 3), 0.8);
   const cv::Mat3f labD = labOf(d), labE = labOf(e);
-  auto distance = [](const cv::Mat3f& x, const cv::Mat3f& y) {
-    cv::Mat3f diff = x - y;
-    std::vector<cv::Mat1f> ch;
-    cv::split(diff, ch);
-    cv::Mat1f out;
-    cv::sqrt(ch[0].mul(ch[0]) + ch[1].mul(ch[1]) + ch[2].mul(ch[2]), out);
-    return out;
-  };
+  const auto distance = labDistance;
   const cv::Mat1f dBare = distance(labD, labE);
   const cv::Mat1f depth = depthInside(mask);
   const cv::Mat1b band = (depth <= static_cast<float>(bandPx)) & mask;

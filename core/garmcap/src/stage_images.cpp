@@ -15,19 +15,35 @@ namespace {
 // (scaled up by 1.5x at most when the garment spans less of the frame).
 constexpr int kShopZoomPx = 2048;
 
-void drawOverlay(cv::Mat& overlay, const cv::Mat& garmentMask, const GarmentMeasurement& m,
-                 const calib::Calibration& cal) {
+// The review overlay: the garment's outline and the landmarks on the dressed work frame (upright,
+// registered and lightly denoised). It is a review aid, not a product file: at the work frame's
+// size (about 2 MP) it shows the outline to a work pixel, where the full frame's copy and PNG
+// cost a 36 MB copy, about 0.35 s of encoding and 20 MB stored per 12 MP capture (1.7 MB now).
+// The outline is the full-resolution mask's, scaled down: the cut the measurements and photos
+// used.
+cv::Mat drawOverlay(const cv::Mat& work, double scale, const cv::Mat& garmentMask,
+                    const GarmentMeasurement& m, const calib::Calibration& cal) {
+  cv::Mat overlay = work.clone();
   std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(garmentMask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  cv::findContours(garmentMask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  // Pixel centres scaled about the pixels' corners, as cv::resize places them.
+  const auto scaled = [scale](cv::Point2d p) {
+    return cv::Point2d((p.x + 0.5) * scale - 0.5, (p.y + 0.5) * scale - 0.5);
+  };
+  for (auto& c : contours)
+    for (cv::Point& p : c)
+      p = scaled(p);
   const int thick = std::max(1, overlay.cols / 600);
   cv::drawContours(overlay, contours, -1, cv::Scalar(0, 255, 255), thick);
   for (const auto& [name, p] : cal.landmarks)
-    cv::circle(overlay, cv::Point2d(p.x(), p.y()), 2 * thick, cv::Scalar(255, 128, 0), cv::FILLED);
+    cv::circle(overlay, scaled(cv::Point2d(p.x(), p.y())), 2 * thick, cv::Scalar(255, 128, 0),
+               cv::FILLED);
   for (const auto& lm : m.landmarks) {
-    cv::circle(overlay, lm.px, 3 * thick, cv::Scalar(0, 0, 255), cv::FILLED);
-    cv::putText(overlay, lm.name, lm.px + cv::Point2d(4 * thick, 0), cv::FONT_HERSHEY_SIMPLEX,
-                0.35 * thick, cv::Scalar(0, 0, 255), thick);
+    cv::circle(overlay, scaled(lm.px), 3 * thick, cv::Scalar(0, 0, 255), cv::FILLED);
+    cv::putText(overlay, lm.name, scaled(lm.px) + cv::Point2d(4 * thick, 0),
+                cv::FONT_HERSHEY_SIMPLEX, 0.35 * thick, cv::Scalar(0, 0, 255), thick);
   }
+  return overlay;
 }
 
 }  // namespace
@@ -58,8 +74,8 @@ PhotoLayer makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput
   const cv::Mat& garment = in.garment;
   const double s = ctx.calibration.pose.pxPerCm;
   result.silhouette = garment;
-  result.overlay = dressedFull.clone();
-  drawOverlay(result.overlay, garment, in.measurement, ctx.calibration);
+  result.overlay =
+      drawOverlay(in.dressedWork, in.workScale, garment, in.measurement, ctx.calibration);
   if (options.makeProductImages || options.makeTexture) {
     const cv::Rect box = photoBox(garment, s);
     const cv::Mat3b crop = dressedFull(box);

@@ -16,6 +16,8 @@ namespace garmcap::pipeline {
 
 struct CaptureImagesInput {
   const cv::Mat& dressedFull;             // the full dressed frame, upright and registered
+  const cv::Mat& dressedWork;             // the dressed work frame (the overlay is drawn on it)
+  double workScale;                       // work frame px per full frame px
   const cv::Mat& garment;                 // the garment's mask on it
   const GarmentMeasurement& measurement;  // its landmarks, for the overlay
   const BareFrame& bare;                  // what the form looked like (the photos' background)
@@ -36,9 +38,9 @@ ProductImageOptions productImageOptions(const CaptureOptions& options, cv::Size 
 /// The garment's box with a 2 cm margin, within the frame: the part the photos are made from.
 cv::Rect photoBox(const cv::Mat& garment, double pxPerCm);
 
-/// Sets `result`'s silhouette, overlay, and as `options` ask the product photos and the texture
-/// (with the fabric attribute); ends the timer's "images" and "texture" stages.
-/// Returns the front photos' layer for a back shot (stage_back_shot.h).
+/// Sets `result`'s silhouette, overlay (at the work frame's size), and as `options` ask the product
+/// photos and the texture (with the fabric attribute); ends the timer's "images" and "texture"
+/// stages. Returns the front photos' layer for a back shot (stage_back_shot.h).
 PhotoLayer makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput& in,
                              const CaptureOptions& options, StageTimer& timer,
                              CaptureResult& result);
