@@ -1,8 +1,8 @@
-// The hub over TLS: the [tls] configuration, the certificate and key checks at start, and the
-// hub serving HTTPS on loopback (a real PostgreSQL) to a client that verifies it, while a
-// plain-HTTP client (answered 400 in plain text), a TLS 1.1 client and a client that never starts
-// its handshake are turned away without stopping it. Certificates are made at test time
-// (common/test_certs.h).
+// The hub over TLS: the hub serving HTTPS on loopback (a real PostgreSQL) to a client that
+// verifies it, while a plain-HTTP client (answered 400 in plain text), a TLS 1.1 client and a
+// client that never starts its handshake are turned away without stopping it. Certificates are
+// made at test time (common/test_certs.h). The [tls] configuration and the certificate and key
+// checks at start are in hub_config_test.cpp (no database).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -14,11 +14,9 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl.hpp>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "../common/test_certs.h"
-#include "garmcap/daemon/tls_context.h"
 #include "garmcap/hub/hub_config.h"
 #include "garmcap/hub/hub_service.h"
 #include "temp_postgres.h"
@@ -50,83 +48,6 @@ class TempFolder {
   static inline int counter_ = 0;
   fs::path path_;
 };
-
-HubConfig minimalConfig() {
-  HubConfig c;
-  c.databaseUrl = "dbname=x";
-  return c;
-}
-
-std::string messageOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
-
-TEST(HubTlsConfig, ANonLoopbackAddressNeedsTls) {
-  TempFolder dir;
-  const garmcap::test::TestCerts certs(dir.path());
-  HubConfig c = minimalConfig();
-  c.listenAddress = "0.0.0.0";
-  const std::string why = messageOf([&] { c.validate(); });
-  EXPECT_NE(why.find("[http] listen: 0.0.0.0 is not a loopback address"), std::string::npos) << why;
-  EXPECT_NE(why.find("[tls] cert_file"), std::string::npos) << why;
-  c.tlsCertFile = certs.serverCert.string();
-  c.tlsKeyFile = certs.serverKey.string();
-  EXPECT_NO_THROW(c.validate());
-  c.listenAddress = "::";
-  EXPECT_NO_THROW(c.validate());
-  // Loopback may stay plain HTTP.
-  EXPECT_NO_THROW(minimalConfig().validate());
-}
-
-TEST(HubTlsConfig, TheTlsSectionIsReadAndItsFilesAreNamedWhenMissing) {
-  TempFolder dir;
-  const garmcap::test::TestCerts certs(dir.path());
-  const auto file = dir.path() / "hub.toml";
-  std::ofstream(file) << "[database]\nurl = \"dbname=x\"\n[http]\nlisten = \"0.0.0.0:8443\"\n"
-                      << "[tls]\ncert_file = \"" << certs.serverCert.string() << "\"\n"
-                      << "key_file = \"" << (dir.path() / "nokey.pem").string() << "\"\n";
-  HubConfig c = loadHubConfig(file);
-  EXPECT_EQ(c.tlsCertFile, certs.serverCert.string());
-  EXPECT_TRUE(c.tls());
-  std::string why = messageOf([&] { c.validate(); });
-  EXPECT_NE(why.find("[tls] key_file: " + (dir.path() / "nokey.pem").string() + ": no such file"),
-            std::string::npos)
-      << why;
-  c.tlsKeyFile.clear();
-  why = messageOf([&] { c.validate(); });
-  EXPECT_NE(why.find("[tls] key_file: required with [tls] cert_file"), std::string::npos) << why;
-  std::ofstream(file) << "[tls]\ncert = \"x\"\n";
-  why = messageOf([&] { loadHubConfig(file); });
-  EXPECT_NE(why.find("[tls] cert: unknown key"), std::string::npos) << why;
-  std::ofstream(file) << "[tls]\nkey_file = 3\n";
-  EXPECT_THROW(loadHubConfig(file), HubConfigError);
-}
-
-TEST(HubTlsConfig, AKeyThatDoesNotMatchTheCertificateIsNamedAtStart) {
-  TempFolder dir;
-  const garmcap::test::TestCerts certs(dir.path());
-  const auto ctx = daemon::makeServerTlsContext(certs.serverCert, certs.serverKey);
-  EXPECT_EQ(SSL_CTX_get_min_proto_version(ctx->native_handle()), TLS1_2_VERSION);
-  std::string why = messageOf([&] { daemon::makeServerTlsContext(certs.serverCert, certs.caKey); });
-  EXPECT_NE(why.find("TLS key " + certs.caKey.string() + ": does not match the certificate in " +
-                     certs.serverCert.string()),
-            std::string::npos)
-      << why;
-  // The two swapped: the "certificate" is a key.
-  why = messageOf([&] { daemon::makeServerTlsContext(certs.serverKey, certs.serverCert); });
-  EXPECT_NE(why.find("TLS certificate " + certs.serverKey.string() + ": not a PEM certificate"),
-            std::string::npos)
-      << why;
-  why = messageOf(
-      [&] { daemon::makeServerTlsContext(dir.path() / "none.pem", certs.serverKey.string()); });
-  EXPECT_NE(why.find((dir.path() / "none.pem").string() + ": cannot be read"), std::string::npos)
-      << why;
-}
 
 // --- the hub serving HTTPS -------------------------------------------------------------------
 

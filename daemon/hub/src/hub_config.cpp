@@ -133,7 +133,11 @@ HubConfig loadHubConfig(const std::filesystem::path& file, HubConfig c) {
       }
       continue;
     }
-    for (const auto& [key, v] : table.as_table()) {
+    // Key and value by name, not by structured binding: clang 14 (the sanitized build,
+    // tests/fuzz) cannot capture a binding in a lambda.
+    for (const auto& entry : table.as_table()) {
+      const std::string& key = entry.first;
+      const auto& v = entry.second;
       const std::string name = f + ": [" + section + "] " + key;
       auto integer = [&](long long lo, long long hi) {
         if (!v.is_integer() || v.as_integer() < lo || v.as_integer() > hi)
