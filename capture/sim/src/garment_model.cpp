@@ -90,6 +90,7 @@ double circFromKnots(const std::vector<Knot>& k, double h) {
 constexpr double kBustEaseCm = 0.5;    // a bodice's uniform ease at the bust, at most
 constexpr double kBodiceHang = 0.25;   // share of the bust's extra depth kept below it
 constexpr double kSkirtSwingCm = 3.0;  // a skirt's side swing below the hip, at most
+constexpr double kLieOnFormCm = 0.5;   // a bodice with less ease than this does not hang
 constexpr double kBustSidesCm = 8.0;   // the bust's side offset holds this far below it
 
 class HangingSections {
@@ -134,31 +135,41 @@ class HangingSections {
 };
 
 // Width beyond the form's section `f` (cm) of a garment of circumference c whose section is
-// `base` (f, or a hull containing it) plus a disc of at most maxEase and, for the rest, a
-// segment across. A garment tighter than `base` is a Minkowski blend of f and base.
+// `base` (f, or a hull containing it) grown by a disc of radius `ease` and, for the rest, a
+// segment across. A garment tighter than that is a Minkowski blend of f and it.
 double sidesOut(const HangingSections::Hull& f, const HangingSections::Hull& base, double c,
-                double maxEase) {
-  if (c <= base.perimeter) {
-    const double t =
-        std::clamp((c - f.perimeter) / std::max(base.perimeter - f.perimeter, 1e-9), 0.0, 1.0);
-    return t * (base.width - f.width);
+                double ease) {
+  const double pi = std::numbers::pi;
+  const double grownW = base.width + 2 * ease, grownP = base.perimeter + 2 * pi * ease;
+  if (c <= grownP) {
+    const double t = std::clamp((c - f.perimeter) / std::max(grownP - f.perimeter, 1e-9), 0.0, 1.0);
+    return t * (grownW - f.width);
   }
-  const double e = std::min(maxEase, (c - base.perimeter) / (2 * std::numbers::pi));
-  const double across = 0.5 * (c - base.perimeter - 2 * std::numbers::pi * e);
-  return base.width - f.width + 2 * e + across;
+  return grownW - f.width + 0.5 * (c - grownP);
+}
+
+// Width beyond `f` of a garment grown from f by a uniform ease e: c = C_f + 2 pi e.
+double easeOut(const HangingSections::Hull& f, double c) {
+  return 2 * std::max(0.0, c - f.perimeter) / (2 * std::numbers::pi);
 }
 
 // Width beyond `f` of a bodice below the bust: f plus a disc of radius e plus a front-to-back
 // segment of kBodiceHang of what the envelope `hang` is deeper than f grown by e (a loose
-// garment's own ease takes over from the bust's hold as it grows).
+// garment's own ease takes over from the bust's hold as it grows), never longer than
+// 2 (e - kLieOnFormCm): a garment with little ease lies on the form, it has no room to hang.
 double bodiceOut(const HangingSections::Hull& f, const HangingSections::Hull& hang, double c) {
   const double dd = std::max(0.0, hang.depth - f.depth);
-  const double pi = std::numbers::pi;
-  // c = C_f + 2 pi e + 2 k (dd - 2 e) while 2 e < dd, else C_f + 2 pi e.
-  double e = (c - f.perimeter - 2 * kBodiceHang * dd) / (2 * pi - 4 * kBodiceHang);
-  if (e < 0 || 2 * e > dd)
-    e = (c - f.perimeter) / (2 * pi);
-  return 2 * std::max(0.0, e);
+  auto perimeter = [&](double e) {
+    const double segment =
+        std::clamp(kBodiceHang * (dd - 2 * e), 0.0, std::max(0.0, 2 * (e - kLieOnFormCm)));
+    return f.perimeter + 2 * std::numbers::pi * e + 2 * segment;
+  };
+  double lo = 0, hi = std::max(0.0, c - f.perimeter);  // perimeter(e) grows with e
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (perimeter(mid) < c ? lo : hi) = mid;
+  }
+  return 2 * lo;
 }
 
 // Width beyond the hip section `f` of a skirt below the hip: the sides swing out first (up to
@@ -426,7 +437,9 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
     HangingSections::Hull f = hanging.hull(refH, refH);
     f.perimeter = ref->circCm;  // the view's own tape at this height
     double out;                 // cm of width beyond the form's section
-    if (upper && (h >= view.waistCm() || spec.type == "top")) {
+    const double waistLow = view.waistCm() - kKnotPlateauCm;
+    const double hipHigh = view.hipCm() + kKnotPlateauCm;
+    if (upper && (h >= waistLow || spec.type == "top")) {
       // A bodice: around the bust its extra width hangs at the sides over the envelope of the
       // sections up to the armpit (above the bust, of those above the row); lower down its
       // front and back hang partly off the bust. The side offset holds for kBustSidesCm below
@@ -443,14 +456,19 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
       if (h > view.bustCm())
         out *= std::clamp((view.armpitCm() - h) / std::max(view.armpitCm() - view.bustCm(), 1e-9),
                           0.0, 1.0);
+    } else if (upper && h > hipHigh) {
+      // A dress below its waist's plateau: from the bodice's hang to the skirt's uniform ease at
+      // the hip's plateau.
+      const double t = std::clamp((waistLow - h) / std::max(waistLow - hipHigh, 1e-9), 0.0, 1.0);
+      out = (1 - t) * bodiceOut(f, hanging.hull(h, view.armpitCm()), c) + t * easeOut(f, c);
     } else if (h >= view.hipCm() - kKnotPlateauCm || spec.type == "pants") {
-      out = sidesOut(f, f, c, 1e9);  // a uniform ease over the form's own section
+      out = easeOut(f, c);  // a uniform ease over the form's own section
     } else {
       // A skirt below the hip's plateau: from the uniform ease there to the hem's side swing
       // and flare at the hem's plateau.
       const double top = view.hipCm() - kKnotPlateauCm, bottom = gh.hemCm + kKnotPlateauCm;
       const double t = std::clamp((top - h) / std::max(top - bottom, 1e-9), 0.0, 1.0);
-      out = (1 - t) * sidesOut(f, f, c, 1e9) + t * hemOut(f, c);
+      out = (1 - t) * easeOut(f, c) + t * hemOut(f, c);
     }
     const double w = ref->widthPx() + s * out;
     l = ref->centrePx() - 0.5 * w;

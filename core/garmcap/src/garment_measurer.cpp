@@ -281,7 +281,9 @@ struct DepthModel {
       case DepthRule::kBust:
         return std::min(eased, hang.depthCm + kBustDepthEaseCm);
       case DepthRule::kBodice:
-        return eased + kBodiceHangShare * std::max(0.0, hang.depthCm - eased);
+        // Never more than its width's ease: with little ease a bodice lies on the form.
+        return eased + std::min(kBodiceHangShare * std::max(0.0, hang.depthCm - eased),
+                                widthCm - form.widthCm);
       case DepthRule::kHem:
         return std::max(form.depthCm, form.depthCm * (widthCm - kHemSideSwingCm) / form.widthCm);
       case DepthRule::kSimilar:
