@@ -350,7 +350,7 @@ std::pair<int, int> armLimits(const FormView& view, int row, const RowSection& t
   return {left, right};
 }
 
-// One row's reading: the circumference by the similar-section model, the garment's edges, and
+// One row's reading: the circumference by the section model (c.depth), the garment's edges, and
 // the form's torso edges there (when the row crosses the torso).
 struct RowValue {
   double circCm;
@@ -398,7 +398,7 @@ std::optional<RowValue> readRow(const Context& c, int row, bool& hidden) {
                   torsoHere};
 }
 
-// Circumference at form height h by the similar-section model, median over a band of rows.
+// Circumference at form height h by the section model (c.depth), median over a band of rows.
 // Rows where the garment runs into the form's arm are left out: there a sleeve lying on the
 // bodice hides the body's side seam, and the run holds sleeve and the gap to the arm. When the
 // whole band is hidden so, the nearest rows below it (up to kHiddenSearchCm) that show the side
@@ -511,9 +511,8 @@ double quantile(std::vector<double> v, double q) {
 // rows from the bust down (rows hidden by the arm or a sleeve are skipped, down to
 // kHiddenSearchCm + kBandCm below the bust), and its lower tenth taken: a fold is a local bump
 // in that profile, a bodice's side is its floor. The share carries over to the bust's own
-// section (for a garment that is the form's section scaled, the share is the scale at every row,
-// so the reading is exact; a uniform offset differs from it only by the form's change of width
-// over the band). A warning says when the rows reached further down than the band.
+// section as its width (1 + share times the form's), which the section model (c.depth, the bust's
+// rule) turns into a round. A warning says when the rows reached further down than the band.
 constexpr double kBustSideBandCm = 3.0;
 constexpr double kBustSideQuantile = 0.1;
 
@@ -813,7 +812,8 @@ std::optional<int> garmentTopRow(const Context& c, int col, int fromRow, int toR
 // plane, which a camera above it sees lower than a point of the same height on the axis (a
 // physical rig's skirts read 1-2 cm long so; 12-15 cm in front of the axis at 3 m moves a hem
 // about 3 cm). The hem section is taken as the form's hip section scaled to the garment's width
-// just above the hem (the similar-section model the circumferences use), which places its front;
+// just above the hem (the similar section; the hem's circumference uses its own depth rule, not
+// carried over here, so that lengths do not move with it), which places its front;
 // the height is then where the camera's ray through the row meets that depth. Orthographic
 // views read the row as it is.
 double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
