@@ -175,22 +175,19 @@ SectionShape shapeOf(const std::vector<Eigen::Vector2d>& hull) {
 
 std::shared_ptr<const DepthTable> depthTable(const FormView& view) {
   const calib::FormModel& form = view.form();
-  // Keyed by what identifies a loaded form (a FormModel is immutable; a new one at the same
-  // address with another mesh differs in these).
+  // Keyed by what identifies a loaded form, by value: a capture may hold its own copy of the
+  // form (another address, the same mesh), and a new form at an old address differs in these.
   struct Key {
-    const void* mesh;
     std::size_t vertices, triangles;
-    double minY, maxY, axisX, axisZ, armpit;
+    double minY, maxY, axisX, axisZ, armpit, sample;
     bool operator==(const Key&) const = default;
   };
-  const Key key{&form.mesh(),
-                form.mesh().vertices.size(),
-                form.mesh().faces.size(),
-                form.minYCm(),
-                form.maxYCm(),
-                form.axisXCm(),
-                form.axisZCm(),
-                view.armpitCm()};
+  const auto& vs = form.mesh().vertices;
+  double sample = 0;  // a fingerprint of the vertices: 64 of them, spread over the mesh
+  for (std::size_t i = 0; i < vs.size(); i += std::max<std::size_t>(1, vs.size() / 64))
+    sample += vs[i].x() + 3.0 * vs[i].y() + 7.0 * vs[i].z();
+  const Key key{vs.size(),      form.mesh().faces.size(), form.minYCm(),   form.maxYCm(),
+                form.axisXCm(), form.axisZCm(),           view.armpitCm(), sample};
   static std::mutex mutex;
   static std::vector<std::pair<Key, std::shared_ptr<const DepthTable>>> cache;
   {
