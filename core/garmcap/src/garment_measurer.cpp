@@ -1217,4 +1217,13 @@ double coveredBelowCrotchCm(const cv::Mat& garmentMask, const FormView& view) {
   return last < 0 ? 0.0 : (last + 1 - crotchRow) / s;
 }
 
+// Holds the cached table alive (its type is this file's own).
+struct FormDepthTable {
+  std::shared_ptr<const void> table;
+};
+
+std::shared_ptr<const FormDepthTable> formDepthTable(const FormView& view) {
+  return std::make_shared<const FormDepthTable>(FormDepthTable{depthTable(view)});
+}
+
 }  // namespace garmcap::pipeline

@@ -10,6 +10,7 @@
 // is measured along the arm's axis from the shoulder tip.
 
 #include <map>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -46,6 +47,14 @@ std::optional<double> measurementUncertaintyCm(const std::string& name);
 /// mask whose size differs from the view's.
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
                                   const std::string& type);
+
+/// The form's torso sections the hanging-depth section model reads (docs/measurement_model.md,
+/// "Section depth"): slicing the mesh costs about a millisecond a section (7 ms for the physical
+/// rig's form, more for a finer mesh), so it is made once per form and shared (measureGarment
+/// finds it by the form's content). Made when the calibration's context is built, so the first
+/// capture after calibrating does not pay for it (issue 16: button to item within 1.5 s).
+struct FormDepthTable;
+std::shared_ptr<const FormDepthTable> formDepthTable(const FormView& view);
 
 /// How far, in cm of height, the garment below the form's hip runs as two legs with the form's
 /// centre line uncovered between them: pants part so, a skirt covers the centre line down to
