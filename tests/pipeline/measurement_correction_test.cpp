@@ -140,6 +140,37 @@ TEST(TapeCorrection, ACorrectionThatDoesNotBeatTheRawReadingIsNotApplied) {
   EXPECT_NEAR(mb.at("bust_circ"), 96.5, 1e-12);
 }
 
+TEST(TapeCorrection, ABiasSmallAgainstItsStandardErrorIsNotApplied) {
+  // tape - measured: +0.1, +0.9, +0.4 (mean 0.47, sd 0.40, standard error 0.23, t = 2.0; a 5 %
+  // test with 2 degrees of freedom needs 4.30). Worked by hand: the median, +0.4, predicts each
+  // garment left out from the other two's median (+0.65, +0.25, +0.5) 0.55, 0.65 and 0.1 cm off,
+  // mean 0.433 against the raw 0.467: a leave-one-out gain, but one the three garments' noise
+  // explains, so the offset is listed as not significant and not applied.
+  const std::vector<TapePair> p = {{80, 80.1}, {90, 90.9}, {100, 100.4}};
+  const auto c = fitCorrection(p);
+  ASSERT_TRUE(c);
+  EXPECT_NEAR(c->rawMeanCm, 1.4 / 3, 1e-12);
+  EXPECT_NEAR(c->looMeanCm, 1.3 / 3, 1e-12);
+  EXPECT_FALSE(c->significant);
+  EXPECT_FALSE(c->helps);
+  std::vector<TapeRecord> r;
+  for (const auto& x : p)
+    r.push_back({"dress", "hip_circ", x.measuredCm, x.tapeCm});
+  const auto j = correctionTableJson(fitCorrections(r));
+  ASSERT_EQ(j.size(), 1u);
+  EXPECT_EQ(j[0]["kind"], "none");
+  EXPECT_EQ(j[0]["reason"], "not_significant");
+  // The same spread about a bias of 3 cm (t = 13): significant, and applied.
+  std::vector<TapePair> biased = p;
+  for (auto& x : biased)
+    x.tapeCm += 2.5;
+  const auto b = fitCorrection(biased);
+  ASSERT_TRUE(b);
+  EXPECT_TRUE(b->significant);
+  EXPECT_TRUE(b->helps);
+  EXPECT_NEAR(b->offsetCm, 2.9, 1e-12);
+}
+
 TEST(TapeCorrection, NonFinitePairsAreNotCounted) {
   auto p = linePairs(1, 1, 3);
   p.push_back({NAN, 90});

@@ -94,6 +94,45 @@ TEST(ProductImages, FormRemainsAtTheOutlineAreCut) {
   EXPECT_THROW(formRemains(dressed, bare, cv::Mat1b::zeros(10, 10), 5, 5), std::invalid_argument);
 }
 
+// A sliver of form beside a garment a shade darker than the form (88 % of it, 8.9 CIELAB units),
+// tinted by the screen's spill in the dressed frame only (8 % of the screen's colour: 7.7 units
+// off the bare frame, over the 5-unit threshold, and 11.6 from the garment): told by the
+// screen's colour, the cut takes it for form; without it, it stays (seed 11's pants' crotch).
+// A light patch in the garment near the form's colour but not tinted towards the screen stays.
+TEST(ProductImages, SpillTintedFormBesideTheGarmentIsCut) {
+  cv::Mat3b bare(400, 300, kScreen);
+  cv::rectangle(bare, cv::Rect(80, 20, 140, 360), cv::Scalar(kForm), cv::FILLED);
+  cv::Mat3b dressed = bare.clone();
+  const cv::Rect garment(80, 120, 100, 150);
+  cv::rectangle(dressed, garment, cv::Scalar(132, 158, 180), cv::FILLED);
+  const cv::Rect sliver(180, 120, 4, 150);
+  cv::Mat3f tinted;
+  cv::Mat3b(sliver.size(), kForm).convertTo(tinted, CV_32F);
+  tinted = tinted * 0.92 + cv::Mat3f(sliver.size(), cv::Vec3f(kScreen) * 0.08f);
+  tinted.convertTo(dressed(sliver), CV_8U);
+  cv::Mat1b mask = cv::Mat1b::zeros(bare.size());
+  cv::rectangle(mask, cv::Rect(80, 120, 104, 150), cv::Scalar(255), cv::FILLED);
+  cv::Mat1b inner = cv::Mat1b::zeros(bare.size());
+  cv::rectangle(inner, cv::Rect(sliver.x + 1, sliver.y + 2, sliver.width - 1, sliver.height - 4),
+                cv::Scalar(255), cv::FILLED);  // a pixel clear of the garment's blur
+  EXPECT_GT(cv::countNonZero(inner & ~formRemains(dressed, bare, mask, 10, 5.0)), 0)
+      << "the tint is over the threshold, so without the screen's colour it stays";
+  const cv::Mat1b cut = formRemains(dressed, bare, mask, 10, 5.0, kScreen);
+  EXPECT_EQ(cv::countNonZero(inner & ~cut), 0) << "spill-tinted form left";
+  cv::Mat1b garmentInner = cv::Mat1b::zeros(bare.size());
+  cv::rectangle(garmentInner, cv::Rect(82, 122, 96, 146), cv::Scalar(255), cv::FILLED);
+  EXPECT_EQ(cv::countNonZero(cut & garmentInner), 0) << "garment cut";
+  // A light patch at the garment's edge, 7.2 units off the form, lighter and bluer (not towards
+  // the screen's green).
+  cv::Mat3b patched = dressed.clone();
+  const cv::Rect patch(160, 160, 20, 20);
+  patched(patch).setTo(cv::Scalar(170, 190, 215));
+  EXPECT_EQ(cv::countNonZero(formRemains(patched, bare, mask, 10, 5.0, kScreen)(
+                cv::Rect(patch.x, patch.y + 2, patch.width - 2, patch.height - 4))),
+            0)
+      << "a light patch untinted by the screen is garment";
+}
+
 // Spill as a screen tints an edge: the pixel mixed with the screen's colour, fading inwards.
 // After the despill the edge's a* is within 2 units of the inside's; a red garment edge (no
 // spill) keeps its chroma.

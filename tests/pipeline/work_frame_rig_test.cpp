@@ -136,7 +136,8 @@ TEST(WorkFrame, HardScenesAreTypedAndMeasured) {
           continue;
         }
         const double err = it->second - t.get<double>();
-        EXPECT_LE(std::abs(err), 1.5) << where << " " << name << " measured " << it->second;
+        EXPECT_LE(std::abs(err), 1.5)
+            << where << " " << name << " measured " << it->second << " truth " << t;
       }
     }
   }

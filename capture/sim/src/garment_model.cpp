@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "garmcap/calib/slicer.h"
 #include "garmcap/drafts/file_io.h"
 
 namespace garmcap::sim {
@@ -78,6 +79,105 @@ double circFromKnots(const std::vector<Knot>& k, double h) {
     }
   }
   return k.back().c;
+}
+
+// How a garment hangs (docs/simulator.md, "Width model"). Its section at a height is a
+// Minkowski sum of convex pieces: a hull of the form's sections, a disc of radius e (a uniform
+// ease: perimeter + 2 pi e, width and depth + 2 e), a segment across (the sides standing out:
+// perimeter + 2 L, width + L) and a segment front to back (the front and back hanging off the
+// bust: perimeter + 2 L, depth + L). Only the width is drawn; the sums are what the physical
+// rig's cloth does (docs/physical_rig.md), written without the measurer's ellipses.
+constexpr double kBustEaseCm = 0.5;    // a bodice's uniform ease at the bust, at most
+constexpr double kBodiceHang = 0.25;   // share of the bust's extra depth kept below it
+constexpr double kSkirtSwingCm = 3.0;  // a skirt's side swing below the hip, at most
+constexpr double kLieOnFormCm = 0.5;   // a bodice with less ease than this does not hang
+constexpr double kBustSidesCm = 8.0;   // the bust's side offset holds this far below it
+
+class HangingSections {
+ public:
+  explicit HangingSections(const FormView& view) {
+    lo_ = view.crotchCm() ? *view.crotchCm() + 0.5 : view.hipCm() - 25.0;
+    for (double h = lo_; h <= view.armpitCm() + 1e-9; h += 1.0) {
+      const calib::FormSection sec = view.form().section(h);
+      hulls_.push_back(sec.torsoLoops.empty() ? std::vector<Eigen::Vector2d>{}
+                                              : calib::convexHull(sec.torsoLoops));
+    }
+  }
+  struct Hull {
+    double width = 0, depth = 0, perimeter = 0;
+  };
+  // The hull of every section in [loCm, hiCm] (cm).
+  Hull hull(double loCm, double hiCm) const {
+    std::vector<Eigen::Vector2d> pts;
+    loCm = std::max(loCm, lo_);
+    hiCm = std::max(hiCm, loCm);
+    for (std::size_t i = 0; i < hulls_.size(); ++i) {
+      const double h = lo_ + static_cast<double>(i);
+      if (h >= loCm - 0.5 && h <= hiCm + 0.5)
+        pts.insert(pts.end(), hulls_[i].begin(), hulls_[i].end());
+    }
+    if (pts.size() < 3)
+      return {};
+    const auto poly = calib::convexHull({pts});
+    double x0 = poly[0].x(), x1 = x0, z0 = poly[0].y(), z1 = z0;
+    for (const auto& p : poly) {
+      x0 = std::min(x0, p.x());
+      x1 = std::max(x1, p.x());
+      z0 = std::min(z0, p.y());
+      z1 = std::max(z1, p.y());
+    }
+    return {x1 - x0, z1 - z0, calib::polygonPerimeter(poly)};
+  }
+
+ private:
+  double lo_ = 0;
+  std::vector<std::vector<Eigen::Vector2d>> hulls_;
+};
+
+// Width beyond the form's section `f` (cm) of a garment of circumference c whose section is
+// `base` (f, or a hull containing it) grown by a disc of radius `ease` and, for the rest, a
+// segment across. A garment tighter than that is a Minkowski blend of f and it.
+double sidesOut(const HangingSections::Hull& f, const HangingSections::Hull& base, double c,
+                double ease) {
+  const double pi = std::numbers::pi;
+  const double grownW = base.width + 2 * ease, grownP = base.perimeter + 2 * pi * ease;
+  if (c <= grownP) {
+    const double t = std::clamp((c - f.perimeter) / std::max(grownP - f.perimeter, 1e-9), 0.0, 1.0);
+    return t * (grownW - f.width);
+  }
+  return grownW - f.width + 0.5 * (c - grownP);
+}
+
+// Width beyond `f` of a garment grown from f by a uniform ease e: c = C_f + 2 pi e.
+double easeOut(const HangingSections::Hull& f, double c) {
+  return 2 * std::max(0.0, c - f.perimeter) / (2 * std::numbers::pi);
+}
+
+// Width beyond `f` of a bodice below the bust: f plus a disc of radius e plus a front-to-back
+// segment of kBodiceHang of what the envelope `hang` is deeper than f grown by e (a loose
+// garment's own ease takes over from the bust's hold as it grows), never longer than
+// 2 (e - kLieOnFormCm): a garment with little ease lies on the form, it has no room to hang.
+double bodiceOut(const HangingSections::Hull& f, const HangingSections::Hull& hang, double c) {
+  const double dd = std::max(0.0, hang.depth - f.depth);
+  auto perimeter = [&](double e) {
+    const double segment =
+        std::clamp(kBodiceHang * (dd - 2 * e), 0.0, std::max(0.0, 2 * (e - kLieOnFormCm)));
+    return f.perimeter + 2 * std::numbers::pi * e + 2 * segment;
+  };
+  double lo = 0, hi = std::max(0.0, c - f.perimeter);  // perimeter(e) grows with e
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (perimeter(mid) < c ? lo : hi) = mid;
+  }
+  return 2 * lo;
+}
+
+// Width beyond the hip section `f` of a skirt below the hip: the sides swing out first (up to
+// kSkirtSwingCm across), then the hem flares as the hip section scaled.
+double hemOut(const HangingSections::Hull& f, double c) {
+  const double swing = std::min(kSkirtSwingCm, 0.5 * std::max(0.0, c - f.perimeter));
+  const double k = std::max(1.0, (c - 2 * swing) / f.perimeter);
+  return swing + (k - 1) * f.width;
 }
 
 // Fractional coverage of pixel centre x by the span [l, r].
@@ -313,6 +413,7 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
   // Band edges at each row (for the shoulder column above the armpit).
   double armpitL = 0, armpitR = 0;
 
+  const HangingSections hanging(view);
   auto bandAt = [&](int row, double& l, double& r) -> bool {
     const double h = view.heightOfRow(row);
     std::optional<RowSection> ref;
@@ -323,10 +424,55 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
     }
     if (!ref)
       return false;
-    const double c = std::max(circFromKnots(knots, h), ref->circCm + 1.0);
-    const double hw = 0.5 * ref->widthPx() * c / ref->circCm;
-    l = ref->centrePx() - hw;
-    r = ref->centrePx() + hw;
+    double knotC = circFromKnots(knots, h);
+    if (upper && h < view.bustCm() && h > view.waistCm() + kKnotPlateauCm) {
+      // A bodice hangs straight from the bust for kBustSidesCm, then narrows to its waist.
+      const double top = view.bustCm() - kBustSidesCm, bottom = view.waistCm() + kKnotPlateauCm;
+      const double t = std::clamp((h - bottom) / std::max(top - bottom, 1e-9), 0.0, 1.0);
+      knotC = circFromKnots(knots, view.waistCm()) +
+              t * (circFromKnots(knots, view.bustCm()) - circFromKnots(knots, view.waistCm()));
+    }
+    const double c = std::max(knotC, ref->circCm + 1.0);
+    const double refH = std::max(h, view.hipCm());
+    HangingSections::Hull f = hanging.hull(refH, refH);
+    f.perimeter = ref->circCm;  // the view's own tape at this height
+    double out;                 // cm of width beyond the form's section
+    const double waistLow = view.waistCm() - kKnotPlateauCm;
+    const double hipHigh = view.hipCm() + kKnotPlateauCm;
+    if (upper && (h >= waistLow || spec.type == "top")) {
+      // A bodice: around the bust its extra width hangs at the sides over the envelope of the
+      // sections up to the armpit (above the bust, of those above the row); lower down its
+      // front and back hang partly off the bust. The side offset holds for kBustSidesCm below
+      // the bust, then blends into the lower rule by the waist's plateau, so no step shows.
+      const double bustLow = view.bustCm() - kBustSidesCm;
+      const double waistHigh = view.waistCm() + kKnotPlateauCm;
+      const auto hangHull = hanging.hull(h, view.armpitCm());
+      const double atBust = sidesOut(f, hangHull, c, kBustEaseCm);
+      const double below = bodiceOut(f, hangHull, c);
+      const double t = std::clamp((h - waistHigh) / std::max(bustLow - waistHigh, 1e-9), 0.0, 1.0);
+      out = t * atBust + (1 - t) * below;
+      // Above the bust the armhole is cut close to the body: the sides come in to the form's
+      // own edge at the armpit (they would lie over the arm's root, which reads as a sleeve).
+      if (h > view.bustCm())
+        out *= std::clamp((view.armpitCm() - h) / std::max(view.armpitCm() - view.bustCm(), 1e-9),
+                          0.0, 1.0);
+    } else if (upper && h > hipHigh) {
+      // A dress below its waist's plateau: from the bodice's hang to the skirt's uniform ease at
+      // the hip's plateau.
+      const double t = std::clamp((waistLow - h) / std::max(waistLow - hipHigh, 1e-9), 0.0, 1.0);
+      out = (1 - t) * bodiceOut(f, hanging.hull(h, view.armpitCm()), c) + t * easeOut(f, c);
+    } else if (h >= view.hipCm() - kKnotPlateauCm || spec.type == "pants") {
+      out = easeOut(f, c);  // a uniform ease over the form's own section
+    } else {
+      // A skirt below the hip's plateau: from the uniform ease there to the hem's side swing
+      // and flare at the hem's plateau.
+      const double top = view.hipCm() - kKnotPlateauCm, bottom = gh.hemCm + kKnotPlateauCm;
+      const double t = std::clamp((top - h) / std::max(top - bottom, 1e-9), 0.0, 1.0);
+      out = (1 - t) * easeOut(f, c) + t * hemOut(f, c);
+    }
+    const double w = ref->widthPx() + s * out;
+    l = ref->centrePx() - 0.5 * w;
+    r = ref->centrePx() + 0.5 * w;
     return true;
   };
 

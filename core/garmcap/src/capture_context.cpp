@@ -99,6 +99,7 @@ std::shared_ptr<const CaptureContext> buildCaptureContext(const nlohmann::json& 
   calib::FormPose upright = ctx->calibration.pose;
   upright.rollRad = 0;  // frames are de-rolled about the world origin's image position
   ctx->view = std::make_shared<const FormView>(*ctx->form, upright, ctx->calibration.imageSize);
+  ctx->depthTable = formDepthTable(*ctx->view);
   ctx->body = bodyForForm(*ctx->form, drafts::sizeChart(sizeChart));
   // The classifier compares silhouettes a few hundred rows high, so the references are drawn on
   // the form seen at about that size, not at the camera's: at 12 MP drawing every reference

@@ -88,6 +88,54 @@ std::optional<Line> scaleFit(const std::vector<TapePair>& p) {
   return l;
 }
 
+// Two-sided 5 % critical value of Student's t with `df` degrees of freedom (df >= 1): the table
+// to 30, then the Cornish-Fisher expansion about the normal's 1.96 (within 0.001 beyond 30).
+double tCritical95(int df) {
+  static constexpr double kTable[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306,
+                                      2.262,  2.228, 2.201, 2.179, 2.160, 2.145, 2.131, 2.120,
+                                      2.110,  2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064,
+                                      2.060,  2.056, 2.052, 2.048, 2.045, 2.042};
+  if (df <= 30)
+    return kTable[std::max(df, 1) - 1];
+  const double z = 1.959964, v = df;
+  return z + (z * z * z + z) / (4 * v) +
+         (5 * std::pow(z, 5) + 16 * z * z * z + 3 * z) / (96 * v * v);
+}
+
+// Upper 5 % point of F(2, m): for two numerator degrees of freedom the tail is closed-form,
+// P(F > f) = (1 + 2 f / m)^(-m / 2).
+double fCritical95TwoParams(int m) {
+  return 0.5 * m * (std::pow(0.05, -2.0 / m) - 1);
+}
+
+// Whether the pairs' data reject "no correction needed" at the 5 % level. An offset: Student's t
+// on the differences tape - measured (is their mean bias distinguishable from zero given their
+// spread?). A scale and offset: the F test of the fitted line against the identity (both
+// parameters at once). A correction fitted on a handful of garments whose bias is small against
+// its standard error is mostly their noise; the leave-one-out gain alone does not show that (it
+// is itself an estimate from the same few pairs, positive about half the time with no bias).
+bool significantAgainstNone(const std::vector<TapePair>& p, const Correction& c) {
+  const int n = static_cast<int>(p.size());
+  if (c.kind == CorrectionKind::kOffset) {
+    double mean = 0;
+    for (const auto& x : p)
+      mean += x.tapeCm - x.measuredCm;
+    mean /= n;
+    double ss = 0;
+    for (const auto& x : p)
+      ss += (x.tapeCm - x.measuredCm - mean) * (x.tapeCm - x.measuredCm - mean);
+    const double se = std::sqrt(ss / (n - 1) / n);
+    return std::abs(mean) > tCritical95(n - 1) * se;
+  }
+  double rawSs = 0, rss = 0;
+  for (const auto& x : p) {
+    const double e = x.tapeCm - c.apply(x.measuredCm);
+    rawSs += (x.tapeCm - x.measuredCm) * (x.tapeCm - x.measuredCm);
+    rss += e * e;
+  }
+  return (rawSs - rss) / 2 > fCritical95TwoParams(n - 2) * rss / (n - 2);
+}
+
 }  // namespace
 
 const char* toString(CorrectionKind kind) {
@@ -112,8 +160,10 @@ std::optional<Correction> fitCorrection(const std::vector<TapePair>& all) {
   // The same test once more against no correction at all: where the pipeline's errors on this
   // shop's garments have no bias (or one smaller than their spread), an offset or slope fitted
   // on a few of them moves every later reading by their noise.
-  const auto judged = [](Correction& r) -> Correction& {
-    r.helps = r.looMeanCm < r.rawMeanCm;
+  // And the bias (or line) must be significant at the 5 % level (significantAgainstNone).
+  const auto judged = [&p](Correction& r) -> Correction& {
+    r.significant = significantAgainstNone(p, r);
+    r.helps = r.looMeanCm < r.rawMeanCm && r.significant;
     return r;
   };
   if (c.n < kMinPairsForScale)
@@ -165,7 +215,7 @@ nlohmann::json correctionTableJson(const CorrectionTable& table) {
       const Correction& c = it->second;
       row["kind"] = c.helps ? toString(c.kind) : "none";
       if (!c.helps)
-        row["reason"] = "no_gain";
+        row["reason"] = c.looMeanCm < c.rawMeanCm ? "not_significant" : "no_gain";
       row["offset_cm"] = round3(c.offsetCm);
       row["scale"] = round3(c.scale);
       row["residual_cm"] = round3(c.looMeanCm);

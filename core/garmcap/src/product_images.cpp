@@ -298,7 +298,7 @@ cv::Mat1f refinedAlpha(const cv::Mat3b& bgr, const cv::Mat1b& mask, int radiusPx
 }
 
 cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv::Mat1b& mask,
-                      double bandPx, double maxDeltaE) {
+                      double bandPx, double maxDeltaE, const std::optional<cv::Vec3b>& screenBgr) {
   if (bare.size() != dressed.size() || mask.size() != dressed.size())
     throw std::invalid_argument("formRemains: the frames and the mask differ in size");
   // A light blur against sensor noise; a wider one would spread a dark hem's contrast onto the
@@ -337,8 +337,38 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
   // Near the bare frame counts only when nearer to it than to the garment: a fabric a shade off
   // the form's colour is within the threshold of the bare frame at its edge too.
   const cv::Mat1f dGarmentBlurred = distance(labD, look);
+  // Spill: the screen's light tints the form beside the garment in the dressed frame only (the
+  // form at the crotch, between a leg and the screen, reads 6-9 units off its bare self, greener,
+  // and less than 1 unit towards the pants' look). Such a pixel is form when, its shift towards
+  // the screen's colour taken out, it is within the threshold of the bare frame and moved less
+  // than half the threshold towards the garment (a mixed edge pixel moves along that direction).
+  // A print's light square near the form's colour is not tinted towards the screen, so it stays.
+  const float t = static_cast<float>(maxDeltaE);
+  cv::Mat1b formSide = cv::Mat1b::zeros(dressed.size());
+  if (screenBgr) {
+    const cv::Vec3f screenLab = labOf(cv::Mat3b(1, 1, *screenBgr))(0, 0);
+    for (int y = 0; y < dressed.rows; ++y)
+      for (int x = 0; x < dressed.cols; ++x) {
+        const float db = dBare(y, x);
+        if (!(db < 2 * t && db >= t && db < dGarmentBlurred(y, x) && wsum(y, x) > 0.02f))
+          continue;
+        cv::Vec3f diff = labD(y, x) - labE(y, x);
+        const cv::Vec3f toScreen = screenLab - labE(y, x);
+        const float s2 = toScreen.dot(toScreen);
+        if (s2 > 1e-6f) {
+          const float k = diff.dot(toScreen) / s2;
+          if (k > 0)
+            diff -= k * toScreen;
+        }
+        const cv::Vec3f toGarment = look(y, x) - labE(y, x);
+        const float len = std::sqrt(toGarment.dot(toGarment));
+        const float towards = len > 1e-3f ? diff.dot(toGarment) / len : 0.0f;
+        if (std::sqrt(diff.dot(diff)) < t && towards < 0.5f * t)
+          formSide(y, x) = 255;
+      }
+  }
   const cv::Mat1b nearBare =
-      (dBare < static_cast<float>(maxDeltaE)) & ((dBare < dGarmentBlurred) | (wsum <= 0.02f));
+      ((dBare < t) & ((dBare < dGarmentBlurred) | (wsum <= 0.02f))) | formSide;
   const cv::Mat1b same =
       nearBare | ((dBareRaw < 0.5f * dGarment) & (dGarment > 2.0f * static_cast<float>(maxDeltaE)) &
                   (wsum > 0.02f));
@@ -551,7 +581,7 @@ ProductLayer productLayer(const cv::Mat3b& dressed, const cv::Mat1b& mask, const
     // The cut covers the outside too: the guided filter's ramp reaches a few px beyond the mask,
     // and what of it still looks as the bare frame did is no garment either.
     const cv::Mat1b cut =
-        formRemains(dressed, bare, mask, std::max(3.0, kFormBandCm * s), kFormDeltaE);
+        formRemains(dressed, bare, mask, std::max(3.0, kFormBandCm * s), kFormDeltaE, screenBgr);
     alpha.setTo(0.0f, cut);
   }
   cv::Mat3b colour = dressed.clone();

@@ -2,8 +2,8 @@
 // The garment of a simulated scene: its type, attributes and measurements (the truth the
 // pipeline is judged on, names of the GarmCap pipeline issue), and how it is laid over the form
 // in the image. The width model is documented in docs/simulator.md; in short, at every image
-// row the garment's visible width is the reference form section's width times
-// C_garment(h) / C_reference(h).
+// row the garment's section hangs (a Minkowski sum of hulls of the form's sections, a uniform
+// ease and segments across or front to back) and its visible width is that section's.
 
 #include <cstdint>
 #include <map>

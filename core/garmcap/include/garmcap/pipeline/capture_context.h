@@ -30,6 +30,9 @@ struct CaptureContext {
   std::shared_ptr<const FormView> view;  // form seen with the calibrated pose, roll removed
   drafts::Measurements body;             // the form's measurements completed from a size chart
   std::shared_ptr<const GarmentClassifier> classifier;
+  // The form's depth table for the measurer, made here so the first capture does not pay for
+  // slicing the form; held so it stays while the context does.
+  std::shared_ptr<const FormDepthTable> depthTable;
   // The size chart whose nearest size completes the form's body (bodyForForm).
   std::string sizeChart;
 };

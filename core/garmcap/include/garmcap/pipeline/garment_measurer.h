@@ -1,13 +1,16 @@
 #pragma once
 // Garment measurements in cm from the garment's silhouette on the calibrated form (seed §5.2.4),
-// by the "similar cross-section" model documented in docs/measurement_model.md: at a form height
-// h, C_garment(h) = C_ref(h) * W_garment_px(h) / W_ref_px(h), where the reference section is the
-// form's torso section at h (for h at or above the hip) or its hip section (below the hip: skirts
-// and hems hang from the hip), C_ref its tape (convex-hull) circumference from the 3D scan and
-// W_ref its projected width. Lengths are vertical distances between form heights; the sleeve is
-// measured along the arm's axis from the shoulder tip.
+// by the hanging-depth section model documented in docs/measurement_model.md: at a form height
+// h the garment's section is an ellipse as wide as its silhouette whose depth comes from the
+// form (its section there, or the envelope of the sections the garment hangs from), and
+// C_garment(h) = C_ref(h) * P(w, d) / P(W_ref, D_ref), where the reference section is the form's
+// torso section at h (for h at or above the hip) or its hip section (below the hip: skirts and
+// hems hang from the hip), C_ref its tape (convex-hull) circumference from the 3D scan and
+// W_ref, D_ref its width and depth. Lengths are vertical distances between form heights; the sleeve
+// is measured along the arm's axis from the shoulder tip.
 
 #include <map>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -44,6 +47,14 @@ std::optional<double> measurementUncertaintyCm(const std::string& name);
 /// mask whose size differs from the view's.
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
                                   const std::string& type);
+
+/// The form's torso sections the hanging-depth section model reads (docs/measurement_model.md,
+/// "Section depth"): slicing the mesh costs about a millisecond a section (7 ms for the physical
+/// rig's form, more for a finer mesh), so it is made once per form and shared (measureGarment
+/// finds it by the form's content). Made when the calibration's context is built, so the first
+/// capture after calibrating does not pay for it (issue 16: button to item within 1.5 s).
+struct FormDepthTable;
+std::shared_ptr<const FormDepthTable> formDepthTable(const FormView& view);
 
 /// How far, in cm of height, the garment below the form's hip runs as two legs with the form's
 /// centre line uncovered between them: pants part so, a skirt covers the centre line down to

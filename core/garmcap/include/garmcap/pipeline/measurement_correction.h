@@ -15,7 +15,13 @@
 // - a correction whose leave-one-out residual is no smaller than the raw error of its pairs is
 //   fitted and listed but not applied: it does not predict a held-out garment better than the
 //   pipeline's own reading does (unbiased errors leave an offset nothing to remove but noise; the
-//   physical rig's bust, leave-one-out, read 2.29 cm raw and 2.76 corrected so).
+//   physical rig's bust, leave-one-out, read 2.29 cm raw and 2.76 corrected so);
+// - nor one whose bias is not significant at the 5 % level (an offset: Student's t on
+//   tape - measured; a scale and offset: the F test of the line against the identity): with
+//   three garments an offset needs |mean| > 4.3 standard errors. Fitted on a handful of
+//   garments, a bias small against its standard error is mostly their noise, and the
+//   leave-one-out gain, itself estimated from the same few pairs, does not show that (reason
+//   "not_significant").
 // The residual reported is the leave-one-out one: each pair predicted by the correction fitted on
 // the others, so it is the error a new garment can expect, not the fit's own (optimistic) error.
 //
@@ -51,13 +57,14 @@ const char* toString(CorrectionKind kind);  // "offset" | "scale_offset"
 
 struct Correction {
   CorrectionKind kind = CorrectionKind::kOffset;
-  double scale = 1;      // 1 for kOffset
-  double offsetCm = 0;   // corrected = scale * measured + offsetCm
-  int n = 0;             // pairs it was fitted on
-  double looMeanCm = 0;  // mean |leave-one-out residual| (the honest expected error)
-  double looMaxCm = 0;   // max |leave-one-out residual|
-  double rawMeanCm = 0;  // mean |tape - measured| of the pairs, uncorrected, for comparison
-  bool helps = true;     // looMeanCm < rawMeanCm: only then is it applied
+  double scale = 1;         // 1 for kOffset
+  double offsetCm = 0;      // corrected = scale * measured + offsetCm
+  int n = 0;                // pairs it was fitted on
+  double looMeanCm = 0;     // mean |leave-one-out residual| (the honest expected error)
+  double looMaxCm = 0;      // max |leave-one-out residual|
+  double rawMeanCm = 0;     // mean |tape - measured| of the pairs, uncorrected, for comparison
+  bool significant = true;  // its bias (or line) is significant at 5 % (see fitCorrection)
+  bool helps = true;        // looMeanCm < rawMeanCm and significant: only then is it applied
 
   double apply(double measuredCm) const { return scale * measuredCm + offsetCm; }
 };
@@ -86,7 +93,8 @@ struct CorrectionTable {
 CorrectionTable fitCorrections(const std::vector<TapeRecord>& records);
 
 /// API/listing form: [{type, measurement, n, kind ("none" below 3 pairs, with `needs`; "none" with
-/// `reason` "no_gain" and the figures below when the correction would not help), offset_cm,
+/// `reason` "no_gain" (leave-one-out no better than raw) or "not_significant" and the figures
+/// below when the correction would not help), offset_cm,
 /// scale, residual_cm (LOO mean), residual_max_cm, raw_error_cm}], sorted by type then
 /// measurement.
 nlohmann::json correctionTableJson(const CorrectionTable& table);

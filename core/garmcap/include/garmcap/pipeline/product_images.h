@@ -15,6 +15,7 @@
 //    garment's inside chroma towards the screen's chroma is taken out (lightness kept).
 
 #include <opencv2/core.hpp>
+#include <optional>
 
 namespace garmcap::pipeline {
 
@@ -46,9 +47,13 @@ cv::Mat1f refinedAlpha(const cv::Mat3b& bgr, const cv::Mat1b& mask, int radiusPx
 /// soft edge may reach). A pixel looks as the bare frame did when it differs from it by less than
 /// `maxDeltaE` (CIELAB, after a light blur of both) and is nearer to it than to the garment's
 /// colour a few px inside the outline, or is less than half as far from it as from that colour
-/// where that colour is clearly unlike it (more than 2 maxDeltaE).
+/// where that colour is clearly unlike it (more than 2 maxDeltaE). With the screen's colour
+/// `screenBgr`, also form the dressed frame's spill tints: within 2 maxDeltaE of the bare frame,
+/// nearer to it than to the garment's colour, and once its shift towards the screen's colour is
+/// taken out, less than maxDeltaE from it and less than maxDeltaE / 2 towards the garment's colour.
 cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv::Mat1b& mask,
-                      double bandPx, double maxDeltaE);
+                      double bandPx, double maxDeltaE,
+                      const std::optional<cv::Vec3b>& screenBgr = std::nullopt);
 
 /// Removes green-screen spill from `bgr` where `alpha` > 0 within `bandPx` of the alpha's outline:
 /// each pixel's CIELAB chroma loses its component along the direction from the garment's inside
