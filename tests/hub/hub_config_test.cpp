@@ -14,6 +14,7 @@
 #include <functional>
 #include <string>
 
+#include "../common/temp_folder.h"
 #include "../common/test_certs.h"
 #include "garmcap/daemon/tls_context.h"
 
@@ -21,25 +22,6 @@ namespace garmcap::hub {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Names differ from hub_tls_test.cpp's: unity builds put the hub's test files in one unit.
-class ConfigTempFolder {
- public:
-  ConfigTempFolder()
-      : path_(fs::temp_directory_path() / ("garmcap-hubtlscfg-" + std::to_string(::getpid()) + "-" +
-                                           std::to_string(counter_++))) {
-    fs::create_directories(path_);
-  }
-  ~ConfigTempFolder() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  static inline int counter_ = 0;
-  fs::path path_;
-};
 
 HubConfig minimalConfig() {
   HubConfig c;
@@ -57,7 +39,7 @@ std::string messageOf(const std::function<void()>& fn) {
 }
 
 TEST(HubTlsConfig, ANonLoopbackAddressNeedsTls) {
-  ConfigTempFolder dir;
+  garmcap::testing::TempFolder dir{"garmcap-hubtlscfg"};
   const garmcap::test::TestCerts certs(dir.path());
   HubConfig c = minimalConfig();
   c.listenAddress = "0.0.0.0";
@@ -74,7 +56,7 @@ TEST(HubTlsConfig, ANonLoopbackAddressNeedsTls) {
 }
 
 TEST(HubTlsConfig, TheTlsSectionIsReadAndItsFilesAreNamedWhenMissing) {
-  ConfigTempFolder dir;
+  garmcap::testing::TempFolder dir{"garmcap-hubtlscfg"};
   const garmcap::test::TestCerts certs(dir.path());
   const auto file = dir.path() / "hub.toml";
   std::ofstream(file) << "[database]\nurl = \"dbname=x\"\n[http]\nlisten = \"0.0.0.0:8443\"\n"
@@ -98,7 +80,7 @@ TEST(HubTlsConfig, TheTlsSectionIsReadAndItsFilesAreNamedWhenMissing) {
 }
 
 TEST(HubTlsConfig, AKeyThatDoesNotMatchTheCertificateIsNamedAtStart) {
-  ConfigTempFolder dir;
+  garmcap::testing::TempFolder dir{"garmcap-hubtlscfg"};
   const garmcap::test::TestCerts certs(dir.path());
   const auto ctx = daemon::makeServerTlsContext(certs.serverCert, certs.serverKey);
   EXPECT_EQ(SSL_CTX_get_min_proto_version(ctx->native_handle()), TLS1_2_VERSION);

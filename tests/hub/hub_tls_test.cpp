@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "../common/temp_folder.h"
 #include "../common/test_certs.h"
 #include "garmcap/hub/hub_config.h"
 #include "garmcap/hub/hub_service.h"
@@ -30,24 +31,6 @@ namespace http = beast::http;
 namespace ssl = asio::ssl;
 namespace fs = std::filesystem;
 using tcp = asio::ip::tcp;
-
-class TempFolder {
- public:
-  TempFolder()
-      : path_(fs::temp_directory_path() /
-              ("garmcap-hubtls-" + std::to_string(::getpid()) + "-" + std::to_string(counter_++))) {
-    fs::create_directories(path_);
-  }
-  ~TempFolder() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  static inline int counter_ = 0;
-  fs::path path_;
-};
 
 // --- the hub serving HTTPS -------------------------------------------------------------------
 
@@ -124,7 +107,7 @@ std::string plainRequest(std::uint16_t port, const std::string& request) {
 TEST(HubTls, ServesHttpsAndTurnsAwayPlainHttpOldTlsAndSilentClients) {
   if (!test::postgresBinDir())
     GTEST_SKIP() << "PostgreSQL server binaries not found under /usr/lib/postgresql";
-  TempFolder dir;
+  garmcap::testing::TempFolder dir{"garmcap-hubtls"};
   const garmcap::test::TestCerts certs(dir.path());
   test::TempPostgres pg;
   pg.createDatabase("hub_tls");
