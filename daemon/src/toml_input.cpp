@@ -17,12 +17,27 @@ bool isBareChar(char c) {
          c == '-' || c == '+' || c == '.' || c == ':';
 }
 
+enum class State { Plain, Comment, Basic, Literal, MultiBasic, MultiLiteral };
+
+// Inside a multi-line string, at a run of `quote`: how many characters after `at` the run takes,
+// and whether it ends the string. TOML lets up to two quotes of the content stand right before
+// the closing three (four quotes are a quote and the end), so the string ends at the run's last
+// three, not its first. Closing at the first left a stray quote that opened a string toml11 never
+// saw, and the brackets after it went uncounted (fuzz_config_toml: a stack overflow again).
+std::size_t closingQuotes(std::string_view s, std::size_t at, char quote, State& state) {
+  std::size_t run = 0;
+  while (at + run < s.size() && s[at + run] == quote)
+    ++run;
+  if (run >= 3)
+    state = State::Plain;
+  return run - 1;
+}
+
 // The first place the text breaks a limit, as "line N: what". A small lexer of its own: it only
 // has to know where strings and comments are, so brackets, dots and digits inside them are not
 // counted; anything else malformed is left to toml11, which refuses it without recursing further
 // than the limits allow.
 std::optional<std::string> firstLimitBroken(std::string_view s) {
-  enum class State { Plain, Comment, Basic, Literal, MultiBasic, MultiLiteral };
   State state = State::Plain;
   std::size_t line = 1;
   std::size_t depth = 0;
@@ -47,9 +62,8 @@ std::optional<std::string> firstLimitBroken(std::string_view s) {
           ++i;
         } else if (state == State::Basic && (c == '"' || c == '\n')) {
           state = State::Plain;
-        } else if (state == State::MultiBasic && startsWith(s, i, R"(""")")) {
-          state = State::Plain;
-          i += 2;
+        } else if (state == State::MultiBasic && c == '"') {
+          i += closingQuotes(s, i, '"', state);
         }
         break;
       case State::Literal:
@@ -57,10 +71,8 @@ std::optional<std::string> firstLimitBroken(std::string_view s) {
           state = State::Plain;
         break;
       case State::MultiLiteral:
-        if (startsWith(s, i, "'''")) {
-          state = State::Plain;
-          i += 2;
-        }
+        if (c == '\'')
+          i += closingQuotes(s, i, '\'', state);
         break;
       case State::Plain:
         if (c == '#') {

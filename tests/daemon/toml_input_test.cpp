@@ -75,6 +75,19 @@ TEST(TomlInput, StringsCommentsAndValuesAreNotCounted) {
   EXPECT_EQ(toml::find<std::int64_t>(doc, "a", "b.c.d.e", "f", "x"), 5);
 }
 
+// Up to two quotes of a multi-line string's content may stand before its closing three. Closing
+// at the first three hid the brackets after a stray quote (fuzz_config_toml: a stack overflow).
+TEST(TomlInput, MultiLineStringsEndAtTheirLastThreeQuotes) {
+  const auto doc = parseTomlText("a = '''x''''\nb = \"\"\"y\"\"\"\"\"\nc = ''''''\n", "t");
+  EXPECT_EQ(toml::find<std::string>(doc, "a"), "x'");
+  EXPECT_EQ(toml::find<std::string>(doc, "b"), "y\"\"");
+  EXPECT_EQ(toml::find<std::string>(doc, "c"), "");
+  EXPECT_EQ(errorOf("m = [['''x'''', " + repeat("[", 40)),
+            "line 1: arrays, inline tables or table headers nested deeper than 32");
+  EXPECT_EQ(errorOf("m = [[\"\"\"x\"\"\"\", " + repeat("[", 40)),
+            "line 1: arrays, inline tables or table headers nested deeper than 32");
+}
+
 TEST(TomlInput, InvalidUtf8AndSyntaxErrorsAreRefused) {
   EXPECT_EQ(errorOf("a = '\xff'\n"), "not valid UTF-8 (TOML files are UTF-8)");
   EXPECT_NE(errorOf("[http\n").find("t.toml"), std::string::npos);
