@@ -357,37 +357,45 @@ std::optional<HubAddress> parseHubUrl(const std::string& url) {
 }
 
 Config loadConfig(const std::filesystem::path& file, Config config) {
-  toml::value root;
-  try {
+  std::ostringstream text;
+  {
     std::ifstream in(file, std::ios::binary);
     if (!in)
       throw ConfigError(file.string() + ": cannot be read");
-    std::ostringstream text;
     text << in.rdbuf();
-    root = parseTomlText(text.str(), file.string());
+    if (in.bad())
+      throw ConfigError(file.string() + ": read error");
+  }
+  return parseConfigText(text.str(), file.string(), std::move(config));
+}
+
+Config parseConfigText(const std::string& text, const std::string& fileName, Config config) {
+  toml::value root;
+  try {
+    root = parseTomlText(text, fileName);
   } catch (const ConfigError&) {
     throw;
   } catch (const std::exception& e) {
-    throw ConfigError(file.string() + ": " + e.what());
+    throw ConfigError(fileName + ": " + e.what());
   }
   if (!root.is_table())
-    throw ConfigError(file.string() + ": not a TOML table");
+    throw ConfigError(fileName + ": not a TOML table");
   const auto& tables = schema();
   for (const auto& [section, value] : root.as_table()) {
     auto t = tables.find(section);
     if (t == tables.end())
-      throw ConfigError(file.string() + ": [" + section + "]: unknown section");
+      throw ConfigError(fileName + ": [" + section + "]: unknown section");
     if (!value.is_table())
-      throw ConfigError(file.string() + ": " + section + ": must be a table [" + section + "]");
+      throw ConfigError(fileName + ": " + section + ": must be a table [" + section + "]");
     for (const auto& [key, v] : value.as_table()) {
       const std::string name = "[" + section + "] " + key;
       auto setter = t->second.find(key);
       if (setter == t->second.end())
-        throw ConfigError(file.string() + ": " + name + ": unknown key");
+        throw ConfigError(fileName + ": " + name + ": unknown key");
       try {
         setter->second(v, config, name);
       } catch (const ConfigError& e) {
-        throw ConfigError(file.string() + ": " + e.what());
+        throw ConfigError(fileName + ": " + e.what());
       }
     }
   }

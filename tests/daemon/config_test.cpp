@@ -100,6 +100,28 @@ TEST(Config, RefusesWithKeyAndReason) {
             std::string::npos);
 }
 
+// Text already read (the fuzzer's way in) is checked as a file's is, and named as given; a file
+// that cannot be read is named too.
+TEST(Config, TextAndFileReadTheSameWay) {
+  test::TempDir dir;
+  const std::string text = "[gpio]\ndebounce_ms = 25\n";
+  EXPECT_EQ(parseConfigText(text, "inline.toml").debounceMs,
+            loadConfig(write(dir, text)).debounceMs);
+  try {
+    parseConfigText("[gpio]\ndebounce_ms = \"x\"\n", "inline.toml");
+    ADD_FAILURE() << "a string debounce was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("inline.toml: [gpio] debounce_ms", 0), 0u) << e.what();
+  }
+  try {
+    loadConfig(dir.path() / "missing.toml");
+    ADD_FAILURE() << "a missing file was read";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.toml: cannot be read"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Config, ListenParsingAndLoopback) {
   Config c;
   parseListen("[::1]:8081", c, "--listen");

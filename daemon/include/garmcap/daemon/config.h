@@ -129,6 +129,9 @@ std::optional<HubAddress> parseHubUrl(const std::string& url);
 /// Reads a TOML file over the defaults. Throws ConfigError ("<file>: [http] port: must be
 /// 1..65535, got 0").
 Config loadConfig(const std::filesystem::path& file, Config defaults = {});
+/// The same on TOML text already read; `fileName` only names it in messages (the fuzzer feeds
+/// text here without a file).
+Config parseConfigText(const std::string& text, const std::string& fileName, Config defaults = {});
 /// Parses "HOST:PORT" (IPv4 or [IPv6]) into the config; throws ConfigError naming `what`.
 void parseListen(const std::string& text, Config& config, const std::string& what);
 /// The simulated rig: synthetic camera on the shared dress form, simulated button.
