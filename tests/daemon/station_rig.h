@@ -6,6 +6,8 @@
 
 #include <atomic>
 #include <boost/asio/io_context.hpp>
+#include <mutex>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
@@ -50,6 +52,18 @@ class FakeCamera : public capture::Camera {
     const int n = ++*stills_;
     f.bgr = cv::Mat(48, 64, CV_8UC3,
                     r.shot == capture::Shot::kEmpty ? cv::Scalar(0, 200, 0) : cv::Scalar(n, 0, 0));
+    if (deliverJpeg) {
+      // As a UVC camera's MJPEG still: the JPEG it made, and the frame decoded from it. The
+      // texture makes the JPEG unlike any PNG of the frame in bytes and size.
+      cv::randu(f.bgr, cv::Scalar::all(0), cv::Scalar::all(255));
+      std::vector<uchar> jpeg;
+      cv::imencode(".jpg", f.bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 90});
+      f.encoded.assign(jpeg.begin(), jpeg.end());
+      f.encodedMediaType = "image/jpeg";
+      f.bgr = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+      std::lock_guard lock(deliveredMutex);
+      delivered.push_back(f.encoded);
+    }
     return f;
   }
   void startPreview() override {}
@@ -62,6 +76,9 @@ class FakeCamera : public capture::Camera {
 
   std::atomic<bool> absent{false};
   std::chrono::milliseconds delay{0};
+  std::atomic<bool> deliverJpeg{false};  // stills come as JPEG (capture::Frame::encoded)
+  std::mutex deliveredMutex;
+  std::vector<std::string> delivered;  // the JPEG of each still, in order
 
  private:
   std::shared_ptr<std::atomic<int>> stills_;
