@@ -44,14 +44,17 @@ const std::vector<std::string>& backShotKinds() {
   return kinds;
 }
 
-// A job's images encoded (image_files.h: side by side) and stored, in the order of `images` and
-// of each kind's encodings. Blobs are durable before the transaction that names them
-// (content_store.h); they are hashed, written and fsynced side by side too (a 12 MP overlay or
-// cut-out takes a while), the store takes concurrent writers. Throws the first failure.
-std::vector<ImageRef> storeImages(const ContentStore& store,
-                                  const std::map<std::string, cv::Mat>& images) {
+// A job's images encoded (image_files.h: side by side; or already, by the processor: `encoded`)
+// and stored, in the order of `images` and of each kind's encodings. Blobs are durable before the
+// transaction that names them (content_store.h); they are hashed, written and fsynced side by side
+// too (a 12 MP overlay or cut-out takes a while), the store takes concurrent writers. Throws the
+// first failure.
+std::vector<ImageRef> storeImages(
+    const ContentStore& store, const std::map<std::string, cv::Mat>& images,
+    const std::shared_future<std::vector<pipeline::EncodedImage>>& encodedAlready = {}) {
   const std::vector<pipeline::EncodedImage> encoded =
-      pipeline::encodeImageSet({images.begin(), images.end()});
+      encodedAlready.valid() ? encodedAlready.get()
+                             : pipeline::encodeImageSet({images.begin(), images.end()});
   std::vector<std::string> shas(encoded.size());
   std::vector<std::exception_ptr> failed(encoded.size());
   cv::parallel_for_(
@@ -353,7 +356,7 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<Stored
       // Encoding and fsyncing the product images takes a noticeable moment at full resolution;
       // the hang tag's scan (about a second at 12 MP) goes on beside it and is waited for after.
       postToStrand([this] { setStage("store", 0.92, false); });
-      std::vector<ImageRef> photos = storeImages(*store_, r.images);
+      std::vector<ImageRef> photos = storeImages(*store_, r.images, r.encodedImages);
       auto item = std::make_shared<NewItem>();
       item->sku = tag.valid() ? tag.get() : req.sku;
       item->type = r.type;

@@ -133,8 +133,22 @@ class FakeProcessor : public CaptureProcessor {
     r.images["cutout"] = cv::Mat(8, 8, CV_8UC4, cv::Scalar(1, 2, 3, 255));
     r.images["product"] = cv::Mat(8, 8, CV_8UC3, cv::Scalar(1, 2, 3));
     r.result = {{"type", "skirt"}};
+    if (preEncode) {
+      // As the pipeline processor hands them over, encoded already; the cut-out's bytes are a
+      // marker (another image's PNG), to tell them from an encoding made by the station.
+      auto encoded = pipeline::encodeImageSet({r.images.begin(), r.images.end()});
+      for (auto& e : encoded)
+        if (e.kind == "cutout")
+          e.bytes = preEncodedCutout;
+      std::promise<std::vector<pipeline::EncodedImage>> ready;
+      ready.set_value(std::move(encoded));
+      r.encodedImages = ready.get_future().share();
+    }
     return r;
   }
+  std::atomic<bool> preEncode{false};
+  const std::string preEncodedCutout =
+      pipeline::encodePng(cv::Mat(4, 4, CV_8UC4, cv::Scalar(9, 8, 7, 255)));
   std::atomic<bool> fail{false};
   std::atomic<bool> undraftable{false};     // measured, but no pattern could be drafted
   std::atomic<bool> draftedPattern{false};  // a real skirt pattern (markers can be laid)

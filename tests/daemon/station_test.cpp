@@ -127,6 +127,24 @@ TEST(Station, AStillDeliveredAsJpegIsStoredAsDelivered) {
   EXPECT_EQ(still.body().substr(1, 3), "PNG");
 }
 
+// Issue 16: the pipeline processor encodes the photos beside the colours and the size run; the
+// station stores the encodings it is handed instead of encoding the images again.
+TEST(Station, PhotosEncodedByTheProcessorAreStoredAsHanded) {
+  Rig rig;
+  rig.processor->preEncode = true;
+  ASSERT_EQ(rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"])["state"],
+            "done");
+  const auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  const std::string itemUrl = "/api/items/" + std::to_string(job["item_id"].get<std::int64_t>());
+  const auto cutout = rig.call(http::verb::get, itemUrl + "/images/cutout");
+  ASSERT_EQ(cutout.result(), http::status::ok);
+  EXPECT_TRUE(cutout.body() == rig.processor->preEncodedCutout)
+      << cutout.body().size() << " bytes served";
+  const auto product = rig.call(http::verb::get, itemUrl + "/images/product");
+  EXPECT_EQ(product[http::field::content_type], "image/jpeg");
+}
+
 // Issue 18: nesting a marker keeps a core busy for seconds; 20 marker requests at once must not
 // take the station's CPU from captures. One is laid, the others are answered 503 with
 // Retry-After straight away, and the slot is free again once the marker is sent.
