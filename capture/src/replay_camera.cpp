@@ -35,6 +35,15 @@ cv::Mat readImage(const fs::path& path, const std::string& caseId) {
   }
 }
 
+/// readImage, keeping the file's bytes (the still as this camera delivers it).
+EncodedRigImage readEncodedImage(const fs::path& path, const std::string& caseId) {
+  try {
+    return loadRigImageWithBytes(path);
+  } catch (const RigError& e) {
+    throw CameraError(CameraErrorKind::kBadData, "rig case " + caseId + ": " + e.what());
+  }
+}
+
 /// Reads only the size of an image from its header (PNG IHDR, JPEG SOFn); nullopt when the
 /// header is not understood, and the caller decodes the whole file instead.
 std::optional<cv::Size> headerSize(const fs::path& path) {
@@ -139,7 +148,12 @@ class RigSceneSource final : public SceneSource {
     SceneImage out;
     out.caseId = ref.id;
     out.source = framePath(ref.dir, shot, ref.id);
-    out.bgr = readImage(out.source, ref.id);
+    EncodedRigImage image = readEncodedImage(out.source, ref.id);
+    out.bgr = image.bgr;
+    if (!image.mediaType.empty()) {
+      out.encoded = std::move(image.bytes);
+      out.encodedMediaType = std::move(image.mediaType);
+    }
     requireSamePairSize(out.bgr, shot, ref.dir, ref.id);
     out.truthPath = ref.dir / "truth.json";
     return out;
@@ -346,9 +360,14 @@ Frame ReplayCamera::captureStill(const StillRequest& request) {
     cv::Mat resized;
     cv::resize(image.bgr, resized, {config_.stillWidth, config_.stillHeight}, 0, 0, cv::INTER_AREA);
     image.bgr = resized;
+    image.encoded.clear();  // the file's bytes are no longer this frame
+    image.encodedMediaType.clear();
   }
   Frame frame = makeFrame(image, false, shot);
   frame.bgr = image.bgr;
+  // The file as it is, like a camera's own JPEG: the station stores it without encoding again.
+  frame.encoded = std::move(image.encoded);
+  frame.encodedMediaType = std::move(image.encodedMediaType);
   lastShown_ = std::move(image);
   // Advance: a dressed frame completes the pair.
   if (shot == Shot::kDressed) {

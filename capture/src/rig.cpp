@@ -193,7 +193,7 @@ Rig readRig(const std::filesystem::path& dir) {
   return rig;
 }
 
-cv::Mat loadRigImage(const std::filesystem::path& file) {
+EncodedRigImage loadRigImageWithBytes(const std::filesystem::path& file) {
   if (!std::filesystem::is_regular_file(file))
     throw RigError(file.string() + ": missing");
   std::string bytes;
@@ -204,6 +204,7 @@ cv::Mat loadRigImage(const std::filesystem::path& file) {
   }
   const std::string ext = file.extension().string();
   const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+  std::string mediaType;
   if (ext == ".jpg" || ext == ".jpeg") {
     // The framing checks of MJPEG frames: libjpeg would decode a cut file with only a warning.
     switch (checkMjpegFrame({data, bytes.size()})) {
@@ -216,10 +217,12 @@ cv::Mat loadRigImage(const std::filesystem::path& file) {
       case MjpegCheck::kTooSmall:
         throw RigError(file.string() + ": not a JPEG (" + std::to_string(bytes.size()) + " bytes)");
     }
+    mediaType = "image/jpeg";
   } else if (ext == ".png") {
     static const char kSig[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
     if (bytes.size() < sizeof kSig || !std::equal(kSig, kSig + sizeof kSig, bytes.data()))
       throw RigError(file.string() + ": not a PNG (no PNG signature)");
+    mediaType = "image/png";
   }
   cv::Mat img;
   try {
@@ -230,7 +233,11 @@ cv::Mat loadRigImage(const std::filesystem::path& file) {
   }
   if (img.empty())
     throw RigError(file.string() + ": not a readable image (corrupt or truncated)");
-  return img;
+  return {img, std::move(bytes), std::move(mediaType)};
+}
+
+cv::Mat loadRigImage(const std::filesystem::path& file) {
+  return loadRigImageWithBytes(file).bgr;
 }
 
 RigCase loadRigCase(const std::filesystem::path& caseDir) {

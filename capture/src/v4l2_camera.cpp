@@ -543,6 +543,7 @@ std::optional<Frame> V4l2Camera::grab(std::chrono::milliseconds timeout, bool pr
     const std::span<const std::uint8_t> bytes(static_cast<const std::uint8_t*>(mapping.data),
                                               std::min<std::size_t>(buf.bytesused, mapping.length));
     cv::Mat bgr;
+    std::string jpeg;
     if ((buf.flags & V4L2_BUF_FLAG_ERROR) != 0) {
       drop("buffer flagged V4L2_BUF_FLAG_ERROR");
     } else if (streamFormat_.fourcc == V4L2_PIX_FMT_MJPEG) {
@@ -553,6 +554,11 @@ std::optional<Frame> V4l2Camera::grab(std::chrono::milliseconds timeout, bool pr
         bgr = decodeMjpeg(bytes);
         if (bgr.empty()) {
           drop("MJPEG frame could not be decoded");
+        } else if (!preview) {
+          // A still keeps the camera's own JPEG (Frame::encoded): decodeMjpeg is cv::imdecode
+          // of exactly these bytes, so they are the frame, and the station stores them as they
+          // are instead of encoding the decoded frame again.
+          jpeg.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());
         }
       }
     } else {
@@ -570,6 +576,10 @@ std::optional<Frame> V4l2Camera::grab(std::chrono::milliseconds timeout, bool pr
     ++stats_.framesDecoded;
     Frame frame;
     frame.bgr = std::move(bgr);
+    if (!jpeg.empty()) {
+      frame.encoded = std::move(jpeg);
+      frame.encodedMediaType = "image/jpeg";
+    }
     auto& m = frame.meta;
     m.sequence = sequence_++;
     m.timestamp = std::chrono::seconds(buf.timestamp.tv_sec) +

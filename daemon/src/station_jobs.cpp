@@ -44,14 +44,17 @@ const std::vector<std::string>& backShotKinds() {
   return kinds;
 }
 
-// A job's images encoded (image_files.h: side by side) and stored, in the order of `images` and
-// of each kind's encodings. Blobs are durable before the transaction that names them
-// (content_store.h); they are hashed, written and fsynced side by side too (a 12 MP overlay or
-// cut-out takes a while), the store takes concurrent writers. Throws the first failure.
-std::vector<ImageRef> storeImages(const ContentStore& store,
-                                  const std::map<std::string, cv::Mat>& images) {
+// A job's images encoded (image_files.h: side by side; or already, by the processor: `encoded`)
+// and stored, in the order of `images` and of each kind's encodings. Blobs are durable before the
+// transaction that names them (content_store.h); they are hashed, written and fsynced side by side
+// too (a 12 MP overlay or cut-out takes a while), the store takes concurrent writers. Throws the
+// first failure.
+std::vector<ImageRef> storeImages(
+    const ContentStore& store, const std::map<std::string, cv::Mat>& images,
+    const std::shared_future<std::vector<pipeline::EncodedImage>>& encodedAlready = {}) {
   const std::vector<pipeline::EncodedImage> encoded =
-      pipeline::encodeImageSet({images.begin(), images.end()});
+      encodedAlready.valid() ? encodedAlready.get()
+                             : pipeline::encodeImageSet({images.begin(), images.end()});
   std::vector<std::string> shas(encoded.size());
   std::vector<std::exception_ptr> failed(encoded.size());
   cv::parallel_for_(
@@ -133,17 +136,18 @@ void Station::startNext() {
     if (!job)
       return failJob(req, "the item's capture job is gone", false);
     const std::string sha = job->dressedSha256;
+    const std::string mediaType = catalog_->imageMediaType(sha).value_or("image/png");
     if (!req.sku.size())
       req.sku = item->sku;
     running_->request = req;
-    asio::post(*pool_, [this, req, sha] {
+    asio::post(*pool_, [this, req, sha, mediaType] {
       try {
         auto bytes = store_->read(sha);
         if (!bytes)
           throw std::runtime_error("the stored dressed frame " + sha + " is missing");
         cv::Mat frame = pipeline::decodeImageBytes(*bytes, "dressed frame");
         std::promise<StoredFrame> stored;  // a re-run's frame is stored and recorded already
-        stored.set_value({sha, 0, false});
+        stored.set_value({sha, 0, false, mediaType});
         postToStrand(
             [this, req, frame, f = stored.get_future().share()] { runDressed(req, frame, f); });
       } catch (const std::exception& e) {
@@ -190,27 +194,19 @@ void Station::startNext() {
           runDressed(req, bgr, frameStored);
         });
         try {
-          const std::string png = pipeline::encodePng(frame.bgr);
-          const auto t2 = Clock::now();
-          stored->set_value({store_->put(png), static_cast<std::int64_t>(png.size()), true});
-          spdlog::info("station: job {}: still {} ms, PNG {} ms, stored {} ms", req.jobId,
-                       msBetween(t0, t1), msBetween(t1, t2), msBetween(t2, Clock::now()));
+          stored->set_value(storeStill(req, frame, t0, t1));
         } catch (...) {
           stored->set_exception(std::current_exception());
         }
         postToStrand([this] { stillInFlight_ = false; });
         return;
       }
-      const std::string png = pipeline::encodePng(frame.bgr);
-      const auto t2 = Clock::now();
-      const std::string sha = store_->put(png);
-      spdlog::info("station: job {}: still {} ms, PNG {} ms, stored {} ms", req.jobId,
-                   msBetween(t0, t1), msBetween(t1, t2), msBetween(t2, Clock::now()));
-      postToStrand([this, req, bgr = frame.bgr, sha, n = static_cast<std::int64_t>(png.size())] {
+      StoredFrame still = storeStill(req, frame, t0, t1);
+      postToStrand([this, req, bgr = frame.bgr, still = std::move(still)] {
         stillInFlight_ = false;
         cameraOpen_ = true;
         cameraError_.clear();
-        onFrameStored(req, bgr, sha, n);
+        onFrameStored(req, bgr, still);
       });
     } catch (const capture::CameraError& e) {
       const bool gone = e.kind() == capture::CameraErrorKind::kDisconnected ||
@@ -233,15 +229,34 @@ void Station::startNext() {
   });
 }
 
-void Station::onFrameStored(Pending req, cv::Mat frame, std::string sha, std::int64_t bytes) {
+Station::StoredFrame Station::storeStill(const Pending& req, const capture::Frame& frame,
+                                         Clock::time_point taken, Clock::time_point arrived) {
+  // A still the camera delivered encoded (its own JPEG, a replayed rig's file) is stored as it
+  // came: its bytes decode to the frame the pipeline works on (capture::Frame::encoded), so a
+  // re-run sees the same pixels, and no second encoding takes a core beside the pipeline. Any
+  // other still is PNG at the fast setting (lossless).
+  const bool asDelivered = !frame.encoded.empty() && (frame.encodedMediaType == "image/png" ||
+                                                      frame.encodedMediaType == "image/jpeg");
+  const std::string encodedHere = asDelivered ? std::string() : pipeline::encodePng(frame.bgr);
+  const std::string& bytes = asDelivered ? frame.encoded : encodedHere;
+  const auto encoded = Clock::now();
+  StoredFrame out{store_->put(bytes), static_cast<std::int64_t>(bytes.size()), true,
+                  asDelivered ? frame.encodedMediaType : "image/png"};
+  spdlog::info("station: job {}: still {} ms, {} {} ms, stored {} ms", req.jobId,
+               msBetween(taken, arrived), asDelivered ? "as delivered" : "PNG",
+               msBetween(arrived, encoded), msBetween(encoded, Clock::now()));
+  return out;
+}
+
+void Station::onFrameStored(Pending req, cv::Mat frame, StoredFrame still) {
   try {
-    catalog_->addImage(sha, "image/png", bytes);
+    catalog_->addImage(still.sha256, still.mediaType, still.bytes);
   } catch (const std::exception& e) {
     return failJob(req, std::string("cannot record the frame: ") + e.what(), false);
   }
   if (req.kind == JobKind::kBack)
-    return runBack(std::move(req), std::move(frame), std::move(sha), bytes);
-  runEmpty(std::move(req), std::move(frame), std::move(sha));
+    return runBack(std::move(req), std::move(frame), std::move(still));
+  runEmpty(std::move(req), std::move(frame), std::move(still.sha256));
 }
 
 void Station::runEmpty(Pending req, cv::Mat frame, std::string sha) {
@@ -320,7 +335,10 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<Stored
   } catch (const std::exception& e) {
     return failJob(req, std::string("cannot read the tape corrections: ") + e.what(), false);
   }
-  asio::post(*pool_, [this, req, dressed, stored, cal = *cal, threshold, corrections] {
+  const std::string emptyMediaType =
+      catalog_->imageMediaType(cal->emptySha256).value_or("image/png");
+  asio::post(*pool_, [this, req, dressed, stored, cal = *cal, threshold, corrections,
+                      emptyMediaType] {
     try {
       const auto t0 = Clock::now();
       // The hang tag is read beside the pipeline (zbar is single-threaded: about a second on a
@@ -335,11 +353,12 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<Stored
       };
       ProcessedCapture r = processor_->process(empty, dressed, cal.json, progress, corrections);
       const auto t2 = Clock::now();
-      const std::string sku = tag.valid() ? tag.get() : req.sku;
-      // Encoding and fsyncing the product images takes a noticeable moment at full resolution.
+      // Encoding and fsyncing the product images takes a noticeable moment at full resolution;
+      // the hang tag's scan (about a second at 12 MP) goes on beside it and is waited for after.
       postToStrand([this] { setStage("store", 0.92, false); });
+      std::vector<ImageRef> photos = storeImages(*store_, r.images, r.encodedImages);
       auto item = std::make_shared<NewItem>();
-      item->sku = sku;
+      item->sku = tag.valid() ? tag.get() : req.sku;
       item->type = r.type;
       // No title: until staff give one, the API and the exports name the piece from its colour,
       // cut and type ("Navy A-line skirt"), re-derived when staff correct them.
@@ -354,11 +373,11 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<Stored
       item->calibrationId = cal.id;
       item->jobId = req.jobId;
       item->needsReview = r.confidence < threshold || !r.warnings.empty();
-      for (ImageRef& ref : storeImages(*store_, r.images))
+      for (ImageRef& ref : photos)
         item->images.push_back(std::move(ref));
       const StoredFrame frame = stored.get();  // throws what storing the still threw
-      item->images.push_back({"dressed", frame.sha256, "image/png", 0});
-      item->images.push_back({"empty", cal.emptySha256, "image/png", 0});
+      item->images.push_back({"dressed", frame.sha256, frame.mediaType, 0});
+      item->images.push_back({"empty", cal.emptySha256, emptyMediaType, 0});
       spdlog::info(
           "station: job {}: bare frame {} ms, pipeline {} ms, then hang tag, still and "
           "photos stored {} ms",
@@ -387,7 +406,7 @@ bool Station::recordFrame(const Pending& req, const std::string& emptySha,
                           const StoredFrame& frame) {
   try {
     if (frame.toRecord)
-      catalog_->addImage(frame.sha256, "image/png", frame.bytes);
+      catalog_->addImage(frame.sha256, frame.mediaType, frame.bytes);
     catalog_->setJobFrames(req.jobId, emptySha, frame.sha256);
     return true;
   } catch (const std::exception& e) {
@@ -423,7 +442,7 @@ void Station::onProcessed(Pending req, std::shared_ptr<NewItem> item) {
   finishJob();
 }
 
-void Station::runBack(Pending req, cv::Mat back, std::string backSha, std::int64_t backBytes) {
+void Station::runBack(Pending req, cv::Mat back, StoredFrame backStill) {
   auto cal = catalog_->latestCalibration();
   if (!cal)
     return failJob(req, "the station is not calibrated: capture the bare form first", false);
@@ -436,49 +455,48 @@ void Station::runBack(Pending req, cv::Mat back, std::string backSha, std::int64
   // The back still is this job's frame: a refused back shot keeps it for a look, as a failed
   // capture keeps its still (and the [storage] retention lets it go alike).
   try {
-    catalog_->setJobFrames(req.jobId, cal->emptySha256, backSha);
+    catalog_->setJobFrames(req.jobId, cal->emptySha256, backStill.sha256);
   } catch (const std::exception& e) {
     return failJob(req, std::string("cannot record the frame: ") + e.what(), false);
   }
   setState(StationState::kProcessing);
   setStage("back shot", 0.2, true);
-  asio::post(
-      *pool_, [this, req, back, backSha, backBytes, cal = *cal, dressedSha = job->dressedSha256] {
+  asio::post(*pool_, [this, req, back, backStill, cal = *cal, dressedSha = job->dressedSha256] {
+    try {
+      auto bytes = store_->read(dressedSha);
+      if (!bytes)
+        throw std::runtime_error("the stored dressed frame " + dressedSha + " is missing");
+      const cv::Mat dressed = pipeline::decodeImageBytes(*bytes, "dressed frame");
+      const cv::Mat empty = bareFrame(cal);
+      auto progress = [this](const std::string& stage, double p) {
+        postToStrand([this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
+      };
+      ProcessedCapture r = processor_->processBack(empty, dressed, back, cal.json, progress);
+      postToStrand([this] { setStage("store", 0.92, false); });
+      auto images = std::make_shared<std::vector<ImageRef>>(storeImages(*store_, r.images));
+      images->push_back({"back", backStill.sha256, backStill.mediaType, backStill.bytes});
+      // Not filed: the item's result.json stays the front's (docs/api.md); the log has them.
+      spdlog::info("station: job {}: {}", req.jobId, r.result.dump());
+      for (const auto& w : r.warnings)
+        spdlog::warn("station: job {}: {}", req.jobId, w);
+      postToStrand([this, req, images, calId = cal.id] {
         try {
-          auto bytes = store_->read(dressedSha);
-          if (!bytes)
-            throw std::runtime_error("the stored dressed frame " + dressedSha + " is missing");
-          const cv::Mat dressed = pipeline::decodeImageBytes(*bytes, "dressed frame");
-          const cv::Mat empty = bareFrame(cal);
-          auto progress = [this](const std::string& stage, double p) {
-            postToStrand([this, stage, p] { setStage(stage, 0.2 + 0.7 * p, false); });
-          };
-          ProcessedCapture r = processor_->processBack(empty, dressed, back, cal.json, progress);
-          postToStrand([this] { setStage("store", 0.92, false); });
-          auto images = std::make_shared<std::vector<ImageRef>>(storeImages(*store_, r.images));
-          images->push_back({"back", backSha, "image/png", backBytes});
-          // Not filed: the item's result.json stays the front's (docs/api.md); the log has them.
-          spdlog::info("station: job {}: {}", req.jobId, r.result.dump());
-          for (const auto& w : r.warnings)
-            spdlog::warn("station: job {}: {}", req.jobId, w);
-          postToStrand([this, req, images, calId = cal.id] {
-            try {
-              setStage("filing", 0.95, false);
-              for (auto& sha :
-                   catalog_->addItemImages(req.itemId, backShotKinds(), *images, req.jobId, calId))
-                reclaimCandidates_.push_back(std::move(sha));
-              lastError_.clear();
-              spdlog::info("station: job {} added the back shot's {} images to item {}", req.jobId,
-                           images->size(), req.itemId);
-            } catch (const std::exception& e) {
-              return failJob(req, std::string("cannot file the back shot: ") + e.what(), false);
-            }
-            finishJob();
-          });
+          setStage("filing", 0.95, false);
+          for (auto& sha :
+               catalog_->addItemImages(req.itemId, backShotKinds(), *images, req.jobId, calId))
+            reclaimCandidates_.push_back(std::move(sha));
+          lastError_.clear();
+          spdlog::info("station: job {} added the back shot's {} images to item {}", req.jobId,
+                       images->size(), req.itemId);
         } catch (const std::exception& e) {
-          postToStrand([this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+          return failJob(req, std::string("cannot file the back shot: ") + e.what(), false);
         }
+        finishJob();
       });
+    } catch (const std::exception& e) {
+      postToStrand([this, req, msg = std::string(e.what())] { failJob(req, msg, false); });
+    }
+  });
 }
 
 void Station::failJob(const Pending& req, const std::string& error, bool cameraFault) {

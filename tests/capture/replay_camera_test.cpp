@@ -160,6 +160,45 @@ TEST(ReplayCamera, ServesJpegCases) {
   EXPECT_GT(cv::norm(d0.bgr, e0.bgr, cv::NORM_L1), 0.0);
 }
 
+// Issue 16: a replayed still comes with its file's bytes, as a camera's own JPEG would (the
+// station stores them as they are); they decode to exactly the frame. A still scaled to a
+// configured size is no longer the file, so it comes without.
+TEST(ReplayCamera, StillsCarryTheFileAsDelivered) {
+  for (const std::string ext : {"png", "jpg"}) {
+    TempRig rig("encoded_" + ext);
+    rig.make(1, {120, 90}, ext);
+    auto cam = openCamera(rig.dir);
+    const Frame e0 = cam->captureStill({Shot::kEmpty});
+    const Frame d0 = cam->captureStill({Shot::kDressed});
+    std::ifstream in(rig.dir / "case_000" / ("dressed." + ext), std::ios::binary);
+    const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_FALSE(file.empty());
+    EXPECT_TRUE(d0.encoded == file) << ext;
+    EXPECT_EQ(d0.encodedMediaType, ext == "png" ? "image/png" : "image/jpeg");
+    EXPECT_EQ(e0.encodedMediaType, d0.encodedMediaType);
+    EXPECT_FALSE(e0.encoded == d0.encoded);
+    const cv::Mat decoded = cv::imdecode(cv::Mat(1, static_cast<int>(d0.encoded.size()), CV_8U,
+                                                 const_cast<char*>(d0.encoded.data())),
+                                         cv::IMREAD_COLOR);
+    ASSERT_EQ(decoded.size(), d0.bgr.size()) << ext;
+    EXPECT_EQ(cv::norm(decoded, d0.bgr, cv::NORM_INF), 0.0) << ext;
+    // The preview shows the last shot, without its file.
+    cam->startPreview();
+    const auto preview = cam->nextPreviewFrame(milliseconds(100));
+    ASSERT_TRUE(preview);
+    EXPECT_TRUE(preview->encoded.empty());
+
+    CameraConfig c = cam->config();
+    c.stillWidth = 60;
+    c.stillHeight = 45;
+    cam->configure(c);
+    const Frame scaled = cam->captureStill({Shot::kDressed});
+    EXPECT_EQ(scaled.bgr.size(), cv::Size(60, 45));
+    EXPECT_TRUE(scaled.encoded.empty()) << ext;
+    EXPECT_TRUE(scaled.encodedMediaType.empty()) << ext;
+  }
+}
+
 TEST(ReplayCamera, TruncatedJpegNamesTheFile) {
   TempRig rig("jpeg_cut");
   rig.make(1, {64, 48}, "jpg");

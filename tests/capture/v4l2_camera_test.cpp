@@ -8,6 +8,7 @@
 #include <linux/videodev2.h>
 
 #include <algorithm>
+#include <opencv2/imgcodecs.hpp>
 
 #include "garmcap/capture/v4l2_fake_device.h"
 
@@ -197,6 +198,40 @@ TEST(V4l2Camera, PreviewStillPreviewSwitchesModesWithoutLeaks) {
   rig.camera->close();
   EXPECT_FALSE(rig.fake->isOpen());
   rig.camera->close();  // twice is fine
+}
+
+// Issue 16: an MJPEG still carries the camera's own JPEG, which decodes to exactly the frame (the
+// station stores it instead of encoding the frame again); preview frames and YUYV stills carry
+// none (nothing encoded to keep, or not worth a copy per preview frame).
+TEST(V4l2Camera, MjpegStillKeepsTheCamerasJpeg) {
+  auto rig = makeRig();
+  rig.camera->open();
+  rig.camera->configure(smallConfig());
+  rig.camera->startPreview();
+  auto preview = rig.camera->nextPreviewFrame(milliseconds(200));
+  ASSERT_TRUE(preview);
+  EXPECT_TRUE(preview->encoded.empty());
+  EXPECT_TRUE(preview->encodedMediaType.empty());
+  const Frame still = rig.camera->captureStill();
+  EXPECT_EQ(still.meta.pixelFormat, "MJPG");
+  ASSERT_GT(still.encoded.size(), 4u);
+  EXPECT_EQ(still.encodedMediaType, "image/jpeg");
+  EXPECT_EQ(still.encoded.substr(0, 2), "\xff\xd8");
+  const cv::Mat decoded = cv::imdecode(cv::Mat(1, static_cast<int>(still.encoded.size()), CV_8U,
+                                               const_cast<char*>(still.encoded.data())),
+                                       cv::IMREAD_COLOR);
+  ASSERT_EQ(decoded.size(), still.bgr.size());
+  EXPECT_EQ(cv::norm(decoded, still.bgr, cv::NORM_INF), 0.0);
+
+  auto yuyv = makeRig();
+  yuyv.camera->open();
+  auto config = smallConfig();
+  config.pixelFormat = PixelFormat::kYuyv;
+  yuyv.camera->configure(config);
+  const Frame raw = yuyv.camera->captureStill();
+  EXPECT_EQ(raw.meta.pixelFormat, "YUYV");
+  EXPECT_TRUE(raw.encoded.empty());
+  EXPECT_TRUE(raw.encodedMediaType.empty());
 }
 
 TEST(V4l2Camera, YuyvFramesDecodeWithTheRightColours) {

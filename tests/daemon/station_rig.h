@@ -6,6 +6,8 @@
 
 #include <atomic>
 #include <boost/asio/io_context.hpp>
+#include <mutex>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
@@ -50,6 +52,18 @@ class FakeCamera : public capture::Camera {
     const int n = ++*stills_;
     f.bgr = cv::Mat(48, 64, CV_8UC3,
                     r.shot == capture::Shot::kEmpty ? cv::Scalar(0, 200, 0) : cv::Scalar(n, 0, 0));
+    if (deliverJpeg) {
+      // As a UVC camera's MJPEG still: the JPEG it made, and the frame decoded from it. The
+      // texture makes the JPEG unlike any PNG of the frame in bytes and size.
+      cv::randu(f.bgr, cv::Scalar::all(0), cv::Scalar::all(255));
+      std::vector<uchar> jpeg;
+      cv::imencode(".jpg", f.bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 90});
+      f.encoded.assign(jpeg.begin(), jpeg.end());
+      f.encodedMediaType = "image/jpeg";
+      f.bgr = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+      std::lock_guard lock(deliveredMutex);
+      delivered.push_back(f.encoded);
+    }
     return f;
   }
   void startPreview() override {}
@@ -62,6 +76,9 @@ class FakeCamera : public capture::Camera {
 
   std::atomic<bool> absent{false};
   std::chrono::milliseconds delay{0};
+  std::atomic<bool> deliverJpeg{false};  // stills come as JPEG (capture::Frame::encoded)
+  std::mutex deliveredMutex;
+  std::vector<std::string> delivered;  // the JPEG of each still, in order
 
  private:
   std::shared_ptr<std::atomic<int>> stills_;
@@ -116,8 +133,22 @@ class FakeProcessor : public CaptureProcessor {
     r.images["cutout"] = cv::Mat(8, 8, CV_8UC4, cv::Scalar(1, 2, 3, 255));
     r.images["product"] = cv::Mat(8, 8, CV_8UC3, cv::Scalar(1, 2, 3));
     r.result = {{"type", "skirt"}};
+    if (preEncode) {
+      // As the pipeline processor hands them over, encoded already; the cut-out's bytes are a
+      // marker (another image's PNG), to tell them from an encoding made by the station.
+      auto encoded = pipeline::encodeImageSet({r.images.begin(), r.images.end()});
+      for (auto& e : encoded)
+        if (e.kind == "cutout")
+          e.bytes = preEncodedCutout;
+      std::promise<std::vector<pipeline::EncodedImage>> ready;
+      ready.set_value(std::move(encoded));
+      r.encodedImages = ready.get_future().share();
+    }
     return r;
   }
+  std::atomic<bool> preEncode{false};
+  const std::string preEncodedCutout =
+      pipeline::encodePng(cv::Mat(4, 4, CV_8UC4, cv::Scalar(9, 8, 7, 255)));
   std::atomic<bool> fail{false};
   std::atomic<bool> undraftable{false};     // measured, but no pattern could be drafted
   std::atomic<bool> draftedPattern{false};  // a real skirt pattern (markers can be laid)

@@ -74,6 +74,77 @@ TEST(Station, CalibrateThenCaptureFilesAnItem) {
   EXPECT_EQ(list["total"], 1);
 }
 
+// Issue 16: a still the camera delivers encoded (a UVC camera's MJPEG still) is stored as it
+// came, not PNG-encoded again on the camera thread: the bare form's and the garment's stills are
+// served with the camera's own bytes and media type, and a re-run decodes the stored JPEG. A still
+// that comes as pixels only stays PNG.
+TEST(Station, AStillDeliveredAsJpegIsStoredAsDelivered) {
+  Rig rig;
+  rig.camera->deliverJpeg = true;
+  ASSERT_EQ(rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"])["state"],
+            "done");
+  auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  std::vector<std::string> delivered;
+  {
+    std::lock_guard lock(rig.camera->deliveredMutex);
+    delivered = rig.camera->delivered;
+  }
+  ASSERT_EQ(delivered.size(), 2u);
+  const std::string itemUrl = "/api/items/" + std::to_string(job["item_id"].get<std::int64_t>());
+  auto bare = rig.call(http::verb::get, itemUrl + "/images/empty");
+  ASSERT_EQ(bare.result(), http::status::ok);
+  EXPECT_EQ(bare[http::field::content_type], "image/jpeg");
+  EXPECT_TRUE(bare.body() == delivered[0]) << bare.body().size() << " bytes served";
+  auto still = rig.call(http::verb::get, itemUrl + "/images/dressed?download=1");
+  ASSERT_EQ(still.result(), http::status::ok);
+  EXPECT_EQ(still[http::field::content_type], "image/jpeg");
+  EXPECT_TRUE(still.body() == delivered[1]) << still.body().size() << " bytes served";
+  EXPECT_NE(std::string(still[http::field::content_disposition]).find(".jpg\""), std::string::npos);
+  // The processor saw the decoded JPEG: its fake waist is 60 + the first pixel's blue.
+  const cv::Mat decoded =
+      cv::imdecode(cv::Mat(1, static_cast<int>(delivered[1].size()), CV_8U, delivered[1].data()),
+                   cv::IMREAD_COLOR);
+  const double waist = 60.0 + decoded.at<cv::Vec3b>(0, 0)[0];
+  auto item = rig.json(rig.call(http::verb::get, itemUrl));
+  EXPECT_DOUBLE_EQ(item["measurements"]["waist_circ"].get<double>(), waist);
+  // A re-run reads the stored JPEG back: the same pixels, the same reading.
+  auto rerun = rig.waitJob(rig.json(rig.call(http::verb::post, itemUrl + "/rerun"))["job"]);
+  ASSERT_EQ(rerun["state"], "done") << rerun.dump();
+  item = rig.json(rig.call(http::verb::get, itemUrl));
+  EXPECT_DOUBLE_EQ(item["measurements"]["waist_circ"].get<double>(), waist);
+  still = rig.call(http::verb::get, itemUrl + "/images/dressed");
+  EXPECT_EQ(still[http::field::content_type], "image/jpeg");
+
+  // Pixels only: PNG, as before.
+  rig.camera->deliverJpeg = false;
+  job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  still =
+      rig.call(http::verb::get, "/api/items/" + std::to_string(job["item_id"].get<std::int64_t>()) +
+                                    "/images/dressed");
+  EXPECT_EQ(still[http::field::content_type], "image/png");
+  EXPECT_EQ(still.body().substr(1, 3), "PNG");
+}
+
+// Issue 16: the pipeline processor encodes the photos beside the colours and the size run; the
+// station stores the encodings it is handed instead of encoding the images again.
+TEST(Station, PhotosEncodedByTheProcessorAreStoredAsHanded) {
+  Rig rig;
+  rig.processor->preEncode = true;
+  ASSERT_EQ(rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"])["state"],
+            "done");
+  const auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  const std::string itemUrl = "/api/items/" + std::to_string(job["item_id"].get<std::int64_t>());
+  const auto cutout = rig.call(http::verb::get, itemUrl + "/images/cutout");
+  ASSERT_EQ(cutout.result(), http::status::ok);
+  EXPECT_TRUE(cutout.body() == rig.processor->preEncodedCutout)
+      << cutout.body().size() << " bytes served";
+  const auto product = rig.call(http::verb::get, itemUrl + "/images/product");
+  EXPECT_EQ(product[http::field::content_type], "image/jpeg");
+}
+
 // Issue 18: nesting a marker keeps a core busy for seconds; 20 marker requests at once must not
 // take the station's CPU from captures. One is laid, the others are answered 503 with
 // Retry-After straight away, and the slot is free again once the marker is sent.

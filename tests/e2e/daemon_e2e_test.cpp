@@ -7,6 +7,8 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <set>
 
@@ -217,14 +219,24 @@ TEST(DaemonE2E, CaptureBareFormAndFiveGarments) {
     for (const auto& [kind, im] : item["images"].items()) {
       auto img = d.get(im["url"].get<std::string>());
       EXPECT_EQ(img.status, 200) << kind;
-      // Shop photos are JPEG and, as "<kind>_webp", WebP; the frames, cutout and review images
+      // Shop photos are JPEG and, as "<kind>_webp", WebP; the frames as the camera delivered
+      // them (the replayed case's own JPEG files, byte for byte); the cutout and review images
       // PNG; served as stored.
       const bool shopPhoto = kind == "product" || kind == "product_4x5";
       const bool webp = kind == "product_webp" || kind == "product_4x5_webp";
-      EXPECT_EQ(img.contentType, shopPhoto ? "image/jpeg"
-                                 : webp    ? "image/webp"
-                                           : "image/png")
+      const bool still = kind == "dressed" || kind == "empty";
+      EXPECT_EQ(img.contentType, shopPhoto || still ? "image/jpeg"
+                                 : webp             ? "image/webp"
+                                                    : "image/png")
           << kind;
+      if (still) {
+        std::ifstream file(
+            std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "rig" / "case_002" / (kind + ".jpg"),
+            std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(file)),
+                                std::istreambuf_iterator<char>());
+        EXPECT_TRUE(!bytes.empty() && img.body == bytes) << kind << ": not the camera's file";
+      }
       EXPECT_EQ(img.contentType, im.value("media_type", "")) << kind;
     }
     EXPECT_EQ(d.get("/api/items/" + std::to_string(id) + "/pattern.json").status, 200);

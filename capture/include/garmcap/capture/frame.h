@@ -49,6 +49,15 @@ struct FrameMetadata {
 struct Frame {
   cv::Mat bgr;
   FrameMetadata meta;
+  /// A still as the camera delivered it, when it came encoded and `bgr` is exactly what
+  /// cv::imdecode(encoded, cv::IMREAD_COLOR) gives (a V4L2 MJPEG still, a replayed rig's PNG or
+  /// JPEG file served unscaled); empty otherwise (preview frames, raw formats, a scaled or
+  /// rendered frame). The station stores these bytes as the still instead of encoding `bgr`
+  /// again: a 12 MP PNG costs about a third of a second of CPU, and storing the camera's JPEG
+  /// keeps the one the camera made rather than a second, bigger copy of its decoding.
+  std::string encoded;
+  /// "image/png" or "image/jpeg" when `encoded` is set, else empty.
+  std::string encodedMediaType;
 };
 
 /// Refuses an empty/dressed pair whose images differ in size: the pipeline subtracts them pixel

@@ -31,6 +31,10 @@ struct SceneImage {
   std::string caseId;
   std::filesystem::path source;     ///< the image file, or a description of the render
   std::filesystem::path truthPath;  ///< the case's truth.json (may be empty)
+  /// The file's bytes when `bgr` is their decoding (Frame::encoded), with their media type;
+  /// empty for rendered scenes.
+  std::string encoded;
+  std::string encodedMediaType;
 };
 
 /// Where a ReplayCamera gets its scenes.

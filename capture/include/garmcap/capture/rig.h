@@ -124,4 +124,13 @@ RigCase cropRigCaseBottom(const RigCase& rigCase, int keepRows);
 /// "<file>: not a readable image (corrupt or truncated)".
 cv::Mat loadRigImage(const std::filesystem::path& file);
 
+/// loadRigImage, keeping the file's bytes (which decode to the returned image) and their media
+/// type ("image/png" or "image/jpeg", from the checks above; empty for any other extension).
+struct EncodedRigImage {
+  cv::Mat bgr;
+  std::string bytes;
+  std::string mediaType;
+};
+EncodedRigImage loadRigImageWithBytes(const std::filesystem::path& file);
+
 }  // namespace garmcap::capture

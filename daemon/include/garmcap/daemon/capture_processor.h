@@ -8,6 +8,7 @@
 // staff as the job's error, so it must be a sentence. Never invents results.
 
 #include <functional>
+#include <future>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "garmcap/pipeline/image_files.h"
 #include "garmcap/pipeline/measurement_correction.h"
 
 namespace garmcap::daemon {
@@ -35,6 +37,11 @@ struct ProcessedCapture {
   std::string baseSize;                            // nearest chart size, "" if none
   nlohmann::json sizeGuide;                        // null when grading did not run
   std::map<std::string, cv::Mat> images;           // kind -> BGR/BGRA/gray image (stored as PNG)
+  /// When valid: `images` as pipeline::encodeImageSet encodes them, started by the processor as
+  /// soon as the pipeline made them (beside the colours and the size run, which take one core),
+  /// so the station stores these instead of encoding `images` again. get() throws what encoding
+  /// threw.
+  std::shared_future<std::vector<pipeline::EncodedImage>> encodedImages;
 };
 
 class CaptureProcessor {

@@ -41,6 +41,7 @@
 namespace garmcap::capture {
 class Camera;
 class Gpio;
+struct Frame;
 }  // namespace garmcap::capture
 
 namespace garmcap::daemon {
@@ -167,20 +168,26 @@ class Station : public RouteContext {
   void startNext();
   void setState(StationState s);
   void setStage(const std::string& stage, double progress, bool persist);
-  void onFrameStored(Pending req, cv::Mat frame, std::string sha, std::int64_t bytes);
-  void runEmpty(Pending req, cv::Mat frame, std::string sha);
   struct StoredFrame {
     std::string sha256;
     std::int64_t bytes = 0;
     bool toRecord = true;  // its images row is still to be written (false: a re-run's frame)
+    std::string mediaType = "image/png";
   };
+  // On the camera thread: the still put in the store, as the camera delivered it when it came
+  // encoded (capture::Frame::encoded), else as PNG. Throws what the store throws.
+  StoredFrame storeStill(const Pending& req, const capture::Frame& frame,
+                         std::chrono::steady_clock::time_point taken,
+                         std::chrono::steady_clock::time_point arrived);
+  void onFrameStored(Pending req, cv::Mat frame, StoredFrame still);
+  void runEmpty(Pending req, cv::Mat frame, std::string sha);
   void runDressed(Pending req, cv::Mat dressed, std::shared_future<StoredFrame> stored);
   // On the strand: the still's images row and the job's frames; false (the job failed) if not.
   bool recordFrame(const Pending& req, const std::string& emptySha, const StoredFrame& frame);
   void onCalibrated(Pending req, std::string emptySha, nlohmann::json calibration);
   void onProcessed(Pending req, std::shared_ptr<NewItem> item);
   // The back shot's still stored and recorded: the pipeline on the item's dressed frame with it.
-  void runBack(Pending req, cv::Mat back, std::string backSha, std::int64_t backBytes);
+  void runBack(Pending req, cv::Mat back, StoredFrame backStill);
   void failJob(const Pending& req, const std::string& error, bool cameraFault);
   void finishJob();
   // On the strand, with no job in hand (a job puts its blobs before the row that names them, so
