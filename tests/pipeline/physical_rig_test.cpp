@@ -54,7 +54,10 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 // (docs/measurement_model.md, "Section depth"): bust 2.29 / 6.22 -> 1.70 / 4.82, waist 2.13 / 12.00
 // -> 1.29 / 10.45, hem 3.34 / 10.76 -> 1.90 / 8.87, hip 1.08 / 1.92 -> 0.72 / 2.71 (its max bound
 // moved up from 2.3 to 3.1: case_001, an H-line skirt whose sides swing out at the hip, +1.4 ->
-// +2.7). Per measurement {mean, max} absolute error in cm.
+// +2.7). h/acc15c: a leg pressed against the other one read as a tube hanging from the top of
+// the leg (docs/measurement_model.md, "Leg openings"): leg openings 4.19 / 6.71 -> 3.66 / 6.52;
+// the bound is not tightened, the odd half got worse (case_021 +2.8 -> -4.4). Per measurement
+// {mean, max} absolute error in cm.
 constexpr int kMinTypesRight = 23;
 constexpr int kMaxMissing = 2;
 const std::map<std::string, std::pair<double, double>> kBounds = {

@@ -45,6 +45,10 @@ constexpr double kLegStepCm = 1.0;
 // height (legHemRow).
 constexpr double kHemTailShare = 0.6;
 constexpr double kHemTailCm = 4.0;
+// A pants leg whose inner edge at its opening lies closer than this to the centre line is
+// pressed against the other leg (legOpeningCm); touching legs meet at the centre line, and the
+// slit between them is carved +-0.5 cm around it (leg_gap.h).
+constexpr double kPressedLegGapCm = 1.0;
 // The garment's top is read this far outside the form's neck (see garment_length).
 constexpr double kOutsideNeckCm = 0.5;
 // Gaps bridged in the garment's cover of a column beside the neck (garmentTopRow).
@@ -876,6 +880,42 @@ std::optional<int> legHemRow(const Context& c, int side, int fromRow, int axisCo
   return last;
 }
 
+// The round of one pants leg's opening from its run across the row it is read on (side 0 is
+// the image's left leg, its run limited at the axis column; `here` the form's leg at that row).
+// - a free leg (a gap of kPressedLegGapCm or more to the centre line) hangs round the form's
+//   leg: that leg's section scaled to the leg's width, the width being the larger of its run and
+//   twice the leg's centre to its outer edge (the inner edge can be pulled in, on a form whose
+//   legs nearly touch; the outer edge hangs free);
+// - a leg pressed against the other one (its inner edge within kPressedLegGapCm of the centre
+//   line: wide legs, which stand far off the lower leg) is a tube hanging from the top of the
+//   leg whose inner side is flattened by its twin. Pressing does not shorten the cloth: the
+//   opening keeps the round it would have hanging free, a circle about the point it hangs from
+//   through its outer edge, which nothing touches; what the circle has beyond the centre line
+//   goes to the front and back (the physical rig's touching wide legs are 1.3 times as deep as
+//   wide). The tube hangs from the thigh and round the leg inside it, so its centre lies between
+//   the form's leg centre at the top of the leg (5 cm below the crotch) and at the reading row;
+//   the one nearer the centre line gives the larger radius and is taken (the physical rig's
+//   form: the thigh's; a form whose legs close in downward: the ankle's). Scaling the ankle's
+//   section instead read the physical rig's pressed wide legs 6.7 cm small and 2.8 cm large.
+std::optional<double> legOpeningCm(const Context& c, int side, const std::pair<double, double>& run,
+                                   int axisCol, double topCentrePx, const RowSection& here) {
+  const double centreLine = axisCol + 0.5;
+  const double inner = side == 0 ? run.second : run.first;
+  const double outer = side == 0 ? run.first : run.second;
+  const bool reachesCentre = side == 0 ? inner >= centreLine : inner <= centreLine;
+  if (reachesCentre || std::abs(centreLine - inner) < kPressedLegGapCm * c.s) {
+    const double radiusPx = side == 0 ? std::max(topCentrePx, here.centrePx()) - outer
+                                      : outer - std::min(topCentrePx, here.centrePx());
+    if (radiusPx <= 0)
+      return std::nullopt;
+    return 2.0 * std::numbers::pi * radiusPx / c.s;
+  }
+  if (here.widthPx() <= 1)
+    return std::nullopt;
+  const double outerHalfPx = std::abs(outer - here.centrePx());
+  return here.circCm * std::max(run.second - run.first, 2.0 * outerHalfPx) / here.widthPx();
+}
+
 // Distance in px between the garment's outermost pixels within `reach` of the axis at `row`;
 // nullopt when the row holds none.
 std::optional<double> outerWidthPx(const cv::Mat& mask, int row, int axis, int reach) {
@@ -960,8 +1000,9 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
   // length), a loose sleeveless woven top whose sides and hem hang wider and deeper than any
   // section model of the form reads from its front (case_023: waist 10.5, hem 8.9 cm small), a
   // short-sleeved dress whose sides below the bust lie closer to the form than its truth needs
-  // (bust), an H-line skirt whose sides swing out at the hip (hip), touching legs read as twice
-  // their outer half (leg opening). Rounded up to 0.1 cm.
+  // (bust), an H-line skirt whose sides swing out at the hip (hip), a straight leg read
+  // as the ankle's section, deeper than wide (leg opening, case_017 6.5 cm large). Rounded up
+  // to 0.1 cm.
   static const std::map<std::string, double> kU95 = {
       {"bust_circ", 4.9},         // (13)
       {"waist_circ", 3.0},        // (24)
@@ -972,7 +1013,7 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
       {"sleeve_length", 2.0},     // (14)
       {"outseam", 1.0},           // (5)
       {"inseam", 0.7},            // (5)
-      {"leg_opening_circ", 6.8},  // (5)
+      {"leg_opening_circ", 6.6},  // (5)
   };
   const auto it = kU95.find(name);
   if (it == kU95.end())
@@ -1021,10 +1062,12 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       }
     std::vector<double> hems, openings;
     std::optional<int> lows[2];
+    std::optional<double> topCentre[2];  // each leg's centre at the top of the leg, px
     for (int side = 0; side < 2 && crotchRow; ++side) {
       const auto leg = view.legAtRow(*crotchRow + static_cast<int>(5 * c.s), side);
       if (!leg)
         continue;
+      topCentre[side] = leg->centrePx();
       lows[side] = legHemRow(c, side, *crotchRow + static_cast<int>(5 * c.s), axisCol);
       if (!lows[side])
         continue;
@@ -1050,16 +1093,9 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
           legHere ? runAt(garmentMask, row, static_cast<int>(std::lround(legHere->centrePx())),
                           side == 0 ? -1 : axisCol, side == 0 ? axisCol : -1)
                   : std::nullopt;
-      // The leg hangs around the form's leg, but where two wide legs meet between the form's
-      // legs their inner edges flatten against each other (on a form whose legs nearly touch,
-      // the run's width read 8 cm small). The inner edge can only be pulled in, so the width is
-      // the larger of the run and twice its outer half (the leg's centre to its outer edge).
-      if (legHere && run && legHere->widthPx() > 1) {
-        const double outerHalf =
-            side == 0 ? legHere->centrePx() - run->first : run->second - legHere->centrePx();
-        const double width = std::max(run->second - run->first, 2.0 * outerHalf);
-        openings.push_back(legHere->circCm * width / legHere->widthPx());
-      }
+      if (legHere && run && topCentre[side])
+        if (const auto o = legOpeningCm(c, side, *run, axisCol, *topCentre[side], *legHere))
+          openings.push_back(*o);
     }
     if (!crotchRow || hems.empty()) {
       out.warnings.push_back("pants: no crotch or leg hem found in the silhouette");
