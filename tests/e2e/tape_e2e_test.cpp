@@ -99,7 +99,8 @@ TEST(TapeE2E, ThreeTapedGarmentsCorrectTheNextCapture) {
              Json{{"item", std::stoll(next)}, {"measurements", {{"hem_circ", raw + 3.5}}}}.dump())
           .status,
       200);
-  for (const auto& row : d.get("/api/tape").json()["tape"])
+  const auto tape = d.get("/api/tape").json()["tape"];  // a copy: the parsed body is a temporary
+  for (const auto& row : tape)
     if (row["item"] == std::stoll(next)) {
       EXPECT_DOUBLE_EQ(row["measured_cm"].get<double>(), raw);
     }

@@ -530,7 +530,10 @@ TEST_F(HubHttpTest, ExportsTakeTheSessionCookieWithTheRightsOfItsToken) {
   // The export page's counts: each station's live items by status, equal to the list's.
   const auto stations = get("/api/hub/stations", admin);
   ASSERT_EQ(stations.status, 200) << stations.body;
-  for (const auto& st : stations.json()["stations"])
+  // The parsed body is kept: a range-for over a member of the temporary json() would read it
+  // after it is destroyed (ASan: heap-use-after-free).
+  const Json stationList = stations.json()["stations"];
+  for (const auto& st : stationList)
     for (const std::string status : {"needs_review", "approved", "rejected"}) {
       std::size_t listed = 0;
       for (Json next = 0;;) {
