@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "garmcap/calib/errors.h"
+#include "garmcap/calib/form_view.h"
 #include "garmcap/calib/registration.h"
 #include "synthetic_scene.h"
 #include "test_forms.h"
@@ -45,6 +46,21 @@ TEST(TorsoForm, LandmarksAgainstTheGeneratorsStations) {
     EXPECT_LT(*lm.bust, *lm.armpit);
     EXPECT_LT(*lm.armpit, *lm.shoulder);
     EXPECT_LT(*lm.shoulder, *lm.neckBase);
+  }
+}
+
+// No arms are found on a torso form (its stand's foot once read as two).
+TEST(TorsoForm, ViewHasNoArms) {
+  for (const char* size : {"44", "55", "77"}) {
+    const sim::ParametricForm pf(test::table42(size), sim::FormKind::kTorso);
+    const FormModel form = torsoForm(pf);
+    FormPose pose;
+    pose.pxPerCm = 0.9 * 800 / form.heightCm();
+    pose.offsetPx = {300, 0.95 * 800};
+    const FormView view(form, pose, {600, 800});
+    EXPECT_FALSE(view.arm(0).has_value()) << size;
+    EXPECT_FALSE(view.arm(1).has_value()) << size;
+    EXPECT_FALSE(view.crotchCm().has_value()) << size;
   }
 }
 
