@@ -331,7 +331,7 @@ void FormView::findArms() {
   // foot beside it read as two arms (sleeved references were laid along them).
   const int lastRow =
       form_->isTorsoForm()
-          ? std::clamp(static_cast<int>(std::floor(rowOfHeight(form_->torsoBottomCm()))), 0,
+          ? std::clamp(static_cast<int>(std::floor(rowOfHeight(form_->torsoBottomCm() + 2.0))), 0,
                        size_.height)
           : size_.height;
   for (int side = 0; side < 2; ++side) {
