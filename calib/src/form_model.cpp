@@ -393,7 +393,44 @@ void FormModel::findLandmarks() {
   if (lowestHit < 1e299 && lowestHit > minY_ + 0.2 * h && lowestHit < minY_ + 0.7 * h) {
     landmarks_.crotch = lowestHit;
   }
-  const double lower = landmarks_.crotch.value_or(minY_) + step;
+  double lower = landmarks_.crotch.value_or(minY_) + step;
+  torsoBottom_ = landmarks_.crotch.value_or(minY_);
+  if (!landmarks_.crotch) {
+    // A form without a crotch may stand on a pole (a torso form): its torso is the longest run of
+    // heights whose section is at least kTorsoWidthShare of the widest one. The stand's foot is
+    // as wide but only a few cm tall, the pole far narrower; a form whose bottom is wide (no
+    // stand) starts at its lowest point as before.
+    constexpr double kTorsoWidthShare = 0.35;
+    std::vector<double> ys, ws;
+    for (double y = minY_ + 1.0; y < maxY_ - 0.5; y += 1.0) {
+      ys.push_back(y);
+      ws.push_back(section(y).widthCm);
+    }
+    const double maxW = ws.empty() ? 0.0 : *std::max_element(ws.begin(), ws.end());
+    std::size_t bestLo = 0, bestLen = 0;
+    for (std::size_t i = 0; i < ws.size();) {
+      if (ws[i] < kTorsoWidthShare * maxW) {
+        ++i;
+        continue;
+      }
+      std::size_t j = i;
+      while (j < ws.size() && ws[j] >= kTorsoWidthShare * maxW)
+        ++j;
+      if (j - i > bestLen)
+        bestLo = i, bestLen = j - i;
+      i = j;
+    }
+    if (bestLen > 0 && bestLo > 0) {
+      // The torso's bottom to 0.05 cm between the last narrow sample and the first wide one.
+      double a = ys[bestLo - 1], b = ys[bestLo];
+      for (int it = 0; it < 5; ++it) {
+        const double m = (a + b) / 2;
+        (section(m).widthCm >= kTorsoWidthShare * maxW ? b : a) = m;
+      }
+      torsoBottom_ = b;
+      lower = b + step;
+    }
+  }
 
   struct Row {
     double y;
@@ -485,6 +522,49 @@ void FormModel::findLandmarks() {
     }
   }
 
+  // An armless form (a torso form: its section closes over the shoulders like a dress form's
+  // armhole plates) has no arm to part from the torso. Its neck is the narrowest section of the
+  // upper 40% (the highest of equals, so that a neck cap's straight neck counts from its top),
+  // its shoulder tip the widest section between the middle of the torso and the neck (the top
+  // of the armhole plate, where the shoulder slopes in towards the neck), its neck base the knee
+  // of the width between the two. The armpit follows from the bust below.
+  std::optional<std::size_t> armlessShoulderRow;
+  if (!armpitRow) {
+    std::optional<std::size_t> neck;
+    double minC = 1e300;
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (rows[i].y > lower + 0.6 * (maxY_ - lower) && rows[i].y < maxY_ - step &&
+          rows[i].s.circumferenceCm > 0)
+        minC = std::min(minC, rows[i].s.circumferenceCm);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (rows[i].y > lower + 0.6 * (maxY_ - lower) && rows[i].y < maxY_ - step &&
+          rows[i].s.circumferenceCm > 0 && rows[i].s.circumferenceCm <= minC * 1.01)
+        neck = i;
+    std::optional<std::size_t> shoulder;
+    if (neck) {
+      const double from = lower + 0.5 * (rows[*neck].y - lower);
+      for (std::size_t i = 0; i < *neck; ++i)
+        if (rows[i].y > from && (!shoulder || rows[i].s.widthCm > rows[*shoulder].s.widthCm))
+          shoulder = i;
+    }
+    if (!neck || !shoulder || *neck < *shoulder + 4) {
+      throw CalibError(CalibErrorKind::kFormNotRecognised,
+                       what +
+                           ": the form has no arms, and no shoulders and neck were found "
+                           "above its torso");
+    }
+    armlessShoulderRow = shoulder;
+    landmarks_.shoulder = rows[*shoulder].y;
+    std::vector<double> ys, ws;
+    for (std::size_t i = *shoulder; i <= *neck; ++i) {
+      ys.push_back(rows[i].y);
+      ws.push_back(rows[i].s.widthCm);
+    }
+    if (auto k = kneeIndex(ys, ws))
+      landmarks_.neckBase = ys[*k];
+    upper = rows[*shoulder].y;
+  }
+
   // Waist: the narrowest torso between crotch and armpit (middle part of that span); hip: the
   // widest below it; bust: the widest above it. Each refined by golden-section search.
   const double span = upper - lower;
@@ -538,6 +618,23 @@ void FormModel::findLandmarks() {
     landmarks_.hip = refine(*hipRow, true);
   if (bustRow)
     landmarks_.bust = refine(*bustRow, true);
+
+  if (armlessShoulderRow) {
+    // Armpit of an armless form: a convention, kArmlessArmpitShare of the way from the bust up
+    // to the shoulder tip. A smooth torso has no shape feature there (the knee of the chest's
+    // depth was tried: 8-10 cm too high on the generator's table 4.2 bodies); the generator's
+    // bodies put their armpit 26-30 % of the way, and a dress form's armhole plate starts about
+    // there. The armpit bounds a bodice's armhole and the depth tables of the measurer.
+    constexpr double kArmlessArmpitShare = 0.3;
+    if (!bustRow || *armlessShoulderRow < *bustRow + 3) {
+      throw CalibError(CalibErrorKind::kFormNotRecognised,
+                       what +
+                           ": the form has no arms and no bust below its shoulders, so no "
+                           "armpit can be placed");
+    }
+    landmarks_.armpit =
+        *landmarks_.bust + kArmlessArmpitShare * (*landmarks_.shoulder - *landmarks_.bust);
+  }
 }
 
 void FormModel::deriveMeasurements() {

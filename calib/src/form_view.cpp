@@ -327,10 +327,17 @@ std::optional<RowSection> FormView::legAtRow(int row, int side) const {
 void FormView::findArms() {
   const int armpitRow = static_cast<int>(std::ceil(rowOfHeight(armpit_))) + 2;
   const double margin = 0.5 * pose_.pxPerCm;
+  // A torso form's stand is no arm: below the torso the "torso" row is the pole's, and the
+  // foot beside it read as two arms (sleeved references were laid along them).
+  const int lastRow =
+      form_->isTorsoForm()
+          ? std::clamp(static_cast<int>(std::floor(rowOfHeight(form_->torsoBottomCm() + 2.0))), 0,
+                       size_.height)
+          : size_.height;
   for (int side = 0; side < 2; ++side) {
     // Arm pixels: covered, below the armpit, outside the torso (or the legs) on this side.
     std::vector<Eigen::Vector2d> pts;
-    for (int y = std::max(0, armpitRow); y < size_.height; ++y) {
+    for (int y = std::max(0, armpitRow); y < lastRow; ++y) {
       double inner;
       if (auto t = torsoAtRow(y)) {
         inner = side == 0 ? t->leftPx - margin : t->rightPx + margin;

@@ -84,6 +84,7 @@ void addCalibCommands(CLI::App& app) {
     auto out = std::make_shared<std::string>();
     auto step = std::make_shared<double>(1.0);
     auto segments = std::make_shared<int>(64);
+    auto torso = std::make_shared<bool>(false);
     cmd->add_option("--measurements", *measurements, "Measurements JSON or .vit");
     cmd->add_option("--chart", *chart, "Size chart name (e.g. korean_women)");
     cmd->add_option("--size", *size, "Size in the chart (e.g. 55)");
@@ -92,6 +93,9 @@ void addCalibCommands(CLI::App& app) {
     cmd->add_option("--ring-step", *step, "Vertical spacing of torso rings in cm")
         ->check(CLI::Range(0.2, 5.0));
     cmd->add_option("--segments", *segments, "Vertices per torso ring")->check(CLI::Range(16, 256));
+    cmd->add_flag("--torso", *torso,
+                  "A torso dress form on a pole (neck cap, no head, arms or legs) instead of a "
+                  "full mannequin");
     cmd->callback([=] {
       drafts::Measurements body;
       if (!measurements->empty()) {
@@ -101,12 +105,14 @@ void addCalibCommands(CLI::App& app) {
       } else {
         throw std::invalid_argument("make-form: give --measurements or --chart and --size");
       }
-      const sim::ParametricForm pf(body);
+      const sim::ParametricForm pf(body,
+                                   *torso ? sim::FormKind::kTorso : sim::FormKind::kMannequin);
       const fs::path meshPath(*out);
       fs::path sidecarPath = meshPath;
       sidecarPath.replace_extension(".json");
       calib::FormSidecar sidecar = pf.sidecar(meshPath.filename().string());
-      sidecar.name = !chart->empty() ? *chart + " size " + *size : "parametric form";
+      sidecar.name = (!chart->empty() ? *chart + " size " + *size : std::string("parametric")) +
+                     (*torso ? " torso form" : " form");
       calib::writeObj(meshPath, pf.mesh(*step, *segments),
                       "garmcap parametric dress form, cm, y up, facing +z; sidecar " +
                           sidecarPath.filename().string());

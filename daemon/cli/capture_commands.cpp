@@ -210,6 +210,13 @@ void addCaptureCommands(CLI::App& app, CLI::App& rigGroup) {
                    "Draft every garment for a size of this chart (see `garmcap draft --charts`; "
                    "sizes drawn from the seed, those that do not fit the form skipped). Default: "
                    "ease sampled around the form");
+  make->add_flag(
+      "--torso",
+      [ro](std::int64_t n) {
+        ro->formKind = n > 0 ? sim::FormKind::kTorso : sim::FormKind::kMannequin;
+      },
+      "With --chart: render each size on a torso form on a pole (make-form --torso) instead of a "
+      "full mannequin");
   auto makeImages = std::make_shared<ImageArgs>();
   makeImages->add(make);
   make->callback([ro, form, out, wh, makeImages] {

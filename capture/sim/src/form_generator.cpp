@@ -116,7 +116,8 @@ Ring ellipseRing(const Eigen::Vector3d& centre, const Eigen::Vector3d& u, const 
 
 }  // namespace
 
-ParametricForm::ParametricForm(const drafts::Measurements& body) : body_(body) {
+ParametricForm::ParametricForm(const drafts::Measurements& body, FormKind kind)
+    : body_(body), kind_(kind) {
   const double H = need(body, "height");
   const double bust = need(body, "bust_circ");
   const double waist = need(body, "waist_circ");
@@ -194,6 +195,18 @@ ParametricForm::ParametricForm(const drafts::Measurements& body) : body_(body) {
   stR_ = {0.72, 0.72, 0.74, 0.74, 0.78, 0.70, shoulderR, 0.85, 0.9, 1.2, 1.1, 1.0};
   heights_ = {{"crotch", crotch},  {"hip", yHip},           {"waist", yWaist},   {"bust", yBust},
               {"armpit", yArmpit}, {"shoulder", yShoulder}, {"neck_base", yNeck}};
+  if (kind_ == FormKind::kTorso) {
+    // A neck cap instead of chin and head: the neck goes on straight for a short way and ends
+    // flat. The last two stations stand for the two the mesh loop leaves out (see mesh()).
+    const double yCap = yNeck + 0.025 * H;
+    stY_ = {crotch,    yHip,  yWaist, yUnderbust, yBust,   yArmpit,
+            yShoulder, yNeck, yCap,   yCap + 1,   yCap + 2};
+    stC_ = {stC_[0], stC_[1], stC_[2], stC_[3], stC_[4], stC_[5], stC_[6], neck, neck, neck, neck};
+    stR_ = {0.72, 0.72, 0.74, 0.74, 0.78, 0.70, shoulderR, 0.85, 0.85, 0.85, 0.85};
+    topY_ = yCap;
+    height_ = yCap;
+    heights_["top"] = yCap;
+  }
 }
 
 double ParametricForm::girthAt(double y) const {
@@ -235,7 +248,24 @@ TriMesh ParametricForm::mesh(double ringStepCm, int segments) const {
     const double a = c / ellipsePerimeter(1.0, r);
     rings.push_back(ellipseRing({0, y, 0}, ex, ez, a, r * a, segments, c));
   }
+  // (A torso form's last ring is its neck cap's station: the cap is flat.)
   out.append(tube(rings, {0, crotchY_, 0}, {0, topY_, 0}));
+
+  if (kind_ == FormKind::kTorso) {
+    // The stand: a pole from the foot up into the torso (overlapping it by 2 cm, as the limbs
+    // do) and a flat round foot on the floor.
+    const int poleSegments = std::max(12, segments / 4);
+    const double r = kTorsoPoleRadiusCm, fr = kTorsoFootRadiusCm, fh = kTorsoFootHeightCm;
+    std::vector<Ring> pole;
+    for (double y : {fh - 0.5, crotchY_ + 2.0})
+      pole.push_back(ellipseRing({0, y, 0}, ex, ez, r, r, poleSegments, 2 * std::numbers::pi * r));
+    out.append(tube(pole, {0, fh - 0.5, 0}, {0, crotchY_ + 2.0, 0}));
+    std::vector<Ring> foot;
+    for (double y : {0.0, fh})
+      foot.push_back(ellipseRing({0, y, 0}, ex, ez, fr, fr, segments, 2 * std::numbers::pi * fr));
+    out.append(tube(foot, {0, 0, 0}, {0, fh, 0}));
+    return out;
+  }
 
   // Legs: horizontal circular rings from just inside the torso down to the floor.
   const int limbSegments = std::max(12, segments / 2);
@@ -299,6 +329,19 @@ FormSidecar ParametricForm::sidecar(const std::string& meshFileName) const {
   s.orientation = "y up, floor at y = 0, facing +z, arms in an A-pose 40 degrees from vertical";
   for (const char* name : {"height", "bust_circ", "waist_circ", "hip_circ"}) {
     s.measurements.set(name, body_.values().at(name));
+  }
+  if (kind_ == FormKind::kTorso) {
+    s.name = "parametric torso form";
+    s.orientation =
+        "y up, floor at y = 0, facing +z; torso dress form (neck cap, no head, arms or legs) on a "
+        "pole";
+    s.measurements.set("height", topY_);  // the form's own height, floor to neck cap
+    s.measurements.set("neck_circ", stC_[7]);
+    for (const char* name : {"bust", "waist", "hip"})
+      s.landmarkHeightsCm[name] = heights_.at(name);
+    s.source =
+        "garmcap parametric form generator, torso variant (capture/sim/src/form_generator.cpp)";
+    return s;
   }
   s.measurements.set("neck_circ", stC_[7]);
   s.measurements.set("arm_wrist_circ", 2 * std::numbers::pi * wristR_);

@@ -41,7 +41,7 @@ Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
     auto it = sizeForms.find(size);
     if (it == sizeForms.end()) {
       const auto& chart = drafts::sizeChart(options.chart);
-      const ParametricForm pf(chart.body(size));
+      const ParametricForm pf(chart.body(size), options.formKind);
       const auto dir = outDir / "forms" / (chart.name + "_" + size);
       std::filesystem::create_directories(dir);
       calib::FormSidecar sidecar = pf.sidecar("form.obj");
@@ -55,7 +55,13 @@ Rig makeRig(const calib::FormModel& form, const std::string& formPathArg,
     return it->second;
   };
   nlohmann::json cases = nlohmann::json::array();
-  const auto& types = garmentTypeNames();
+  // Pants are worn on legs: a form without a crotch (a torso form) gets the other types only.
+  const bool legs = options.chart.empty() ? form.landmarks().crotch.has_value()
+                                          : options.formKind == FormKind::kMannequin;
+  std::vector<std::string> types;
+  for (const auto& t : garmentTypeNames())
+    if (legs || t != "pants")
+      types.push_back(t);
   for (int i = 0; i < options.count; ++i) {
     char id[32];
     std::snprintf(id, sizeof id, "case_%03d", i);

@@ -377,8 +377,13 @@ Scene randomScene(const calib::FormModel& form, const std::string& formPath, std
   const bool upper = g.type == "top" || g.type == "dress";
   const bool skirted = g.type == "skirt" || g.type == "dress";
   static const char* kSleeves[] = {"none", "short", "long"};
-  if (upper)
-    g.attributes["sleeve"] = kSleeves[rng() % 3];
+  if (upper) {
+    // An armless form (a torso form) wears sleeveless tops and dresses only: this simulator
+    // draws sleeves along the form's arms. The draw is made anyway, so that a seed gives the
+    // same rest of the scene on either form.
+    const char* sleeve = kSleeves[rng() % 3];
+    g.attributes["sleeve"] = view.arm(0) || view.arm(1) ? sleeve : "none";
+  }
   if (skirted)
     g.attributes["skirt"] = u01(rng) < 0.5 ? "a_line" : "h_line";
   g.neckline = u01(rng) < 0.7 ? "round" : "v";

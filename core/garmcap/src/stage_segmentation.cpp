@@ -52,7 +52,7 @@ cv::Mat fullResolution(const cv::Mat& dressedFull, const calib::KeyResult& keyW,
 
 // A garment must be worn by the form: mostly over it and clear of the frame's edges.
 void checkWornInFrame(const cv::Mat& garmentW, const cv::Mat& formMask,
-                      const calib::Calibration& cal) {
+                      const calib::Calibration& cal, const WorkGeometry& g) {
   // The frame may cut the form's legs or stand, never the garment: a hem out of view leaves a
   // length that cannot be measured (and a circumference at a hem that is not there).
   const int m = 2;
@@ -74,8 +74,19 @@ void checkWornInFrame(const cv::Mat& garmentW, const cv::Mat& formMask,
                          std::string("the garment is cut off by the frame's ") + name +
                              " edge; move the camera back so the "
                              "whole garment is in view");
-  const double onForm = cv::countNonZero(garmentW & formMask) /
-                        std::max(1.0, static_cast<double>(cv::countNonZero(garmentW)));
+  // A form without a crotch may be a torso on a stand: a skirt or dress hangs below its torso
+  // over nothing but the pole (a long skirt on a torso form: 22 % over the form). There only the
+  // garment above the hip is weighed.
+  cv::Mat weighed = garmentW;
+  const auto& lm = cal.landmarkHeightsCm;
+  if (!lm.count("crotch") && lm.count("hip")) {
+    const int hipRow = std::clamp(
+        static_cast<int>(std::lround(g.centre.y() - lm.at("hip") * g.pxPerCm)), 0, garmentW.rows);
+    weighed = garmentW.clone();
+    weighed.rowRange(hipRow, garmentW.rows).setTo(0);
+  }
+  const double onForm = cv::countNonZero(weighed & formMask) /
+                        std::max(1.0, static_cast<double>(cv::countNonZero(weighed)));
   if (onForm < 0.25)
     throw CaptureError(CaptureError::Reason::kOffForm,
                        "the garment hangs off the form (only " +
@@ -101,7 +112,7 @@ cv::Mat segmentGarment(const calib::KeyResult& keyD, const GarmentMasks& masks,
     garmentW.setTo(0);
     cv::drawContours(garmentW, contours, -1, cv::Scalar(255), cv::FILLED);
   }
-  checkWornInFrame(garmentW, masks.form, cal);
+  checkWornInFrame(garmentW, masks.form, cal, g);
   return garmentW;
 }
 

@@ -4,9 +4,12 @@
 // cross-section profiles along the height, landmark heights, and the form's own measurements
 // under Valentina names (seed §5.2.1; ARCHITECTURE.md "Dress-form model").
 //
-// The model never assumes a headless torso: heads, necks, arms and legs are all expected, and
-// arms are kept out of torso circumferences by taking only the slice loops that belong to the
-// torso (arms are separate loops below the armpit).
+// Heads, necks, arms and legs are expected where the form has them: arms are kept out of torso
+// circumferences by taking only the slice loops that belong to the torso (arms are separate loops
+// below the armpit). A torso dress form on a stand (neck cap, no head, arms or legs, a pole to a
+// foot on the floor) is recognised too: its torso is the tall wide part above the stand, its
+// shoulder and armpit come from the shape of the torso's top (docs/calibration.md "Torso forms"),
+// and it has no crotch.
 
 #include <Eigen/Core>
 #include <filesystem>
@@ -99,6 +102,11 @@ class FormModel {
   std::vector<FormSection> profile(double stepCm) const;
 
   const FormLandmarks& landmarks() const { return landmarks_; }
+  /// The lowest height of the torso: the crotch of a form with legs, the flat bottom of a torso
+  /// form on a stand, else the form's lowest point. Below it a garment hangs free of the torso.
+  double torsoBottomCm() const { return torsoBottom_; }
+  /// A form on a stand (a torso form): no crotch, and its torso starts above its lowest point.
+  bool isTorsoForm() const { return !landmarks_.crotch && torsoBottom_ > minY_ + 1e-9; }
   /// The form's own measurements under Valentina names (bust_circ, waist_circ, hip_circ,
   /// neck_circ, height, height_* of the landmarks, width_bust/waist/hip, leg_crotch_to_floor).
   const drafts::Measurements& measurements() const { return measurements_; }
@@ -120,7 +128,7 @@ class FormModel {
 
   TriMesh mesh_;
   FormSidecar sidecar_;
-  double minY_ = 0, maxY_ = 0, axisX_ = 0, axisZ_ = 0;
+  double minY_ = 0, maxY_ = 0, axisX_ = 0, axisZ_ = 0, torsoBottom_ = 0;
   FormLandmarks landmarks_;
   std::optional<double> bustPointHeight_;  // front-most point of the chest
   drafts::Measurements measurements_;
