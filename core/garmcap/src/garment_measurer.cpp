@@ -375,7 +375,15 @@ std::optional<RowValue> readRow(const Context& c, int row, bool& hidden) {
   if (torsoHere && h < c.view.armpitCm())
     std::tie(limL, limR) = armLimits(c.view, row, *torsoHere);
   const int centreCol = static_cast<int>(std::lround(section->centrePx()));
+  // Below the torso a skirt or dress is still one tube, round both legs: garment on both sides
+  // of the centre within the hip's width is one garment, and a slit between is what the
+  // segmentation lost there (a near-screen-coloured hem over the screen between the legs: rig N
+  // case_010 and rig H case_005 read their hems from one side of a notch 0.1-1 cm wide, 13 and
+  // 81 cm round), or a front slit, which does not shorten the hem either. A pair of pants'
+  // legs are apart there.
+  const bool tube = c.type == "skirt" || c.type == "dress";
   const auto run = torsoHere ? runAcrossForm(c.mask, row, centreCol, *torsoHere, limL, limR)
+                   : tube    ? runAcrossForm(c.mask, row, centreCol, *section, limL, limR)
                              : runAt(c.mask, row, centreCol, limL, limR);
   if (!run)
     return std::nullopt;
