@@ -4,6 +4,8 @@
 // generator's own stations, which it never reads.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
 #include "garmcap/calib/errors.h"
 #include "garmcap/calib/form_view.h"
 #include "garmcap/calib/registration.h"
