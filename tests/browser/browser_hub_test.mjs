@@ -186,7 +186,9 @@ try {
   await page.screenshot({ path: join(shotDir, 'hub-catalog-768x1024.png') });
   step('portrait 768x1024: no horizontal scrolling; screenshot hub-catalog-768x1024.png');
 
-  // The station filter: filled from /api/hub/stations, it narrows the list to one station.
+  // The station filter: filled from /api/hub/stations, it narrows the list to one station. It is
+  // filled by a request of its own, beside the list's, so it is waited for, not assumed.
+  await page.waitForFunction(() => document.querySelectorAll('#station-filter option').length > 1, null, { timeout: 10000 });
   const options = await page.$$eval('#station-filter option', (os) => os.map((o) => o.value + '=' + o.textContent));
   check(options.join('|') === '=All stations (5)|shop1=shop1 (3)|shop2=shop2 (2)', 'station options: ' + options.join('|'));
   await page.selectOption('#station-filter', 'shop2');
@@ -341,6 +343,7 @@ print(' '.join(sorted(r['SKU'] for r in rows if r['Title'])))`, zip.path], { enc
   await p2.waitForFunction(() => document.querySelectorAll('#grid .tile').length === 3, null, { timeout: 20000 });
   const own = await p2.$$eval('#grid .tile', (ts) => ts.map((t) => t.dataset.station));
   check(own.every((s) => s === 'shop1'), 'a station token sees ' + own);
+  await p2.waitForFunction(() => document.querySelectorAll('#station-filter option').length > 1, null, { timeout: 10000 });
   check((await p2.$$eval('#station-filter option', (os) => os.map((o) => o.value))).join(',') === ',shop1', 'its filter names only itself');
   check((await p2.textContent('#who-text')) === 'Station shop1', 'who');
   check(await p2.$$eval('.pick', (ps) => ps.every((p) => getComputedStyle(p).display === 'none')), 'no pick boxes for a station');
