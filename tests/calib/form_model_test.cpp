@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "../common/temp_folder.h"
 #include "garmcap/calib/errors.h"
 #include "garmcap/drafts/file_io.h"
 #include "test_forms.h"
@@ -14,11 +15,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// One folder for the binary's files, removed when it exits.
 fs::path formTempDir() {
-  const fs::path d =
-      fs::temp_directory_path() / ("garmcap_calib_form_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  static const garmcap::testing::TempFolder folder("garmcap_calib_form");
+  return folder.path();
 }
 
 // Acceptance: on the GarmentCode mean female body, bust, waist and hip agree with its authors'

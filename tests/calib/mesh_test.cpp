@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/temp_folder.h"
 #include "garmcap/calib/slicer.h"
 #include "garmcap/drafts/file_io.h"
 
@@ -17,11 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// One folder for the binary's files, removed when it exits.
 fs::path meshTempDir() {
-  const fs::path d =
-      fs::temp_directory_path() / ("garmcap_calib_mesh_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  static const garmcap::testing::TempFolder folder("garmcap_calib_mesh");
+  return folder.path();
 }
 
 const char* kTetraObj =

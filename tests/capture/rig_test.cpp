@@ -3,7 +3,6 @@
 #include "garmcap/capture/rig.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <tuple>
 
+#include "common/temp_folder.h"
 #include "garmcap/sim/garment_model.h"
 #include "garmcap/sim/scene.h"
 #include "garmcap/sim/sim.h"
@@ -34,6 +34,12 @@ const std::string kForm =
 
 namespace fs = std::filesystem;
 
+// Every case and index a test writes lives under one folder, removed when the binary exits.
+const fs::path& scratch() {
+  static const garmcap::testing::TempFolder folder("garmcap_rig_test");
+  return folder.path();
+}
+
 // The frames of the committed case_000 (whatever format it holds them in), decoded once.
 const RigCase& committedCase() {
   static const RigCase c = loadRigCase(kRig / "case_000");
@@ -44,8 +50,7 @@ const RigCase& committedCase() {
 // `quality`) and nothing else.
 fs::path copyCase(const std::string& name, RigImageFormat format = RigImageFormat::kPng,
                   int quality = kDefaultJpegQuality) {
-  const auto dir =
-      fs::temp_directory_path() / ("garmcap_rig_test_" + name + "_" + std::to_string(::getpid()));
+  const auto dir = scratch() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   for (const char* f : {"truth.json", "calibration.json", "scene.json"})
@@ -127,8 +132,7 @@ TEST(Rig, JpegCaseLoadsAsWrittenWithinJpegTolerance) {
   so.type = "dress";
   const SceneRenderer r(form(), randomScene(form(), kForm, 11, so));
   const cv::Mat empty = r.renderEmpty(), dressed = r.renderDressed();
-  const auto base =
-      fs::temp_directory_path() / ("garmcap_rig_test_sim_" + std::to_string(::getpid()));
+  const auto base = scratch() / "sim";
   fs::remove_all(base);
 
   writeCase(r, base / "png");
@@ -300,8 +304,7 @@ TEST(Rig, ImageFormatOfTheIndexIsChecked) {
 }
 
 TEST(Rig, UnknownFieldInIndexIsRefused) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("garmcap_rig_test_index_" + std::to_string(::getpid()));
+  const auto dir = scratch() / "index";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "rig.json")

@@ -4,12 +4,12 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <random>
 #include <set>
 
+#include "../common/temp_folder.h"
 #include "garmcap/drafts/file_io.h"
 
 namespace garmcap::drafts {
@@ -38,11 +38,10 @@ Measurements sample() {
                        {"arm_wrist_circ", 1.0 / 3.0}});
 }
 
+// One folder for the binary's files, removed when it exits.
 std::filesystem::path tempDir() {
-  auto dir = std::filesystem::temp_directory_path() /
-             ("garmcap_measurements_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir;
+  static const garmcap::testing::TempFolder folder("garmcap_measurements_test");
+  return folder.path();
 }
 
 TEST(MeasurementVocabulary, HasEveryValentinaNameAndTheProjectNames) {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "../../common/temp_folder.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -30,10 +32,10 @@ Result run(const std::string& args) {
   return r;
 }
 
+// One folder for the binary's files, removed when it exits.
 fs::path tempDir() {
-  fs::path d = fs::temp_directory_path() / ("garmcap_dsw_cli_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  static const garmcap::testing::TempFolder folder("garmcap_dsw_cli");
+  return folder.path();
 }
 
 void write(const fs::path& p, const std::string& text) {
