@@ -639,7 +639,10 @@ void FormModel::findLandmarks() {
 
 void FormModel::deriveMeasurements() {
   const auto& L = landmarks_;
-  measurements_.set("height", heightCm());
+  // Stature is the floor to the top of the head; a torso form on a stand has neither, and its
+  // mesh's height (floor to neck cap) would replace the size chart's body height in the drafts.
+  if (!isTorsoForm())
+    measurements_.set("height", heightCm());
   auto put = [&](const std::optional<double>& y, const char* circ, const char* width,
                  const char* heightName) {
     if (!y)

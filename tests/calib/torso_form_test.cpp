@@ -30,6 +30,9 @@ TEST(TorsoForm, LandmarksAgainstTheGeneratorsStations) {
     EXPECT_TRUE(form.isTorsoForm());
     EXPECT_FALSE(lm.crotch.has_value());
     EXPECT_FALSE(form.measurements().has("leg_crotch_to_floor"));
+    // No stature: the form's height is its stand's, not a body's.
+    EXPECT_FALSE(form.measurements().has("height"));
+    EXPECT_FALSE(pf.sidecar("torso.obj").measurements.has("height"));
     // The flat bottom of the torso, found above the pole and the foot.
     EXPECT_NEAR(form.torsoBottomCm(), st.at("crotch"), 0.1);
     EXPECT_NEAR(form.heightCm(), st.at("top"), 0.01);

@@ -12,6 +12,7 @@
 #include "garmcap/calib/mesh.h"
 #include "garmcap/calib/registration.h"
 #include "garmcap/capture/rig.h"
+#include "garmcap/drafts/size_charts.h"
 #include "garmcap/pipeline/capture_context.h"
 #include "garmcap/pipeline/capture_pipeline.h"
 #include "garmcap/sim/form_generator.h"
@@ -102,4 +103,26 @@ TEST(TorsoRig, RegisteredFromTheBareFrameAndMeasured) {
   }
   EXPECT_EQ(typesRight, 5);
   fs::remove_all(dir);
+}
+
+// The drafts' body on a torso form: its girths are the form's, its stature the size chart's (the
+// mesh's height is the stand's, floor to neck cap, 20 cm short of the body's).
+TEST(TorsoRig, DraftBodyTakesTheChartsStatureNotTheStands) {
+  drafts::Measurements body({{"height", 171},
+                             {"bust_circ", 85},
+                             {"waist_circ", 65},
+                             {"hip_circ", 90},
+                             {"neck_back_to_waist_b", 39},
+                             {"waist_to_hip_b", 19}});
+  const sim::ParametricForm pf(body, sim::FormKind::kTorso);
+  const calib::FormModel form(pf.mesh(), calib::FormSidecar{});
+  ASSERT_TRUE(form.isTorsoForm());
+  const drafts::SizeChart& chart = drafts::sizeChart(pipeline::kDefaultSizeChart);
+  const drafts::Measurements drafted = pipeline::bodyForForm(form, chart);
+  const drafts::Measurements* nearest = &chart.bodies.front();
+  for (const auto& b : chart.bodies)
+    if (std::abs(b.get("bust_circ") - 85) < std::abs(nearest->get("bust_circ") - 85))
+      nearest = &b;
+  EXPECT_DOUBLE_EQ(drafted.get("height"), nearest->get("height"));
+  EXPECT_NEAR(drafted.get("bust_circ"), 85, 0.5);
 }

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include "garmcap/calib/slicer.h"
 
@@ -328,6 +329,9 @@ FormSidecar ParametricForm::sidecar(const std::string& meshFileName) const {
   s.name = "parametric form";
   s.orientation = "y up, floor at y = 0, facing +z, arms in an A-pose 40 degrees from vertical";
   for (const char* name : {"height", "bust_circ", "waist_circ", "hip_circ"}) {
+    // A torso form has no stature: its top is a neck cap, and its height is the stand's.
+    if (kind_ == FormKind::kTorso && std::string_view(name) == "height")
+      continue;
     s.measurements.set(name, body_.values().at(name));
   }
   if (kind_ == FormKind::kTorso) {
@@ -335,7 +339,6 @@ FormSidecar ParametricForm::sidecar(const std::string& meshFileName) const {
     s.orientation =
         "y up, floor at y = 0, facing +z; torso dress form (neck cap, no head, arms or legs) on a "
         "pole";
-    s.measurements.set("height", topY_);  // the form's own height, floor to neck cap
     s.measurements.set("neck_circ", stC_[7]);
     for (const char* name : {"bust", "waist", "hip"})
       s.landmarkHeightsCm[name] = heights_.at(name);
