@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <utility>
 
 #include "frame_ops.h"
@@ -39,6 +40,8 @@ constexpr double kShadowMaxShareOfChange = 0.4;
 constexpr double kClosureReachCm = 1.5;
 constexpr double kClosureMinCm = 0.3;
 constexpr double kClosureClearCm = 0.3;
+// coveredFromShoulders: the bust's closure is looked for this far below the bust.
+constexpr double kShoulderBustBandCm = 1.0;
 
 // The Lab difference of the two frames averaged over about sigmaPx before taking its size
 // (a,b magnitude plus half of L, as the fine difference): sensor noise averages out, while a
@@ -191,6 +194,67 @@ cv::Mat closedAcrossForm(const cv::Mat& fgD, const cv::Mat& formMask, const Form
     for (int side = 0; side < 2; ++side)
       if (const auto leg = view.legAtRow(full, side))
         close(row, *leg);
+  }
+  return out;
+}
+
+// Form pixels a garment must cover because it lies on the form's shoulders: per work column
+// between the neck and the torso's edge below the armpit, where the dressed foreground shows
+// garment over the screen just above the bare form's shoulder line (beyond kClosureClearCm, within
+// kClosureReachCm), the garment covers that column from there down to the bust, provided
+// closedAcrossForm found it a tube round the bust (`closed` holds garment on the bust's row). A
+// bodice hangs from the shoulders: the cloth over the shoulder line stands off the form by its
+// thickness and ease, which the screen shows (physical rig: a form-coloured dress's bodice above
+// the bust matched the bare frame within the noise, and its garment length read 20.7 cm short),
+// and a strap or shoulder seam runs on down the front to the bodice. A neckline does not stand in
+// the way: its opening lies between the neck's columns, where the shoulder line is the neck's and
+// nothing stands above it; a bare shoulder shows no garment above it.
+cv::Mat coveredFromShoulders(const cv::Mat& fgD, const cv::Mat& formMask, const cv::Mat& closed,
+                             const FormView& view, double ws, double sw) {
+  cv::Mat out = cv::Mat::zeros(fgD.size(), CV_8UC1);
+  const int bustRow = static_cast<int>(std::lround(view.rowOfHeight(view.bustCm()) * ws));
+  const int bustBand = static_cast<int>(std::lround(kShoulderBustBandCm * sw));
+  if (bustRow <= 0 || bustRow + bustBand >= out.rows ||
+      cv::countNonZero(closed.rowRange(bustRow, bustRow + bustBand + 1)) == 0)
+    return out;
+  // The torso's width at its first row below the armpit bounds the shoulders' columns (beyond it
+  // the shoulder line is the arm's top edge, where a sleeve, not the bodice, goes on).
+  std::optional<calib::RowSection> under;
+  for (int row = static_cast<int>(std::lround(view.rowOfHeight(view.armpitCm())));
+       row < view.size().height && !under; ++row)
+    under = view.torsoAtRow(row);
+  if (!under)
+    return out;
+  const int clear = std::max(1, static_cast<int>(std::lround(kClosureClearCm * sw)));
+  cv::Mat formGrown;
+  cv::dilate(formMask, formGrown,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * clear + 1, 2 * clear + 1)));
+  const cv::Mat outside = fgD & ~formGrown;
+  const int reach = static_cast<int>(std::lround(kClosureReachCm * sw));
+  const auto& outline = view.topOutline();
+  const int from = std::max(0, static_cast<int>(std::lround(under->leftPx * ws)));
+  const int to = std::min(out.cols - 1, static_cast<int>(std::lround(under->rightPx * ws)));
+  for (int x = from; x <= to; ++x) {
+    const auto full = static_cast<std::size_t>(std::lround(x / ws));
+    if (full >= outline.size() || outline[full] < 0)
+      continue;
+    // The bare key's own top in this column, near the model's shoulder line.
+    const int guess = static_cast<int>(std::lround(outline[full] * ws));
+    int top = -1;
+    for (int r = std::max(0, guess - reach); r <= std::min(bustRow, guess + reach) && top < 0; ++r)
+      if (formMask.at<uchar>(r, x))
+        top = r;
+    if (top < 0 || top >= bustRow)
+      continue;
+    int above = -1;
+    for (int r = std::max(0, top - clear - reach); r < top && above < 0; ++r)
+      if (outside.at<uchar>(r, x))
+        above = r;
+    if (above < 0)
+      continue;
+    for (int r = above; r <= bustRow; ++r)
+      if (fgD.at<uchar>(r, x))
+        out.at<uchar>(r, x) = 255;
   }
   return out;
 }
@@ -432,7 +496,9 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   trimap.setTo(cv::GC_PR_BGD + 0, exposed.exposed | shadow);
   trimap.setTo(cv::GC_BGD + 0, settled.form);
   trimap.setTo(cv::GC_FGD + 0, sure);
-  trimap.setTo(cv::GC_FGD + 0, closedAcrossForm(fgD, form.mask, view, ws, sw));
+  const cv::Mat closed = closedAcrossForm(fgD, form.mask, view, ws, sw);
+  trimap.setTo(cv::GC_FGD + 0, closed);
+  trimap.setTo(cv::GC_FGD + 0, coveredFromShoulders(fgD, form.mask, closed, view, ws, sw));
   out.form = form.mask;
   out.foreground = fgD;
   out.exposed = exposed.exposed;
