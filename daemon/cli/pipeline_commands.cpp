@@ -103,6 +103,15 @@ struct ErrorStats {
 // rig.json), so that a method can be tuned on one half and checked on the other.
 enum class CaseSplit { kAll, kEven, kOdd };
 
+// Whether a truth reading is one the station owes. A sleeveless garment's sleeve_length (truth 0)
+// on a form without arms is not: the station does not read sleeves on an armless form (a sleeve
+// has no arm to give it a direction or an end; docs/measurement_model.md "Torso forms"), and a
+// sleeveless truth left unread is the right answer, not a missing one. A sleeve (truth > 0) on
+// an armless form is still owed, and missing when it is not read.
+bool readingOwed(const std::string& name, double truth, bool formHasArms) {
+  return formHasArms || name != "sleeve_length" || truth != 0.0;
+}
+
 // The calibration a station would have for a case: the form registered from the case's bare
 // frame the way `garmcap calibrate` does it, never the scene's pose. The case's calibration.json
 // gives what a station knows before registering: the form, the camera model (or the case's
@@ -204,7 +213,7 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
   StationCalibrations stationCalibrations;
   EvalContexts contexts(sizeChart);
   std::map<std::string, ErrorStats> errors;
-  int typeOk = 0, attrOk = 0, attrN = 0, failures = 0, n = 0, missing = 0;
+  int typeOk = 0, attrOk = 0, attrN = 0, failures = 0, n = 0, missing = 0, notOwed = 0;
   double totalMs = 0;
   std::map<std::string, std::pair<int, double>> methodStats;  // method -> (correct, ms)
   json cases = json::array();
@@ -248,8 +257,14 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
         else
           row["attribute_miss"][k] = it == r.attributes.end() ? "missing" : it->second;
       }
+      const bool formHasArms = ctx->view && (ctx->view->arm(0) || ctx->view->arm(1));
       for (const auto& [k, v] : tm.items()) {
         const auto it = r.measurements.find(k);
+        if (it == r.measurements.end() && !readingOwed(k, v.get<double>(), formHasArms)) {
+          row["not_owed"].push_back(k);
+          ++notOwed;
+          continue;
+        }
         if (it == r.measurements.end()) {
           row["missing"].push_back(k);
           ++errors[k].missing;
@@ -301,6 +316,7 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
                   {"attribute_accuracy", attrN ? static_cast<double>(attrOk) / attrN : 1.0},
                   {"readings", readings},
                   {"readings_missing", missing},
+                  {"readings_not_owed", notOwed},
                   {"ms_per_case", n - failures > 0 ? totalMs / (n - failures) : 0.0}};
   for (const auto& [k, s] : errors)
     summary["measurements"][k] = s.toJson();
@@ -310,6 +326,9 @@ int rigEval(const fs::path& rigDir, const fs::path& outDir, bool compareMethods,
   std::cout << json({{"summary", summary}}).dump(2) << "\n";
   std::printf("%d cases (%d failed): types %d/%d, attributes %d/%d, %d of %d readings missing\n", n,
               failures, typeOk, n, attrOk, attrN, missing, readings);
+  if (notOwed > 0)
+    std::printf("%d sleeveless truths on an armless form not counted (no sleeve is read there)\n",
+                notOwed);
   printTable(errors);
   if (!outDir.empty())
     drafts::writeJsonFile(outDir / "eval.json", {{"summary", summary}, {"cases", cases}});

@@ -57,6 +57,13 @@ def load_form(sidecar_path):
     v, f = read_obj(mesh_path)
     v = v * UNIT_TO_CM[unit]
     v[:, 1] -= v[:, 1].min()
+    # A torso form cut by torsoform.py carries this generator's own data beside the station's
+    # sidecar (which refuses fields it does not know): the uncut body's landmarks and the
+    # armhole planes.
+    phys = os.path.splitext(sidecar_path)[0] + ".physrig.json"
+    if os.path.isfile(phys):
+        with open(phys, "r", encoding="utf-8") as fh:
+            side = dict(side, physrig=json.load(fh))
     return v, f, side
 
 
@@ -183,13 +190,28 @@ class FormGeometry:
         self.f = faces
         self.height = float(verts[:, 1].max())
         given = sidecar.get("landmark_heights", {}) or {}
+        phys = sidecar.get("physrig", {})
+        self.torso_form = bool(phys.get("torso_form"))
+        if self.torso_form:
+            # No arms, no legs, no head: the crotch, armpit and side-neck rules cannot work on
+            # the torso, so every landmark is the uncut body's (torsoform.py measured them with
+            # the rules below). The garments are built on the torso alone, not the stand.
+            given = dict(phys["body_landmark_heights_cm"])
+            given["neck_base"] = given.pop("neck_side")
+            self.bottom = float(phys["bottom_cm"])
+            self.armhole_planes = {1: phys["armhole_planes"]["left"], -1: phys["armhole_planes"]["right"]}
+            self.shoulder_tips = {1: phys["shoulder_tips_cm"]["left"], -1: phys["shoulder_tips_cm"]["right"]}
+            keep = verts[faces, 1].min(1) > self.bottom - 0.01
+            self.body_f = faces[keep]
+        else:
+            self.body_f = faces
         self.crotch = given.get("crotch") or self._find_crotch()
         self.armpit = given.get("armpit") or self._find_armpit()
         self.hip = given.get("hip") or self._extreme(self.crotch + 0.5, self.crotch + 25, np.argmax)
         self.bust = given.get("bust") or self._bust_point()
         self.waist = given.get("waist") or self._extreme(self.hip + 12, self.bust - 8, np.argmin)
         self.neck_side = given.get("neck_base") or self._find_neck_side()
-        self.arms = {s: self._arm(s) for s in (1, -1)}
+        self.arms = {} if self.torso_form else {s: self._arm(s) for s in (1, -1)}
 
     def torso_side_x(self, ys):
         """(min x, max x) of the torso's section at each height (n x 2); below the crotch the

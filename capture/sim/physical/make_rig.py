@@ -84,6 +84,14 @@ PLAN = [
     ("dress", {"sleeve": "cap", "skirt": "mid_flare"}), ("pants", {"leg": "slim"}),
     ("top", {"sleeve": "cap"}), ("dress", {"sleeve": "long", "skirt": "h_line"}),
 ]
+# On a torso form (no arms, no legs): sleeveless tops and dresses and skirts, no pants; the
+# station does not read sleeves on an armless form, and a sleeve would hang empty.
+TORSO_PLAN = [
+    ("top", {"sleeve": "none"}), ("skirt", {"skirt": "h_line"}),
+    ("dress", {"sleeve": "none", "skirt": "a_line"}), ("skirt", {"skirt": "a_line"}),
+    ("top", {"sleeve": "none"}), ("dress", {"sleeve": "none", "skirt": "h_line"}),
+    ("skirt", {"skirt": "mid_flare"}), ("dress", {"sleeve": "none", "skirt": "mid_flare"}),
+]
 FABRICS = ["light", "dark", "print", "form", "stripes", "mid", "checks", "dark", "light",
            "print", "mid", "form"]
 
@@ -275,12 +283,12 @@ def direction_to_euler(d):
     return Vector(tuple(d)).to_track_quat("-Z", "Y").to_euler()
 
 
-def build_camera(rng, width, height, margin):
+def build_camera(rng, width, height, margin, span=(192, 206)):
     """A perspective camera 2.7-3.1 m in front of the form's axis plane, looking along +y
     (form -z), framing the whole form; returns its intrinsics as OpenCV would state them."""
     scene = bpy.context.scene
     distance_cm = rng.uniform(270, 310)
-    span_cm = rng.uniform(192, 206)  # frame height at the axis plane
+    span_cm = rng.uniform(*span)  # frame height at the axis plane
     fy = (height / 2) / (span_cm / 2 / distance_cm)
     cam = bpy.data.cameras.new("cam")
     cam.sensor_fit = "VERTICAL"
@@ -290,7 +298,7 @@ def build_camera(rng, width, height, margin):
     ob = bpy.data.objects.new("cam", cam)
     scene.collection.objects.link(ob)
     cx_cm = rng.uniform(-4, 4)
-    # The feet 10-16 cm above the frame's bottom edge: registration needs the whole form in
+    # The feet (a torso form's foot) 10-16 cm above the frame's bottom edge: registration needs the whole form in
     # view, contact shadow included.
     cz_cm = span_cm / 2 - rng.uniform(10, 16)
     roll = math.radians(rng.uniform(-0.6, 0.6))
@@ -402,13 +410,26 @@ def cut_top(form, v, f, top_h, hem_h, sleeve_len, sleeve_style, clearance):
                                clear_outer=True)
 
     bisect(geom(), (0, top_h, 0), (0, 1, 0))
-    # Sleeves: bisect each arm where it ends (sleeveless: at the armhole, 0 cm).
-    for side in (1, -1):
-        length = sleeve_len if sleeve_style != "none" else 0.0
-        co, no = gm.sleeve_plane(form, side, length)
-        bisect(_elements_of(form, geom(), clearance, gm.ARM_L if side > 0 else gm.ARM_R), co, no)
-    # Torso hem.
-    bisect(_elements_of(form, geom(), clearance, gm.TORSO), (0, hem_h, 0), (0, -1, 0))
+    if form.torso_form:
+        # Armholes: the grown surface over the form's flat armhole cap cut by the cap's own plane
+        # 1 cm inward, above 1 cm below the armpit (lower, the plane runs into the torso's side
+        # at the bust). The cap shows through as on a sleeveless top on a shop's form.
+        for side in (1, -1):
+            pl = form.armhole_planes[side]
+            no = np.asarray(pl["normal"], float)
+            co = np.asarray(pl["point"], float) - no * 1.0
+            elems = [e for e in geom()
+                     if _centre(e)[1] > form.armpit - 1.0 and _centre(e)[0] * side > 5.0]
+            bisect(elems, co, no)
+        bisect(geom(), (0, hem_h, 0), (0, -1, 0))
+    else:
+        # Sleeves: bisect each arm where it ends (sleeveless: at the armhole, 0 cm).
+        for side in (1, -1):
+            length = sleeve_len if sleeve_style != "none" else 0.0
+            co, no = gm.sleeve_plane(form, side, length)
+            bisect(_elements_of(form, geom(), clearance, gm.ARM_L if side > 0 else gm.ARM_R), co, no)
+        # Torso hem.
+        bisect(_elements_of(form, geom(), clearance, gm.TORSO), (0, hem_h, 0), (0, -1, 0))
     # Drop loose bits (hands below the hem that the torso cut separated, and the like): keep the
     # largest connected part.
     keep = _largest_island(bm)
@@ -419,7 +440,8 @@ def cut_top(form, v, f, top_h, hem_h, sleeve_len, sleeve_style, clearance):
     out_v = np.array([vv.co[:] for vv in bm.verts])
     out_f = np.array([[vv.index for vv in fa.verts] for fa in bm.faces])
     bm.free()
-    cls = gm.arm_class(form, out_v, clearance)
+    cls = (np.full(len(out_v), gm.TORSO) if form.torso_form
+           else gm.arm_class(form, out_v, clearance))
     return out_v, out_f, cls
 
 
@@ -471,16 +493,21 @@ def make_garment(form, kind, style, rng):
         e_w = e_b + (rng.uniform(0.0, 0.6) if knit else rng.uniform(0.8, 2.5))
         knots = [(form.neck_side + 5, 0.5), (form.armpit, e_b), (form.bust, e_b), (form.waist, e_w),
                  (form.hip, e_w + 0.3), (form.crotch - 10, e_w + 0.3)]
-        v, f = offset_form_top(form.v, form.f, knots, voxel_cm=1.6)
+        v, f = offset_form_top(form.v, form.body_f, knots, voxel_cm=1.6)
         s = style["sleeve"]
         lengths = {"none": 0.0, "cap": rng.uniform(6, 9), "short": rng.uniform(14, 24),
                    "three_quarter": rng.uniform(38, 46)}
-        arm_len = min(form.arms[1]["length"], form.arms[-1]["length"])
-        lengths["long"] = min(rng.uniform(54, 60), arm_len - 8)
+        if form.torso_form:
+            if s != "none":
+                raise ValueError("a torso form has no arms to hang a sleeve on")
+        else:
+            arm_len = min(form.arms[1]["length"], form.arms[-1]["length"])
+            lengths["long"] = min(rng.uniform(54, 60), arm_len - 8)
         sleeve = lengths[s]
         if kind == "top":
             # Above the crotch: lower, the offset surface would follow each leg like shorts.
-            hem = rng.uniform(form.crotch + 2.0, form.hip + 10.0)
+            # (A torso form ends 1.5 cm above the body's crotch: the same range holds.)
+            hem = rng.uniform(max(form.crotch, getattr(form, "bottom", 0.0)) + 2.0, form.hip + 10.0)
         else:
             hem = form.waist - 5.0  # the bodice ends under the skirt's waist seam
         tv, tf, tcls = cut_top(form, v, f, form.neck_side, hem, sleeve, s, clearance=e_w + 1.0)
@@ -604,8 +631,10 @@ def measure_truth(form, kind, style, v, f, cls):
         hem = hem_height(v, f, body, 8.0)
         m["hem_circ"] = section_hull_perimeter(v, f, hem + 1.25, body)
         m["garment_length"] = float(v[torso, 1].max() - hem)
-        sl = [sleeve_length(form, v, cls, s) for s in (1, -1)]
-        m["sleeve_length"] = 0.0 if style["sleeve"] == "none" else float(np.median(sl))
+        if style["sleeve"] == "none":
+            m["sleeve_length"] = 0.0
+        else:
+            m["sleeve_length"] = float(np.median([sleeve_length(form, v, cls, s) for s in (1, -1)]))
         if kind == "dress":
             m["hip_circ"] = section_hull_perimeter(v, f, form.hip, torso | skirt)
             m["skirt_length"] = float(form.waist - hem)
@@ -712,8 +741,9 @@ def make_case(args, form, sidecar_path, index, out_dir):
     session = index // args.session_size
     srng = np.random.default_rng([args.seed, 1_000_000 + session])
     rng = np.random.default_rng([args.seed, index])
-    kind, style = PLAN[index % len(PLAN)]
-    fabric_kind = FABRICS[(index * 5 + index // len(PLAN)) % len(FABRICS)]
+    plan = TORSO_PLAN if form.torso_form else PLAN
+    kind, style = plan[index % len(plan)]
+    fabric_kind = FABRICS[(index * 5 + index // len(plan)) % len(FABRICS)]
     clear_scene()
     scene = bpy.context.scene
     form_rgb = tuple(srng.choice([(0.86, 0.78, 0.66), (0.93, 0.91, 0.87), (0.80, 0.72, 0.62), (0.20, 0.20, 0.21)])
@@ -734,7 +764,9 @@ def make_case(args, form, sidecar_path, index, out_dir):
     col.collision.cloth_friction = 8.0
     studio = build_studio(srng, form_rgb)
     margin = 32
-    cam = build_camera(srng, args.width, args.height, margin)
+    # A torso form is 145 cm tall: the frame spans it and its foot as a station would frame it.
+    cam = build_camera(srng, args.width, args.height, margin,
+                       (160, 172) if form.torso_form else (192, 206))
     configure_render(args.width, args.height, margin, args.samples, 0)
     k1 = float(srng.uniform(-0.10, -0.02))
     k2 = float(srng.uniform(0.0, 0.04))
@@ -792,8 +824,10 @@ def make_case(args, form, sidecar_path, index, out_dir):
                  "circumferences are convex-hull perimeters of the settled cloth's sections",
         "form": {"path": os.path.relpath(sidecar_path, cdir),
                  "landmark_heights_cm": {k: round(float(x), 2) for k, x in form.landmarks().items()},
-                 "shoulder_tips_cm": {s: [round(float(c), 2) for c in form.arms[k]["shoulder_tip"]]
-                                      for s, k in (("left", 1), ("right", -1))}},
+                 "shoulder_tips_cm": {s: [round(float(c), 2) for c in (
+                     form.shoulder_tips[k] if form.torso_form else form.arms[k]["shoulder_tip"])]
+                                      for s, k in (("left", 1), ("right", -1))},
+                 "torso_form": form.torso_form},
         "session": session,
         "garment_heights_cm": {k: round(float(x), 2) for k, x in heights.items()},
         "garment": desc, "fabric": fabric, "studio": studio,

@@ -276,3 +276,40 @@ TEST(CaptureCli, BackShotAddsTheBackAndGhostPhotosOrIsRefused) {
   EXPECT_NE(bad.err.find("the back shot"), std::string::npos) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(refusedOut));
 }
+
+// `rig eval` on a torso form: the station reads no sleeve on a form without arms, so a
+// sleeveless truth (sleeve_length 0) left unread is not a missing reading; it is counted apart
+// as not owed. Every other truth still counts (no reading is missing on these easy cases).
+TEST(RigEvalCli, ASleevelessTruthOnAnArmlessFormIsNotMissing) {
+  const TempDir d("rig_eval_torso");
+  const std::string rig = d / "rig";
+  ASSERT_EQ(runGarmcap("rig make --count 3 --seed 5 --width 432 --height 576 --chart korean_women "
+                       "--torso --out " +
+                       rig)
+                .status,
+            0);
+  int sleeveless = 0;
+  const auto index = readJson(rig + "/rig.json");
+  for (const auto& c : index.at("cases")) {
+    const auto truth = readJson(rig + "/" + c.at("dir").get<std::string>() + "/truth.json");
+    const auto& m = truth.at("measurements");
+    if (m.contains("sleeve_length") && m.at("sleeve_length").get<double>() == 0.0)
+      ++sleeveless;
+  }
+  ASSERT_GE(sleeveless, 1) << "the rig has no sleeveless top or dress to check";
+  const std::string out = d / "eval";
+  const CliResult r = runGarmcap("rig eval " + rig + " --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto eval = readJson(out + "/eval.json");
+  const auto& summary = eval.at("summary");
+  EXPECT_EQ(summary.at("readings_not_owed").get<int>(), sleeveless);
+  EXPECT_EQ(summary.at("readings_missing").get<int>(), 0);
+  EXPECT_FALSE(summary.at("measurements").contains("sleeve_length"));
+  for (const auto& c : eval.at("cases")) {
+    if (!c.contains("missing"))
+      continue;
+    for (const auto& k : c.at("missing")) {
+      EXPECT_NE(k.get<std::string>(), "sleeve_length") << c.at("id");
+    }
+  }
+}
