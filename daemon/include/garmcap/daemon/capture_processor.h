@@ -87,6 +87,12 @@ std::unique_ptr<CaptureProcessor> makePipelineProcessor(const Config& config);
 /// built without quirc, as Debian 12's 4.6 is. Returns "" when none is found; only
 /// [A-Za-z0-9._-] payloads of 1..64 chars are accepted (anything else is not a SKU).
 std::string decodeHangTagSku(const cv::Mat& bgr);
+/// The grey image decodeHangTagSku scans: the frame cropped to the box around everything that is
+/// not bare green screen (blocks of 8 px that are chroma-key green and smooth), grown by 32 px,
+/// with the screen left inside the box set to one flat grey. Anything on or beside the garment,
+/// a hang tag included, keeps its pixels. The whole frame in grey when it has no screen or is
+/// small; empty when it is screen only. `region`, if given, receives the crop in the frame.
+cv::Mat hangTagScanImage(const cv::Mat& bgr, cv::Rect* region = nullptr);
 /// "zbar" or "opencv": what decodeHangTagSku reads with in this build.
 std::string hangTagDecoder();
 
