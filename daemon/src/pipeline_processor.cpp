@@ -7,6 +7,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <future>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
@@ -317,16 +319,17 @@ std::unique_ptr<CaptureProcessor> makePipelineProcessor(const Config& config) {
 }
 
 // What zbar scans: the still in grey, cropped to what is not bare green screen and with the
-// screen left inside the crop made one flat grey. zbar spends most of its time on the screen's
-// sensor noise (every noise edge feeds its decoders): on the rig's 12 MP still, 0.4 s of CPU on the
-// whole frame against about 0.15 s on this. The garment, the form and anything hung on them, the
-// tag included, keep every pixel and every scan line. A block is screen only when it is both green
-// (as the chroma key means it) and smooth; a tag is paper with ink, never smooth, so even a tag
-// printed on green is kept. Kept blocks grow by a margin so that the tag's edge and quiet zone,
-// which share blocks with the screen, are not flattened; the crop reaches a little beyond, so
-// that a quiet zone ends in an edge (zbar does not read a symbol whose quiet zone runs into the
-// end of its scan line), and is never smaller than zbar's QR binarisation needs (below).
-cv::Mat hangTagScanImage(const cv::Mat& bgr, cv::Rect* region) {
+// screen left inside the crop made flat (each 8 px block its mean grey). zbar spends most of its
+// time on the screen's sensor noise (every noise edge feeds its decoders): on the rig's 12 MP
+// still, 0.4 s of CPU on the whole frame against about 0.15 s on this. The garment, the form and
+// anything hung on them, the tag included, keep every pixel and every scan line. A block is screen
+// only when it is both green (as the chroma key means it) and smooth; a tag is paper with ink,
+// never smooth, so even a tag printed on green is kept. Kept blocks grow by a margin so that the
+// tag's edge and quiet zone, which share blocks with the screen, are not flattened; the crop
+// reaches a little beyond, so that a quiet zone ends in an edge (zbar does not read a symbol whose
+// quiet zone runs into the end of its scan line), and is never smaller than zbar's QR binarisation
+// needs (below).
+cv::Mat hangTagScanImage(const cv::Mat& bgr, cv::Rect* region, const cv::Mat& bare) {
   if (region)
     *region = cv::Rect();
   if (bgr.empty())
@@ -374,19 +377,31 @@ cv::Mat hangTagScanImage(const cv::Mat& bgr, cv::Rect* region) {
           .setTo(band.at<unsigned char>(band.cols - 1));
     }
   }
-  cv::Mat1b screen(blocks, 0);
+  // With the calibration's bare-form frame: blocks whose mean colour is the bare frame's (within
+  // kSame in every channel) show no garment and no tag either (ink on a tag moves the mean of a
+  // block it covers far more). The form, its arms and legs then go too.
+  cv::Mat bareColour;
+  if (!bare.empty() && bare.size() == bgr.size() && bare.type() == bgr.type())
+    cv::resize(bare(tiled), bareColour, blocks, 0, 0, cv::INTER_AREA);
+  constexpr int kSame = 12;  // grey levels; sensor noise moves a block's mean by about 1
+  cv::Mat1b flat(blocks, 0);
   const int ch = bgr.channels();
   for (int y = 0; y < blocks.height; ++y) {
     const auto* c = colour.ptr<unsigned char>(y);
+    const auto* e = bareColour.empty() ? nullptr : bareColour.ptr<unsigned char>(y);
     const auto* t = texture.ptr<unsigned char>(y);
-    auto* out = screen.ptr<unsigned char>(y);
+    auto* out = flat.ptr<unsigned char>(y);
     for (int x = 0; x < blocks.width; ++x) {
       const int b = c[x * ch], g = c[x * ch + 1], r = c[x * ch + 2];
       const int m = std::max(b, r);
-      out[x] = g - m >= kGreener && 2 * g >= 3 * m && t[x] < kSmooth ? 255 : 0;
+      const bool screen = g - m >= kGreener && 2 * g >= 3 * m && t[x] < kSmooth;
+      const bool unchanged = e && std::abs(b - e[x * ch]) < kSame &&
+                             std::abs(g - e[x * ch + 1]) < kSame &&
+                             std::abs(r - e[x * ch + 2]) < kSame;
+      out[x] = screen || unchanged ? 255 : 0;
     }
   }
-  cv::Mat1b keep = 255 - screen;
+  cv::Mat1b keep = 255 - flat;
   cv::dilate(keep, keep,
              cv::getStructuringElement(cv::MORPH_RECT, {2 * kMargin + 1, 2 * kMargin + 1}));
   cv::Rect box = cv::boundingRect(keep);
@@ -421,21 +436,18 @@ cv::Mat hangTagScanImage(const cv::Mat& bgr, cv::Rect* region) {
   if (region)
     *region = crop;
   cv::Mat out = gray(crop).clone();  // zbar reads one contiguous buffer
-  cv::Mat colourGray;
-  cv::cvtColor(colour, colourGray, ch == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
-  const auto fill = cv::saturate_cast<unsigned char>(cv::mean(colourGray, screen)[0]);
-  // Flatten runs of screen blocks, a band of blocks at a time.
+  // Each left-out block becomes its own mean grey: no noise edges for zbar, and no edge where
+  // there was none (a light form next to a tag stays light, the screen mid-grey).
+  cv::Mat blockGray;
+  cv::resize(gray(tiled), blockGray, blocks, 0, 0, cv::INTER_AREA);
   for (int by = 0; by < box.height; ++by) {
     const auto* k = keep.ptr<unsigned char>(box.y + by) + box.x;
-    for (int bx = 0; bx < box.width;) {
-      if (k[bx]) {
-        ++bx;
-        continue;
-      }
-      const int start = bx;
-      while (bx < box.width && !k[bx])
-        ++bx;
-      out(cv::Rect(start * kBlock, by * kBlock, (bx - start) * kBlock, kBlock)).setTo(fill);
+    const auto* v = blockGray.ptr<unsigned char>(box.y + by) + box.x;
+    for (int row = 0; row < kBlock; ++row) {
+      auto* px = out.ptr<unsigned char>(by * kBlock + row);
+      for (int bx = 0; bx < box.width; ++bx)
+        if (!k[bx])
+          std::memset(px + bx * kBlock, v[bx], kBlock);
     }
   }
   return out;
@@ -454,9 +466,9 @@ bool isSkuText(const std::string& text) {
 #ifdef GARMCAP_HAVE_ZBAR
 // zbar reads QR codes and the 1-D codes of retail and in-house labels. Symbologies prone to
 // false reads in a busy frame (Interleaved 2 of 5, Codabar, DataBar) stay off.
-std::string decodeWithZbar(const cv::Mat& bgr) {
+std::string decodeWithZbar(const cv::Mat& bgr, const cv::Mat& bare) {
   using namespace zbar;  // zbar.h puts its C API in namespace zbar when compiled as C++
-  const cv::Mat gray = hangTagScanImage(bgr);
+  const cv::Mat gray = hangTagScanImage(bgr, nullptr, bare);
   if (gray.empty())
     return "";
   std::unique_ptr<zbar_image_scanner_t, void (*)(zbar_image_scanner_t*)> scanner(
@@ -501,12 +513,12 @@ std::string hangTagDecoder() {
 #endif
 }
 
-std::string decodeHangTagSku(const cv::Mat& bgr) {
+std::string decodeHangTagSku(const cv::Mat& bgr, const cv::Mat& bare) {
   if (bgr.empty())
     return "";
 #ifdef GARMCAP_HAVE_ZBAR
   try {
-    return decodeWithZbar(bgr);
+    return decodeWithZbar(bgr, bare);
   } catch (const std::exception& e) {
     spdlog::warn("sku: reading the hang tag failed: {}", e.what());
     return "";

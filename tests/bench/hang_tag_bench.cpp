@@ -1,8 +1,8 @@
 // The hang-tag scan alone on a still: the scan before issue 16 (zbar over the whole frame in grey,
 // as daemon/src/pipeline_processor.cpp did) against decodeHangTagSku (zbar over
 // hangTagScanImage). Prints the median wall and CPU time of each, what each read, and the region
-// scanned. Usage: hang_tag_bench STILL.png [--reps N]. No assertions: the reads are tested in
-// tests/daemon/sku_barcode_test.cpp and sku_test.cpp.
+// scanned. Usage: hang_tag_bench STILL.png [--bare BARE_FORM.png] [--reps N]. No assertions: the
+// reads are tested in tests/daemon/sku_barcode_test.cpp and sku_test.cpp.
 #ifdef GARMCAP_HAVE_ZBAR
 #include <zbar.h>
 #endif
@@ -79,27 +79,48 @@ int main(int argc, char** argv) {
   return argc > 0 ? 0 : 1;
 #else
   if (argc < 2 || std::string(argv[1]) == "--help") {
-    std::printf("usage: hang_tag_bench STILL.png [--reps N]\n");
+    std::printf("usage: hang_tag_bench STILL.png [--bare BARE_FORM.png] [--reps N]\n");
     return argc < 2 ? 2 : 0;
   }
   int reps = 7;
-  for (int i = 2; i + 1 < argc; ++i)
+  std::string barePath;
+  for (int i = 2; i + 1 < argc; ++i) {
     if (std::string(argv[i]) == "--reps")
       reps = std::max(1, std::stoi(argv[i + 1]));
+    if (std::string(argv[i]) == "--bare")
+      barePath = argv[i + 1];
+  }
   const cv::Mat bgr = cv::imread(argv[1], cv::IMREAD_COLOR);
   if (bgr.empty())
     throw std::runtime_error(std::string("cannot read ") + argv[1]);
-  cv::Rect region;
-  const cv::Mat scanned = garmcap::daemon::hangTagScanImage(bgr, &region);
-  std::printf("still %dx%d; scanned region %dx%d at (%d,%d), %.0f%% of the frame\n", bgr.cols,
-              bgr.rows, region.width, region.height, region.x, region.y,
-              100.0 * region.area() / static_cast<double>(bgr.total()));
+  cv::Mat bare;
+  if (!barePath.empty() && (bare = cv::imread(barePath, cv::IMREAD_COLOR)).empty())
+    throw std::runtime_error("cannot read " + barePath);
+  auto regionOf = [&](const cv::Mat& b, const char* what) {
+    cv::Rect region;
+    garmcap::daemon::hangTagScanImage(bgr, &region, b);
+    std::printf("still %dx%d, %s: scanned region %dx%d at (%d,%d), %.0f%% of the frame\n", bgr.cols,
+                bgr.rows, what, region.width, region.height, region.x, region.y,
+                100.0 * region.area() / static_cast<double>(bgr.total()));
+  };
+  regionOf(cv::Mat(), "without the bare frame");
+  if (!bare.empty())
+    regionOf(bare, "with the bare frame");
   timeIt("whole frame (before issue 16)", reps, [&] { return wholeFrameScan(bgr); });
-  timeIt("hangTagScanImage only", reps, [&] {
+  timeIt("hangTagScanImage, no bare frame", reps, [&] {
     garmcap::daemon::hangTagScanImage(bgr);
     return std::string();
   });
-  timeIt("decodeHangTagSku (after)", reps, [&] { return garmcap::daemon::decodeHangTagSku(bgr); });
+  timeIt("decodeHangTagSku, no bare frame", reps,
+         [&] { return garmcap::daemon::decodeHangTagSku(bgr); });
+  if (!bare.empty()) {
+    timeIt("hangTagScanImage, bare frame", reps, [&] {
+      garmcap::daemon::hangTagScanImage(bgr, nullptr, bare);
+      return std::string();
+    });
+    timeIt("decodeHangTagSku, bare frame", reps,
+           [&] { return garmcap::daemon::decodeHangTagSku(bgr, bare); });
+  }
   return 0;
 #endif
 }

@@ -113,6 +113,8 @@ struct Shot {
   cv::Point at{520, 1350};  // where the tag hangs
   std::uint64_t seed = 1;
   cv::Scalar paper{228, 228, 228};  // the tag's paper, BGR
+  bool form = false;                // the light dress form behind: head, arms, legs
+  bool garment = true;              // the dark garment over the form
   int damageBlots = 0;              // ink spots and scuffs over part of the bars' height
   int damageBands = 0;  // smears and scratches across the whole height (every scan line)
 };
@@ -154,7 +156,14 @@ cv::Mat photographTag(const std::string& widths, const Shot& shot) {
 /// then blurred and noisy. Paper of another colour than grey keeps the symbol's ink.
 cv::Mat photographSymbol(const cv::Mat& bars, const Shot& shot, cv::RNG& rng) {
   cv::Mat frame(2028, 1520, CV_8UC3, cv::Scalar(40, 175, 45));
-  cv::rectangle(frame, cv::Rect(380, 500, 760, 1300), cv::Scalar(70, 50, 120), cv::FILLED);
+  if (shot.form) {
+    const cv::Scalar form(200, 208, 215);
+    for (const cv::Rect& part : {cv::Rect(660, 250, 200, 260), cv::Rect(200, 500, 180, 900),
+                                 cv::Rect(1140, 500, 180, 900), cv::Rect(450, 1700, 620, 328)})
+      cv::rectangle(frame, part, form, cv::FILLED);
+  }
+  if (shot.garment)
+    cv::rectangle(frame, cv::Rect(380, 500, 760, 1300), cv::Scalar(70, 50, 120), cv::FILLED);
   cv::Mat tag(bars.rows + 60, bars.cols + 30, CV_8U, cv::Scalar(228));
   bars.copyTo(tag(cv::Rect(15, 20, bars.cols, bars.rows)));
   cv::Mat mask(tag.size(), CV_8U, cv::Scalar(255));
@@ -367,12 +376,12 @@ TEST(HangTagScanRegion, HoldsTheGarmentAndATagHungBesideIt) {
   EXPECT_LE(region.x, 380 - 32);
   EXPECT_GE(region.br().x, 1140 + 32);
   EXPECT_LT(region.height, 2028) << "the bare green screen above and below is not scanned";
-  // The screen left in the crop, left of the garment, is one flat grey; the garment keeps
-  // its noise.
+  // The screen left in the crop, left of the garment, is flat (each block its mean grey, the
+  // screen's shading only); the garment keeps its noise.
   ASSERT_LE(region.x + 48, 380 - 32);
   double lo = 0, hi = 0;
   cv::minMaxLoc(scan(cv::Rect(8, 900 - region.y, 40, 60)), &lo, &hi);
-  EXPECT_EQ(lo, hi) << "screen left of the garment";
+  EXPECT_LE(hi - lo, 2) << "screen left of the garment";
   cv::minMaxLoc(scan(cv::Rect(cv::Point(600, 900) - region.tl(), cv::Size(60, 60))), &lo, &hi);
   EXPECT_GT(hi - lo, 10) << "the garment";
   Shot beside;
@@ -381,6 +390,84 @@ TEST(HangTagScanRegion, HoldsTheGarmentAndATagHungBesideIt) {
   hangTagScanImage(shoot(qr, beside), &region);
   const cv::Rect tag(beside.at, cv::Size(qr.cols + 30, qr.rows + 60));
   EXPECT_EQ(region & tag, tag) << "a tag hung beside the garment is scanned whole";
+}
+
+/// The bare-form frame for shots with shot.form: no garment, no tag, its own sensor noise.
+cv::Mat bareForm(std::uint64_t seed) {
+  Shot bare;
+  bare.form = true;
+  bare.garment = false;
+  bare.at = {-1000, -1000};
+  bare.seed = seed + 1000;
+  return shoot(cv::Mat(1, 1, CV_8U, cv::Scalar(228)), bare);
+}
+
+// With the bare-form frame, what did not change (screen, form) is left out: the region is the
+// garment's and the tag's, wherever the tag hangs.
+TEST(HangTagScanRegion, WithTheBareFrameHoldsTheGarmentAndTheTagOnly) {
+  const cv::Mat bare = bareForm(1);
+  Shot shot;
+  shot.form = true;
+  shot.at = {-1000, -1000};
+  cv::Rect without, with;
+  const cv::Mat frame = shoot(qrSymbol("A", 3), shot);
+  hangTagScanImage(frame, &without);
+  hangTagScanImage(frame, &with, bare);
+  const cv::Rect garment(380, 500, 760, 1300);
+  EXPECT_EQ(with & garment, garment);
+  EXPECT_LT(with.area(), without.area()) << "the form's arms are not scanned";
+  EXPECT_GE(with.width, 1048);  // zbar's QR binarisation window (hangTagScanImage)
+  // A tag on the form's leg, below the hem and right of the garment's middle.
+  shot.at = {820, 1880};
+  const cv::Mat qr = qrSymbol("GC-1", 2.5);
+  hangTagScanImage(shoot(qr, shot), &with, bare);
+  const cv::Rect tag(shot.at, cv::Size(qr.cols + 30, qr.rows + 60));
+  EXPECT_EQ(with & tag, tag & cv::Rect(0, 0, 1520, 2028)) << "a tag on the form's leg";
+  // A bare frame taken under other light (every block changed): nothing is left out for it.
+  cv::Mat brighter = bare * 1.15;
+  hangTagScanImage(frame, &with, brighter);
+  EXPECT_EQ(with, without);
+}
+
+// Tags over the form (QR, Code 128, paper as light as the form), on the screen beside the
+// garment, on the garment and at the frame's edge read with the bare-form frame as zbar reads
+// them on the whole frame.
+TEST(HangTagSku, WithTheBareFrameTagsReadWhereverTheyHang) {
+  requireZbar();
+  const cv::Mat bare = bareForm(2);
+  struct Place {
+    const char* where;
+    cv::Point at;
+  };
+  int n = 0, cases = 0, read = 0;
+  for (const Place& p :
+       {Place{"on the form's leg", {560, 1860}}, Place{"on the form's arm", {210, 900}},
+        Place{"on the garment", {600, 1000}}, Place{"on the screen, right", {1130, 250}},
+        Place{"on the form's head", {680, 280}}, Place{"at the bottom edge", {1100, 1880}}}) {
+    for (double px : {2.0, 2.5}) {
+      Shot shot;
+      shot.form = true;
+      shot.at = p.at;
+      shot.angleDeg = 4;
+      shot.seed = static_cast<std::uint64_t>(++n);
+      std::vector<std::pair<std::string, cv::Mat>> frames = {
+          {"GC-24071-M", shoot(qrSymbol("GC-24071-M", px + 1.5), shot)},
+          {"GC-2407", shoot(code128Symbol("GC-2407", px), shot)}};
+      // A tag as light as the form: on the form only its ink differs from the bare frame.
+      shot.paper = cv::Scalar(200, 208, 215);
+      frames.emplace_back("GC-2407", shoot(code128Symbol("GC-2407", px), shot));
+      for (const auto& [sku, frame] : frames) {
+        const std::string got = decodeHangTagSku(frame, bare);
+        EXPECT_EQ(got, wholeFrameZbar(frame)) << sku << " at " << px << " px " << p.where;
+        ++cases;
+        read += got == sku;
+      }
+    }
+  }
+  // zbar misses a few of these on the whole frame too (a QR code on the light form, cut by the
+  // frame's edge): the reads must be the whole frame's, and most must read.
+  std::printf("[bare frame] %d of %d tags read\n", read, cases);
+  EXPECT_GE(read, cases * 3 / 4);
 }
 
 // Tags on the bare screen, away from the garment, at the frame's edges (cut by it), turned:
