@@ -9,13 +9,19 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/objdetect.hpp>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "garmcap/daemon/capture_processor.h"
+
+#ifdef GARMCAP_HAVE_ZBAR
+#include <zbar.h>
+#endif
 
 namespace garmcap::daemon {
 namespace {
@@ -106,15 +112,18 @@ struct Shot {
   double noiseSigma = 4.0;  // sensor noise, grey levels
   cv::Point at{520, 1350};  // where the tag hangs
   std::uint64_t seed = 1;
-  int damageBlots = 0;  // ink spots and scuffs over part of the bars' height
+  cv::Scalar paper{228, 228, 228};  // the tag's paper, BGR
+  bool form = false;                // the light dress form behind: head, arms, legs
+  bool garment = true;              // the dark garment over the form
+  int damageBlots = 0;              // ink spots and scuffs over part of the bars' height
   int damageBands = 0;  // smears and scratches across the whole height (every scan line)
 };
+
+cv::Mat photographSymbol(const cv::Mat& symbol, const Shot& shot, cv::RNG& rng);
 
 /// A portrait still the size of a binned 12 MP sensor mode (1520 x 2028): green screen, a dark
 /// garment, and the hang tag printed with `widths`, photographed as `shot` says.
 cv::Mat photographTag(const std::string& widths, const Shot& shot) {
-  cv::Mat frame(2028, 1520, CV_8UC3, cv::Scalar(40, 175, 45));
-  cv::rectangle(frame, cv::Rect(380, 500, 760, 1300), cv::Scalar(70, 50, 120), cv::FILLED);
   // Print at 8 samples per module, then shrink with area averaging to the module size in the
   // frame: bar edges fall between pixels as they do in a photograph.
   const int kOver = 8;
@@ -139,7 +148,22 @@ cv::Mat photographTag(const std::string& widths, const Shot& shot) {
   cv::Mat bars;
   cv::resize(print, bars, cv::Size(cvRound(print.cols * scale), cvRound(print.rows * scale * 2)), 0,
              0, cv::INTER_AREA);
-  // The tag: a paper margin around the bars, rotated, pasted where paper covers the garment.
+  return photographSymbol(bars, shot, rng);
+}
+
+/// The still of a tag carrying `bars` (grey, 228 = paper, at its size in the frame): a paper
+/// margin around it, rotated by shot.angleDeg, pasted at shot.at (clipped by the frame's edge),
+/// then blurred and noisy. Paper of another colour than grey keeps the symbol's ink.
+cv::Mat photographSymbol(const cv::Mat& bars, const Shot& shot, cv::RNG& rng) {
+  cv::Mat frame(2028, 1520, CV_8UC3, cv::Scalar(40, 175, 45));
+  if (shot.form) {
+    const cv::Scalar form(200, 208, 215);
+    for (const cv::Rect& part : {cv::Rect(660, 250, 200, 260), cv::Rect(200, 500, 180, 900),
+                                 cv::Rect(1140, 500, 180, 900), cv::Rect(450, 1700, 620, 328)})
+      cv::rectangle(frame, part, form, cv::FILLED);
+  }
+  if (shot.garment)
+    cv::rectangle(frame, cv::Rect(380, 500, 760, 1300), cv::Scalar(70, 50, 120), cv::FILLED);
   cv::Mat tag(bars.rows + 60, bars.cols + 30, CV_8U, cv::Scalar(228));
   bars.copyTo(tag(cv::Rect(15, 20, bars.cols, bars.rows)));
   cv::Mat mask(tag.size(), CV_8U, cv::Scalar(255));
@@ -153,9 +177,18 @@ cv::Mat photographTag(const std::string& widths, const Shot& shot) {
   cv::Mat tagRot, maskRot;
   cv::warpAffine(tag, tagRot, rot, out, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(228));
   cv::warpAffine(mask, maskRot, rot, out, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar(0));
+  // Ink darkens the paper: each channel scaled by the grey's share of white paper.
   cv::Mat tagBgr;
-  cv::cvtColor(tagRot, tagBgr, cv::COLOR_GRAY2BGR);
-  tagBgr.copyTo(frame(cv::Rect(shot.at, out)), maskRot);
+  cv::Mat tagF;
+  tagRot.convertTo(tagF, CV_32F, 1.0 / 228.0);
+  cv::cvtColor(tagF, tagF, cv::COLOR_GRAY2BGR);
+  cv::multiply(tagF, shot.paper, tagF);
+  tagF.convertTo(tagBgr, CV_8UC3);
+  const cv::Rect place = cv::Rect(shot.at, out) & cv::Rect(0, 0, frame.cols, frame.rows);
+  if (!place.empty()) {
+    const cv::Rect from(place.tl() - shot.at, place.size());
+    tagBgr(from).copyTo(frame(place), maskRot(from));
+  }
   // The lens and the sensor.
   cv::GaussianBlur(frame, frame, cv::Size(0, 0), shot.blurSigma);
   cv::Mat noise(frame.size(), CV_16SC3);
@@ -259,6 +292,281 @@ TEST(HangTagSku, SmallestReadableModule) {
                 name.c_str(), smallest, Shot{}.blurSigma, Shot{}.noiseSigma);
     EXPECT_GT(smallest, 0) << name;
     EXPECT_LE(smallest, 2.0) << name;
+  }
+}
+
+// --- where the tag hangs, how it is turned: hangTagScanImage skips the bare green screen --------
+
+/// A QR code drawn by OpenCV's encoder (not zbar), printed at 8 samples per module and shrunk with
+/// area averaging to `modulePx` px per module, with a 4-module quiet zone: 228 paper, 35 ink.
+cv::Mat qrSymbol(const std::string& text, double modulePx) {
+  constexpr int kOver = 8;
+  cv::Mat code;
+  cv::QRCodeEncoder::create()->encode(text, code);
+  cv::Mat print;
+  cv::resize(code, print, {}, kOver, kOver, cv::INTER_NEAREST);
+  cv::Mat padded(print.rows + 8 * kOver, print.cols + 8 * kOver, CV_8U, cv::Scalar(255));
+  print.copyTo(padded(cv::Rect(4 * kOver, 4 * kOver, print.cols, print.rows)));
+  cv::Mat inked = padded * (193.0 / 255.0) + 35;  // 0 -> 35, 255 -> 228
+  cv::Mat out;
+  const double f = modulePx / kOver;
+  cv::resize(inked, out, cv::Size(cvRound(inked.cols * f), cvRound(inked.rows * f)), 0, 0,
+             cv::INTER_AREA);
+  return out;
+}
+
+/// The Code 128 bars of `sku` at `modulePx`, 45 px high, for photographSymbol.
+cv::Mat code128Symbol(const std::string& sku, double modulePx) {
+  const auto row = modules(code128B(sku), 10);
+  constexpr int kOver = 8;
+  cv::Mat print(45, static_cast<int>(row.size()) * kOver, CV_8U, cv::Scalar(228));
+  for (std::size_t m = 0; m < row.size(); ++m)
+    if (row[m])
+      print.colRange(static_cast<int>(m) * kOver, static_cast<int>(m + 1) * kOver).setTo(35);
+  cv::Mat out;
+  cv::resize(print, out, cv::Size(cvRound(print.cols * modulePx / kOver), 90), 0, 0,
+             cv::INTER_AREA);
+  return out;
+}
+
+/// What zbar reads on the whole frame in grey, as decodeHangTagSku scanned before issue 16 (same
+/// symbologies): the reference a scan of less than the frame must match.
+std::string wholeFrameZbar(const cv::Mat& bgr) {
+#ifdef GARMCAP_HAVE_ZBAR
+  using namespace zbar;
+  cv::Mat gray;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+  std::unique_ptr<zbar_image_scanner_t, void (*)(zbar_image_scanner_t*)> scanner(
+      zbar_image_scanner_create(), zbar_image_scanner_destroy);
+  std::unique_ptr<zbar_image_t, void (*)(zbar_image_t*)> image(zbar_image_create(),
+                                                               zbar_image_destroy);
+  zbar_image_scanner_set_config(scanner.get(), ZBAR_NONE, ZBAR_CFG_ENABLE, 0);
+  for (zbar_symbol_type_t t :
+       {ZBAR_QRCODE, ZBAR_EAN13, ZBAR_EAN8, ZBAR_UPCA, ZBAR_UPCE, ZBAR_CODE128, ZBAR_CODE39})
+    zbar_image_scanner_set_config(scanner.get(), t, ZBAR_CFG_ENABLE, 1);
+  zbar_image_set_format(image.get(), zbar_fourcc('Y', '8', '0', '0'));
+  zbar_image_set_size(image.get(), static_cast<unsigned>(gray.cols),
+                      static_cast<unsigned>(gray.rows));
+  zbar_image_set_data(image.get(), gray.data, gray.total(), nullptr);
+  if (zbar_scan_image(scanner.get(), image.get()) <= 0)
+    return "";
+  const zbar_symbol_t* sym = zbar_image_first_symbol(image.get());
+  return sym ? zbar_symbol_get_data(sym) : "";
+#else
+  (void)bgr;
+  return "";
+#endif
+}
+
+cv::Mat shoot(const cv::Mat& symbol, const Shot& shot) {
+  cv::RNG rng(shot.seed);
+  return photographSymbol(symbol, shot, rng);
+}
+
+// The scanned region is the box around what is not screen, grown by 32 px; the test frame's
+// garment is (380, 500) 760 x 1300, so a tag hung anywhere must widen the box to hold it.
+TEST(HangTagScanRegion, HoldsTheGarmentAndATagHungBesideIt) {
+  cv::Rect region;
+  Shot bare;
+  bare.at = {-1000, -1000};  // no tag in the frame
+  const cv::Mat scan = hangTagScanImage(shoot(qrSymbol("A", 3), bare), &region);
+  ASSERT_EQ(scan.size(), region.size());
+  const cv::Rect garment(380, 500, 760, 1300);
+  EXPECT_EQ(region & garment, garment) << "the garment must be scanned";
+  EXPECT_LE(region.x, 380 - 32);
+  EXPECT_GE(region.br().x, 1140 + 32);
+  EXPECT_LT(region.height, 2028) << "the bare green screen above and below is not scanned";
+  // The screen left in the crop, left of the garment, is flat (each block its mean grey, the
+  // screen's shading only); the garment keeps its noise.
+  ASSERT_LE(region.x + 48, 380 - 32);
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(scan(cv::Rect(8, 900 - region.y, 40, 60)), &lo, &hi);
+  EXPECT_LE(hi - lo, 2) << "screen left of the garment";
+  cv::minMaxLoc(scan(cv::Rect(cv::Point(600, 900) - region.tl(), cv::Size(60, 60))), &lo, &hi);
+  EXPECT_GT(hi - lo, 10) << "the garment";
+  Shot beside;
+  beside.at = {1250, 300};  // on the screen, right of and above the garment
+  const cv::Mat qr = qrSymbol("GC-1", 3);
+  hangTagScanImage(shoot(qr, beside), &region);
+  const cv::Rect tag(beside.at, cv::Size(qr.cols + 30, qr.rows + 60));
+  EXPECT_EQ(region & tag, tag) << "a tag hung beside the garment is scanned whole";
+}
+
+/// The bare-form frame for shots with shot.form: no garment, no tag, its own sensor noise.
+cv::Mat bareForm(std::uint64_t seed) {
+  Shot bare;
+  bare.form = true;
+  bare.garment = false;
+  bare.at = {-1000, -1000};
+  bare.seed = seed + 1000;
+  return shoot(cv::Mat(1, 1, CV_8U, cv::Scalar(228)), bare);
+}
+
+// With the bare-form frame, what did not change (screen, form) is left out: the region is the
+// garment's and the tag's, wherever the tag hangs.
+TEST(HangTagScanRegion, WithTheBareFrameHoldsTheGarmentAndTheTagOnly) {
+  const cv::Mat bare = bareForm(1);
+  Shot shot;
+  shot.form = true;
+  shot.at = {-1000, -1000};
+  cv::Rect without, with;
+  const cv::Mat frame = shoot(qrSymbol("A", 3), shot);
+  hangTagScanImage(frame, &without);
+  hangTagScanImage(frame, &with, bare);
+  const cv::Rect garment(380, 500, 760, 1300);
+  EXPECT_EQ(with & garment, garment);
+  EXPECT_LT(with.area(), without.area()) << "the form's arms are not scanned";
+  EXPECT_GE(with.width, 1048);  // zbar's QR binarisation window (hangTagScanImage)
+  // A tag on the form's leg, below the hem and right of the garment's middle.
+  shot.at = {820, 1880};
+  const cv::Mat qr = qrSymbol("GC-1", 2.5);
+  hangTagScanImage(shoot(qr, shot), &with, bare);
+  const cv::Rect tag(shot.at, cv::Size(qr.cols + 30, qr.rows + 60));
+  EXPECT_EQ(with & tag, tag & cv::Rect(0, 0, 1520, 2028)) << "a tag on the form's leg";
+  // A bare frame taken under other light (every block changed): nothing is left out for it.
+  cv::Mat brighter = bare * 1.15;
+  hangTagScanImage(frame, &with, brighter);
+  EXPECT_EQ(with, without);
+}
+
+// Tags over the form (QR, Code 128, paper as light as the form), on the screen beside the
+// garment, on the garment and at the frame's edge read with the bare-form frame as zbar reads
+// them on the whole frame.
+TEST(HangTagSku, WithTheBareFrameTagsReadWhereverTheyHang) {
+  requireZbar();
+  const cv::Mat bare = bareForm(2);
+  struct Place {
+    const char* where;
+    cv::Point at;
+  };
+  int n = 0, cases = 0, read = 0;
+  for (const Place& p :
+       {Place{"on the form's leg", {560, 1860}}, Place{"on the form's arm", {210, 900}},
+        Place{"on the garment", {600, 1000}}, Place{"on the screen, right", {1130, 250}},
+        Place{"on the form's head", {680, 280}}, Place{"at the bottom edge", {1100, 1880}}}) {
+    for (double px : {2.0, 2.5}) {
+      Shot shot;
+      shot.form = true;
+      shot.at = p.at;
+      shot.angleDeg = 4;
+      shot.seed = static_cast<std::uint64_t>(++n);
+      std::vector<std::pair<std::string, cv::Mat>> frames = {
+          {"GC-24071-M", shoot(qrSymbol("GC-24071-M", px + 1.5), shot)},
+          {"GC-2407", shoot(code128Symbol("GC-2407", px), shot)}};
+      // A tag as light as the form: on the form only its ink differs from the bare frame.
+      shot.paper = cv::Scalar(200, 208, 215);
+      frames.emplace_back("GC-2407", shoot(code128Symbol("GC-2407", px), shot));
+      for (const auto& [sku, frame] : frames) {
+        const std::string got = decodeHangTagSku(frame, bare);
+        EXPECT_EQ(got, wholeFrameZbar(frame)) << sku << " at " << px << " px " << p.where;
+        ++cases;
+        read += got == sku;
+      }
+    }
+  }
+  // zbar misses a few of these on the whole frame too (a QR code on the light form, cut by the
+  // frame's edge): the reads must be the whole frame's, and most must read.
+  std::printf("[bare frame] %d of %d tags read\n", read, cases);
+  EXPECT_GE(read, cases * 3 / 4);
+}
+
+// Tags on the bare screen, away from the garment, at the frame's edges (cut by it), turned:
+// each reads as it did when zbar scanned the whole frame.
+TEST(HangTagSku, TagsAwayFromTheGarmentAndAtTheFrameEdgeRead) {
+  requireZbar();
+  const cv::Mat qr = qrSymbol("GC-24071-M", 3.0);
+  const cv::Mat bars = code128Symbol("GC-24071-M", 2.0);
+  struct Place {
+    const char* where;
+    cv::Point at;
+  };
+  for (const Place& p :
+       {Place{"on the screen, right", {1200, 200}},
+        Place{"on the screen, below the hem", {700, 1850}}, Place{"at the top-left corner", {0, 0}},
+        Place{"at the right edge", {1520 - qr.cols - 30, 900}},
+        Place{"at the bottom edge", {100, 2028 - qr.rows - 60}}}) {
+    Shot shot;
+    shot.at = p.at;
+    shot.angleDeg = 0;
+    EXPECT_EQ(decodeHangTagSku(shoot(qr, shot)), "GC-24071-M") << "QR " << p.where;
+  }
+  for (const Place& p : {Place{"on the screen, right", {1160, 200}},
+                         Place{"on the screen, below the hem", {600, 1880}},
+                         Place{"at the right edge", {1520 - bars.cols - 30, 300}},
+                         Place{"at the bottom edge", {10, 2028 - bars.rows - 60}}}) {
+    Shot shot;
+    shot.at = p.at;
+    EXPECT_EQ(decodeHangTagSku(shoot(bars, shot)), "GC-24071-M") << "Code 128 " << p.where;
+  }
+}
+
+// A tag printed on paper as green as the screen is kept: its ink makes it not smooth.
+TEST(HangTagSku, TagOnGreenPaperOnTheScreenReads) {
+  requireZbar();
+  Shot shot;
+  shot.at = {1180, 250};
+  shot.paper = cv::Scalar(60, 200, 70);
+  EXPECT_EQ(decodeHangTagSku(shoot(qrSymbol("GC-7", 3.0), shot)), "GC-7");
+  EXPECT_EQ(decodeHangTagSku(shoot(code128Symbol("GC-7", 2.2), shot)), "GC-7");
+}
+
+// Turned QR codes (4 px per module) read as zbar reads them on the whole frame (which misses some
+// turned ones: they are at the edge of what it reads); a 1-D code reads while one scan line (a row
+// or a column) still crosses all its bars. Both on the screen beside the garment and on the
+// garment.
+TEST(HangTagSku, TurnedCodesRead) {
+  requireZbar();
+  int qrRead = 0;
+  for (cv::Point at : {cv::Point(1170, 150), cv::Point(520, 1100)}) {
+    for (double angle : {15.0, 30.0, 45.0, 70.0}) {
+      Shot shot;
+      shot.at = at;
+      shot.angleDeg = angle;
+      shot.seed = static_cast<std::uint64_t>(angle);
+      const cv::Mat frame = shoot(qrSymbol("GC-24071-M", 4.0), shot);
+      const std::string got = decodeHangTagSku(frame);
+      EXPECT_EQ(got, wholeFrameZbar(frame)) << "QR turned " << angle << " deg at " << at;
+      qrRead += got == "GC-24071-M";
+    }
+    for (double angle : {-8.0, 6.0, 84.0, 90.0, 97.0}) {
+      Shot shot;
+      shot.at = at;
+      shot.angleDeg = angle;
+      shot.seed = static_cast<std::uint64_t>(angle + 100);
+      EXPECT_EQ(decodeHangTagSku(shoot(code128Symbol("GC-2407", 2.2), shot)), "GC-2407")
+          << "Code 128 turned " << angle << " deg at " << at;
+    }
+  }
+  std::printf("[qr] turned 15-70 deg at 4 px per module: %d of 8 read\n", qrRead);
+  EXPECT_GE(qrRead, 6);
+}
+
+// Small QR codes in the rig-sized frame, on the screen and on the garment: the smallest module
+// that reads at four sub-pixel placements (printed for the docs; 3 px per module is required: zbar
+// on the whole frame read down to 3.0 here before issue 16).
+TEST(HangTagSku, SmallestReadableQrModuleInTheRigFrame) {
+  requireZbar();
+  for (cv::Point at : {cv::Point(1200, 200), cv::Point(600, 1200)}) {
+    double smallest = 0;
+    for (double px = 3.5; px >= 0.99; px -= 0.25) {
+      int read = 0;
+      for (int k = 0; k < 4; ++k) {
+        Shot shot;
+        shot.at = at + cv::Point(k * 3, k * 5);
+        shot.angleDeg = 0;
+        shot.seed = static_cast<std::uint64_t>(px * 100 + k);
+        read +=
+            decodeHangTagSku(shoot(qrSymbol("GC-24071-M", px + 0.07 * k), shot)) == "GC-24071-M";
+      }
+      if (px >= 3.0) {
+        EXPECT_EQ(read, 4) << "a QR code at " << px << " px per module at " << at;
+      }
+      if (read < 4)
+        break;
+      smallest = px;
+    }
+    std::printf("[qr] in the rig frame at (%d,%d) reads down to %.2f px per module\n", at.x, at.y,
+                smallest);
   }
 }
 

@@ -52,6 +52,12 @@ class FakeCamera : public capture::Camera {
     const int n = ++*stills_;
     f.bgr = cv::Mat(48, 64, CV_8UC3,
                     r.shot == capture::Shot::kEmpty ? cv::Scalar(0, 200, 0) : cv::Scalar(n, 0, 0));
+    {
+      std::lock_guard lock(deliveredMutex);
+      const cv::Mat& given = r.shot == capture::Shot::kEmpty ? bareStill : dressedStill;
+      if (!given.empty())
+        f.bgr = given.clone();
+    }
     if (deliverJpeg) {
       // As a UVC camera's MJPEG still: the JPEG it made, and the frame decoded from it. The
       // texture makes the JPEG unlike any PNG of the frame in bytes and size.
@@ -79,6 +85,7 @@ class FakeCamera : public capture::Camera {
   std::atomic<bool> deliverJpeg{false};  // stills come as JPEG (capture::Frame::encoded)
   std::mutex deliveredMutex;
   std::vector<std::string> delivered;  // the JPEG of each still, in order
+  cv::Mat bareStill, dressedStill;     // if set (under deliveredMutex), the stills taken
 
  private:
   std::shared_ptr<std::atomic<int>> stills_;

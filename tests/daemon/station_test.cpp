@@ -6,11 +6,14 @@
 
 #include <algorithm>
 #include <fstream>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/objdetect.hpp>
 #include <optional>
 #include <set>
 #include <vector>
 
 #include "garmcap/daemon/api_routes.h"
+#include "garmcap/daemon/capture_processor.h"
 #include "garmcap/daemon/station_routes.h"
 #include "station_rig.h"
 
@@ -19,6 +22,36 @@ namespace {
 
 using namespace std::chrono_literals;
 using test::Rig;
+
+// The button's path: no SKU typed, so the hang tag is read from the still, beside the pipeline,
+// with the calibration's bare frame handed to the scan once it is decoded.
+TEST(Station, CaptureWithoutSkuReadsTheHangTag) {
+  if (hangTagDecoder() != "zbar")
+    GTEST_SKIP() << "built without zbar: no QR code is read";
+  Rig rig;
+  cv::Mat bare(300, 400, CV_8UC3, cv::Scalar(40, 180, 40));
+  cv::rectangle(bare, cv::Rect(120, 40, 160, 260), cv::Scalar(200, 208, 215), cv::FILLED);
+  cv::Mat code;
+  cv::QRCodeEncoder::create()->encode("TAG-QR-7", code);
+  cv::Mat big, tag(0, 0, CV_8UC3);
+  cv::resize(code, big, {}, 4, 4, cv::INTER_NEAREST);
+  cv::copyMakeBorder(big, big, 16, 16, 16, 16, cv::BORDER_CONSTANT, cv::Scalar(255));
+  cv::cvtColor(big, tag, cv::COLOR_GRAY2BGR);
+  cv::Mat dressed = bare.clone();
+  tag.copyTo(dressed(cv::Rect(150, 120, tag.cols, tag.rows)));
+  {
+    std::lock_guard lock(rig.camera->deliveredMutex);
+    rig.camera->bareStill = bare;
+    rig.camera->dressedStill = dressed;
+  }
+  auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  const auto item = rig.json(rig.call(
+      http::verb::get, "/api/items/" + std::to_string(job["item_id"].get<std::int64_t>())));
+  EXPECT_EQ(item["sku"], "TAG-QR-7");
+}
 
 TEST(Station, LedPatternsDifferPerState) {
   std::set<int> patterns;

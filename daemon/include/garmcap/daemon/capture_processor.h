@@ -86,7 +86,19 @@ std::unique_ptr<CaptureProcessor> makePipelineProcessor(const Config& config);
 /// barcode. Without it: OpenCV's QRCodeDetector only, which decodes nothing when OpenCV was
 /// built without quirc, as Debian 12's 4.6 is. Returns "" when none is found; only
 /// [A-Za-z0-9._-] payloads of 1..64 chars are accepted (anything else is not a SKU).
-std::string decodeHangTagSku(const cv::Mat& bgr);
+/// `bare`, if given (the calibration's bare-form frame, same size and type): only what differs
+/// from it is scanned (hangTagScanImage).
+std::string decodeHangTagSku(const cv::Mat& bgr, const cv::Mat& bare = {});
+/// The grey image decodeHangTagSku scans: the frame cropped to the box around everything that is
+/// not bare green screen (blocks of 8 px that are chroma-key green and smooth), grown by 32 px,
+/// with the screen left inside the box made flat (each block its mean grey). Anything on or beside
+/// the garment, a hang tag included, keeps its pixels. The whole frame in grey when it has no
+/// screen or is small; empty when it is screen only. `region`, if given, receives the crop in the
+/// frame. With `bare` (the calibration's bare-form frame, same size and type), blocks whose mean
+/// colour is within 12 grey levels of the bare frame's in every channel are left out as well: the
+/// form, its arms and legs. The crop is at least 1048 px a side (or the frame), as zbar's QR
+/// reading depends on the image's size below that.
+cv::Mat hangTagScanImage(const cv::Mat& bgr, cv::Rect* region = nullptr, const cv::Mat& bare = {});
 /// "zbar" or "opencv": what decodeHangTagSku reads with in this build.
 std::string hangTagDecoder();
 
