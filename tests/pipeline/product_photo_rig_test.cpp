@@ -260,3 +260,62 @@ TEST(ProductPhotoRig, PhysicalRigLightGarmentEdges) {
   }
   EXPECT_GE(checked, 1);
 }
+
+// productLayer keeps its form-remains test to the pixels near the outline (the only ones whose
+// alpha the cut can change); the whole-crop passes it replaced stay as an option. Both must give
+// the same layer, alpha and colour bit for bit, on the simulator's rigs and the physical rig:
+// the mask the pipeline segments, the crop around it (2 cm margin, as the images stage), the
+// rig's bare frame and screen colour (the empty frame's left edge).
+TEST(ProductPhotoRig, LayerNearTheOutlineEqualsTheWholeCropPasses) {
+  int compared = 0, cutSomewhere = 0;
+  for (const char* name : {"rig", "rig_physical"}) {
+    const fs::path rigDir = fs::path(GARMCAP_TEST_DATA_DIR) / name;
+    ASSERT_TRUE(fs::exists(rigDir / "rig.json")) << rigDir;
+    const auto rig = capture::readRig(rigDir);
+    for (const auto& info : rig.cases) {
+      const auto c = capture::loadRigCase(info.dir);
+      pipeline::CaptureOptions opt = photosOnly();
+      opt.makeProductImages = false;
+      pipeline::CaptureResult res;
+      try {
+        res = pipeline::runCapture(c.empty, c.dressed, c.calibration, opt);
+      } catch (const std::exception& e) {
+        std::printf("%s/%s: no capture: %s\n", name, c.id.c_str(), e.what());
+        continue;
+      }
+      const cv::Mat1b garment = res.silhouette;
+      ASSERT_EQ(garment.size(), c.dressed.size()) << c.id;
+      const double s = c.calibration.at("pose").at("px_per_cm").get<double>();
+      const int m = static_cast<int>(std::ceil(2.0 * s));
+      const cv::Rect tight = cv::boundingRect(garment);
+      const cv::Rect box =
+          cv::Rect(tight.x - m, tight.y - m, tight.width + 2 * m, tight.height + 2 * m) &
+          cv::Rect(0, 0, garment.cols, garment.rows);
+      const cv::Mat3b dressed = c.dressed, empty = c.empty;
+      const cv::Scalar screen =
+          cv::mean(empty(cv::Rect(0, 0, std::max(1, empty.cols / 30), empty.rows)));
+      const cv::Vec3b screenBgr(cv::saturate_cast<uchar>(screen[0]),
+                                cv::saturate_cast<uchar>(screen[1]),
+                                cv::saturate_cast<uchar>(screen[2]));
+      pipeline::ProductImageOptions po{.pxPerCm = s};
+      po.wholeCropPasses = true;
+      const pipeline::ProductLayer whole =
+          pipeline::productLayer(dressed(box), garment(box), empty(box), screenBgr, po);
+      po.wholeCropPasses = false;
+      const pipeline::ProductLayer near =
+          pipeline::productLayer(dressed(box), garment(box), empty(box), screenBgr, po);
+      const double alphaDiff = cv::norm(whole.alpha, near.alpha, cv::NORM_INF);
+      const double colourDiff = cv::norm(whole.colour, near.colour, cv::NORM_INF);
+      // The cut at work: mask pixels it took out of the alpha.
+      const int cut = cv::countNonZero((garment(box) > 0) & (whole.alpha == 0.0f));
+      std::printf("%s/%s: crop %dx%d, cut %d px, max alpha diff %g, max colour diff %g\n", name,
+                  c.id.c_str(), box.width, box.height, cut, alphaDiff, colourDiff);
+      EXPECT_EQ(alphaDiff, 0.0) << name << "/" << c.id;
+      EXPECT_EQ(colourDiff, 0.0) << name << "/" << c.id;
+      ++compared;
+      cutSomewhere += cut > 0;
+    }
+  }
+  EXPECT_GE(compared, 10);
+  EXPECT_GE(cutSomewhere, 1);  // else the comparison would not see the cut at all
+}
