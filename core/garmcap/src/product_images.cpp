@@ -468,17 +468,48 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
   return formRemainsNear(dressed, bare, mask, bandPx, maxDeltaE, screenBgr, -1);
 }
 
-void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screenBgr,
-                 double bandPx) {
+namespace {
+
+// despillEdge; with `nearOnly`, the Lab conversions only where they are read: the band and the
+// ring just deeper (tiles that hold any of them), and back to BGR only the changed pixels. The
+// conversions are per pixel, so the answer is the same; outside the ring the blur's weight is 0,
+// and only the sign of a zero there can differ. The whole inside's chroma (the fallback) is
+// taken only when a band pixel needs it, as before from the whole crop.
+void despillEdgeImpl(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screenBgr,
+                     double bandPx, bool nearOnly) {
   if (alpha.size() != bgr.size())
     throw std::invalid_argument("despillEdge: the alpha is not the frame's size");
   const cv::Mat1b covered = alpha > 0.0f;
   if (cv::countNonZero(covered) == 0 || bandPx <= 0)
     return;
   const cv::Mat1f depth = depthInside(covered);
-  const cv::Mat3f lab = labOf(bgr);
   std::vector<cv::Mat1f> ch;
-  cv::split(lab, ch);
+  if (!nearOnly) {
+    cv::split(labOf(bgr), ch);
+  } else {
+    ch = {cv::Mat1f(bgr.size()), cv::Mat1f::zeros(bgr.size()), cv::Mat1f::zeros(bgr.size())};
+    const cv::Mat1b used = (depth > 0.f) & (depth <= static_cast<float>(2.0 * bandPx));
+    constexpr int kTile = 64;
+    const cv::Rect frame(0, 0, bgr.cols, bgr.rows);
+    for (int ty = 0; ty < bgr.rows; ty += kTile)
+      for (int tx = 0; tx < bgr.cols; tx += kTile) {
+        const cv::Rect r = cv::Rect(tx, ty, kTile, kTile) & frame;
+        if (cv::countNonZero(used(r)) == 0)
+          continue;
+        const cv::Mat3f l = labOf(bgr(r));
+        for (int y = 0; y < r.height; ++y) {
+          const cv::Vec3f* in = l.ptr<cv::Vec3f>(y);
+          float* c0 = ch[0].ptr<float>(r.y + y) + r.x;
+          float* c1 = ch[1].ptr<float>(r.y + y) + r.x;
+          float* c2 = ch[2].ptr<float>(r.y + y) + r.x;
+          for (int x = 0; x < r.width; ++x) {
+            c0[x] = in[x][0];
+            c1[x] = in[x][1];
+            c2[x] = in[x][2];
+          }
+        }
+      }
+  }
   // The garment's inside chroma near each edge pixel: a wide blur of the chroma of the ring just
   // deeper than the band. Parts too narrow to have a ring (a strap) take the whole inside's.
   const cv::Mat1b ring =
@@ -489,27 +520,40 @@ void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screen
   std::vector<cv::Mat1f> sums;
   cv::Mat1f wsum;
   weightedBlur({ch[1], ch[2]}, w, 1.5 * bandPx, sums, wsum);
-  cv::Vec2f fallback;
-  if (cv::countNonZero(deep) > 0) {
-    fallback = cv::Vec2f(static_cast<float>(cv::mean(ch[1], deep)[0]),
-                         static_cast<float>(cv::mean(ch[2], deep)[0]));
-  } else {
-    // No inside at all: nothing to compare with but the screen; neutral is the safe guess.
-    fallback = cv::Vec2f(0.f, 0.f);
+  bool fallbackRead = !nearOnly;
+  for (int y = 0; y < bgr.rows && !fallbackRead; ++y) {
+    const float* dp = depth.ptr<float>(y);
+    const float* wsp = wsum.ptr<float>(y);
+    for (int x = 0; x < bgr.cols; ++x)
+      if (dp[x] > 0.f && dp[x] <= static_cast<float>(bandPx) && !(wsp[x] > 0.02f)) {
+        fallbackRead = true;
+        break;
+      }
   }
+  cv::Vec2f fallback(0.f, 0.f);
+  if (fallbackRead && cv::countNonZero(deep) > 0) {
+    std::vector<cv::Mat1f> all;
+    if (nearOnly)
+      cv::split(labOf(bgr), all);
+    const std::vector<cv::Mat1f>& c = nearOnly ? all : ch;
+    fallback = cv::Vec2f(static_cast<float>(cv::mean(c[1], deep)[0]),
+                         static_cast<float>(cv::mean(c[2], deep)[0]));
+  }
+  // (No inside at all: nothing to compare with but the screen; neutral is the safe guess.)
   cv::Mat3b screenPx(1, 1, screenBgr);
   const cv::Vec3f screenLab = labOf(screenPx)(0, 0);
   const cv::Vec2f screenAB(screenLab[1], screenLab[2]);
 
-  cv::Mat3f out = lab.clone();
-  cv::Mat1b changed = cv::Mat1b::zeros(bgr.size());
+  std::vector<cv::Point> at;
+  std::vector<cv::Vec3f> moved;
   for (int y = 0; y < bgr.rows; ++y) {
     const float* dp = depth.ptr<float>(y);
     const float* wsp = wsum.ptr<float>(y);
     const float* sa = sums[0].ptr<float>(y);
     const float* sb = sums[1].ptr<float>(y);
-    cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
-    uchar* c = changed.ptr(y);
+    const float* c0 = ch[0].ptr<float>(y);
+    const float* c1 = ch[1].ptr<float>(y);
+    const float* c2 = ch[2].ptr<float>(y);
     for (int x = 0; x < bgr.cols; ++x) {
       if (dp[x] <= 0.f || dp[x] > static_cast<float>(bandPx))
         continue;
@@ -519,16 +563,27 @@ void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screen
       if (len < 1e-3f)
         continue;
       u /= len;
-      const cv::Vec2f p(o[x][1], o[x][2]);
+      const cv::Vec2f p(c1[x], c2[x]);
       const float t = (p - ref).dot(u);
       if (t <= 0.f)
         continue;
-      o[x][1] -= t * u[0];
-      o[x][2] -= t * u[1];
-      c[x] = 255;
+      at.emplace_back(x, y);
+      moved.emplace_back(c0[x], c1[x] - t * u[0], c2[x] - t * u[1]);
     }
   }
-  bgrOf(out).copyTo(bgr, changed);
+  if (moved.empty())
+    return;
+  // Back to BGR, only the changed pixels (one row of them).
+  const cv::Mat3b back = bgrOf(cv::Mat3f(1, static_cast<int>(moved.size()), moved.data()));
+  for (std::size_t i = 0; i < at.size(); ++i)
+    bgr(at[i]) = back(0, static_cast<int>(i));
+}
+
+}  // namespace
+
+void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screenBgr,
+                 double bandPx) {
+  despillEdgeImpl(bgr, alpha, screenBgr, bandPx, false);
 }
 
 namespace {
@@ -655,7 +710,8 @@ ProductLayer productLayer(const cv::Mat3b& dressed, const cv::Mat1b& mask, const
   cv::Mat3b colour = dressed.clone();
   if (!bare.empty())
     unmixEdge(colour, alpha, bare);
-  despillEdge(colour, alpha, screenBgr, std::max(3.0, kSpillBandCm * s));
+  despillEdgeImpl(colour, alpha, screenBgr, std::max(3.0, kSpillBandCm * s),
+                  !options.wholeCropPasses);
   return {colour, alpha};
 }
 
