@@ -79,17 +79,20 @@ cv::Mat3b bgrOf(const cv::Mat3f& lab) {
 
 // The CIELAB distance of two images pixel by pixel, in one pass (a difference, three products and
 // two sums were a float image each): the same float operations in the same order.
+inline float labDist(const cv::Vec3f& a, const cv::Vec3f& b) {
+  const float d0 = a[0] - b[0], d1 = a[1] - b[1], d2 = a[2] - b[2];
+  const float sq01 = d0 * d0 + d1 * d1;
+  return std::sqrt(sq01 + d2 * d2);
+}
+
 cv::Mat1f labDistance(const cv::Mat3f& p, const cv::Mat3f& q) {
   cv::Mat1f out(p.size());
   for (int y = 0; y < p.rows; ++y) {
     const cv::Vec3f* a = p.ptr<cv::Vec3f>(y);
     const cv::Vec3f* b = q.ptr<cv::Vec3f>(y);
     float* o = out.ptr<float>(y);
-    for (int x = 0; x < p.cols; ++x) {
-      const float d0 = a[x][0] - b[x][0], d1 = a[x][1] - b[x][1], d2 = a[x][2] - b[x][2];
-      const float sq01 = d0 * d0 + d1 * d1;
-      o[x] = std::sqrt(sq01 + d2 * d2);
-    }
+    for (int x = 0; x < p.cols; ++x)
+      o[x] = labDist(a[x], b[x]);
   }
   return out;
 }
@@ -297,8 +300,16 @@ cv::Mat1f refinedAlpha(const cv::Mat3b& bgr, const cv::Mat1b& mask, int radiusPx
   return alpha;
 }
 
-cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv::Mat1b& mask,
-                      double bandPx, double maxDeltaE, const std::optional<cv::Vec3b>& screenBgr) {
+namespace {
+
+// formRemains, with `nearPx` >= 0: the per-pixel test only inside the band and outside the mask
+// within `nearPx` (square) of it, elsewhere no candidate. The cut is then the same as the whole
+// crop's within nearPx - 2 of the mask (the closing looks 2 px away): an outside candidate is cut
+// whatever its component, and a band component that reaches the outside does so first through
+// an outside pixel next to the mask. Farther out the alpha is 0 and the cut does not matter.
+cv::Mat1b formRemainsNear(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv::Mat1b& mask,
+                          double bandPx, double maxDeltaE,
+                          const std::optional<cv::Vec3b>& screenBgr, int nearPx) {
   if (bare.size() != dressed.size() || mask.size() != dressed.size())
     throw std::invalid_argument("formRemains: the frames and the mask differ in size");
   // A light blur against sensor noise; a wider one would spread a dark hem's contrast onto the
@@ -306,9 +317,7 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
   cv::Mat3b d, e;
   cv::GaussianBlur(dressed, d, cv::Size(3, 3), 0.8);
   cv::GaussianBlur(bare, e, cv::Size(3, 3), 0.8);
-  const cv::Mat3f labD = labOf(d), labE = labOf(e);
-  const auto distance = labDistance;
-  const cv::Mat1f dBare = distance(labD, labE);
+  const cv::Mat3f labD = labOf(d);
   const cv::Mat1f depth = depthInside(mask);
   const cv::Mat1b band = (depth <= static_cast<float>(bandPx)) & mask;
   // The garment's own look near each band pixel: the colour of the mask a few px in from its
@@ -329,51 +338,100 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
     garmentLook[c] = sums[c] / cv::max(wsum, 1e-6f);
   cv::Mat3f look;
   cv::merge(garmentLook, 3, look);
-  // Unblurred for this test: a two- or three-pixel sliver of form between a dark leg and the
-  // screen is closer to the bare frame than to the garment pixel by pixel, not after a blur.
-  const cv::Mat3f labRaw = labOf(dressed);
-  const cv::Mat1f dGarment = distance(labRaw, look);
-  const cv::Mat1f dBareRaw = distance(labRaw, labOf(bare));
-  // Near the bare frame counts only when nearer to it than to the garment: a fabric a shade off
-  // the form's colour is within the threshold of the bare frame at its edge too.
-  const cv::Mat1f dGarmentBlurred = distance(labD, look);
-  // Spill: the screen's light tints the form beside the garment in the dressed frame only (the
-  // form at the crotch, between a leg and the screen, reads 6-9 units off its bare self, greener,
-  // and less than 1 unit towards the pants' look). Such a pixel is form when, its shift towards
-  // the screen's colour taken out, it is within the threshold of the bare frame and moved less
-  // than half the threshold towards the garment (a mixed edge pixel moves along that direction).
-  // A print's light square near the form's colour is not tinted towards the screen, so it stays.
   const float t = static_cast<float>(maxDeltaE);
-  cv::Mat1b formSide = cv::Mat1b::zeros(dressed.size());
-  if (screenBgr) {
-    const cv::Vec3f screenLab = labOf(cv::Mat3b(1, 1, *screenBgr))(0, 0);
-    for (int y = 0; y < dressed.rows; ++y)
-      for (int x = 0; x < dressed.cols; ++x) {
-        const float db = dBare(y, x);
-        if (!(db < 2 * t && db >= t && db < dGarmentBlurred(y, x) && wsum(y, x) > 0.02f))
-          continue;
-        cv::Vec3f diff = labD(y, x) - labE(y, x);
-        const cv::Vec3f toScreen = screenLab - labE(y, x);
-        const float s2 = toScreen.dot(toScreen);
-        if (s2 > 1e-6f) {
-          const float k = diff.dot(toScreen) / s2;
-          if (k > 0)
-            diff -= k * toScreen;
-        }
-        const cv::Vec3f toGarment = look(y, x) - labE(y, x);
-        const float len = std::sqrt(toGarment.dot(toGarment));
-        const float towards = len > 1e-3f ? diff.dot(toGarment) / len : 0.0f;
-        if (std::sqrt(diff.dot(diff)) < t && towards < 0.5f * t)
-          formSide(y, x) = 255;
-      }
-  }
-  const cv::Mat1b nearBare =
-      ((dBare < t) & ((dBare < dGarmentBlurred) | (wsum <= 0.02f))) | formSide;
-  const cv::Mat1b same =
-      nearBare | ((dBareRaw < 0.5f * dGarment) & (dGarment > 2.0f * static_cast<float>(maxDeltaE)) &
-                  (wsum > 0.02f));
+  const cv::Vec3f screenLab =
+      screenBgr ? labOf(cv::Mat3b(1, 1, *screenBgr))(0, 0) : cv::Vec3f(0.f, 0.f, 0.f);
+  // The spill test of one pixel (below, where the whole crop is tested).
+  const auto spilledForm = [&](const cv::Vec3f& lD, const cv::Vec3f& lE, const cv::Vec3f& lk) {
+    cv::Vec3f diff = lD - lE;
+    const cv::Vec3f toScreen = screenLab - lE;
+    const float s2 = toScreen.dot(toScreen);
+    if (s2 > 1e-6f) {
+      const float k = diff.dot(toScreen) / s2;
+      if (k > 0)
+        diff -= k * toScreen;
+    }
+    const cv::Vec3f toGarment = lk - lE;
+    const float len = std::sqrt(toGarment.dot(toGarment));
+    const float towards = len > 1e-3f ? diff.dot(toGarment) / len : 0.0f;
+    return std::sqrt(diff.dot(diff)) < t && towards < 0.5f * t;
+  };
   const cv::Mat1b outside = mask == 0;
-  const cv::Mat1b candidate = same & (band | outside);
+  cv::Mat1b candidate;
+  if (nearPx >= 0) {
+    cv::Mat1b grown;
+    cv::dilate(mask, grown, cv::Mat(), cv::Point(-1, -1), nearPx);
+    const cv::Mat1b work = band | (outside & (grown > 0));
+    candidate = cv::Mat1b::zeros(mask.size());
+    // Tiles, so that the Lab conversions skip the garment's inside and the far outside.
+    constexpr int kTile = 64;
+    const cv::Rect frame(0, 0, mask.cols, mask.rows);
+    for (int ty = 0; ty < mask.rows; ty += kTile)
+      for (int tx = 0; tx < mask.cols; tx += kTile) {
+        const cv::Rect r = cv::Rect(tx, ty, kTile, kTile) & frame;
+        if (cv::countNonZero(work(r)) == 0)
+          continue;
+        const cv::Mat3f lRaw = labOf(dressed(r)), lBareRaw = labOf(bare(r)), lE = labOf(e(r));
+        for (int y = 0; y < r.height; ++y) {
+          const uchar* wk = work.ptr(r.y + y) + r.x;
+          const cv::Vec3f* lD = labD.ptr<cv::Vec3f>(r.y + y) + r.x;
+          const cv::Vec3f* lk = look.ptr<cv::Vec3f>(r.y + y) + r.x;
+          const float* ws = wsum.ptr<float>(r.y + y) + r.x;
+          uchar* out = candidate.ptr(r.y + y) + r.x;
+          for (int x = 0; x < r.width; ++x) {
+            if (!wk[x])
+              continue;
+            const float dB = labDist(lD[x], lE(y, x));
+            const float dGB = labDist(lD[x], lk[x]);
+            const float dG = labDist(lRaw(y, x), lk[x]);
+            const float dBR = labDist(lRaw(y, x), lBareRaw(y, x));
+            const bool formSide = screenBgr && dB < 2 * t && dB >= t && dB < dGB && ws[x] > 0.02f &&
+                                  spilledForm(lD[x], lE(y, x), lk[x]);
+            const bool nearBare = (dB < t && (dB < dGB || ws[x] <= 0.02f)) || formSide;
+            const bool same =
+                nearBare ||
+                (dBR < 0.5f * dG && dG > 2.0f * static_cast<float>(maxDeltaE) && ws[x] > 0.02f);
+            if (same)
+              out[x] = 255;
+          }
+        }
+      }
+  } else {
+    const cv::Mat3f labE = labOf(e);
+    const auto distance = labDistance;
+    const cv::Mat1f dBare = distance(labD, labE);
+    // Unblurred for this test: a two- or three-pixel sliver of form between a dark leg and the
+    // screen is closer to the bare frame than to the garment pixel by pixel, not after a blur.
+    const cv::Mat3f labRaw = labOf(dressed);
+    const cv::Mat1f dGarment = distance(labRaw, look);
+    const cv::Mat1f dBareRaw = distance(labRaw, labOf(bare));
+    // Near the bare frame counts only when nearer to it than to the garment: a fabric a shade off
+    // the form's colour is within the threshold of the bare frame at its edge too.
+    const cv::Mat1f dGarmentBlurred = distance(labD, look);
+    // Spill: the screen's light tints the form beside the garment in the dressed frame only (the
+    // form at the crotch, between a leg and the screen, reads 6-9 units off its bare self, greener,
+    // and less than 1 unit towards the pants' look). Such a pixel is form when, its shift towards
+    // the screen's colour taken out, it is within the threshold of the bare frame and moved less
+    // than half the threshold towards the garment (a mixed edge pixel moves along that direction).
+    // A print's light square near the form's colour is not tinted towards the screen, so it stays.
+    cv::Mat1b formSide = cv::Mat1b::zeros(dressed.size());
+    if (screenBgr) {
+      for (int y = 0; y < dressed.rows; ++y)
+        for (int x = 0; x < dressed.cols; ++x) {
+          const float db = dBare(y, x);
+          if (!(db < 2 * t && db >= t && db < dGarmentBlurred(y, x) && wsum(y, x) > 0.02f))
+            continue;
+          if (spilledForm(labD(y, x), labE(y, x), look(y, x)))
+            formSide(y, x) = 255;
+        }
+    }
+    const cv::Mat1b nearBare =
+        ((dBare < t) & ((dBare < dGarmentBlurred) | (wsum <= 0.02f))) | formSide;
+    const cv::Mat1b same =
+        nearBare | ((dBareRaw < 0.5f * dGarment) &
+                    (dGarment > 2.0f * static_cast<float>(maxDeltaE)) & (wsum > 0.02f));
+    candidate = same & (band | outside);
+  }
   cv::Mat1i labels;
   const int n = cv::connectedComponents(candidate, labels, 8, CV_32S);
   // A component is a remain when it reaches the outside of the mask: the bare frame's look
@@ -403,17 +461,55 @@ cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv:
   return cut;
 }
 
-void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screenBgr,
-                 double bandPx) {
+}  // namespace
+
+cv::Mat1b formRemains(const cv::Mat3b& dressed, const cv::Mat3b& bare, const cv::Mat1b& mask,
+                      double bandPx, double maxDeltaE, const std::optional<cv::Vec3b>& screenBgr) {
+  return formRemainsNear(dressed, bare, mask, bandPx, maxDeltaE, screenBgr, -1);
+}
+
+namespace {
+
+// despillEdge; with `nearOnly`, the Lab conversions only where they are read: the band and the
+// ring just deeper (tiles that hold any of them), and back to BGR only the changed pixels. The
+// conversions are per pixel, so the answer is the same; outside the ring the blur's weight is 0,
+// and only the sign of a zero there can differ. The whole inside's chroma (the fallback) is
+// taken only when a band pixel needs it, as before from the whole crop.
+void despillEdgeImpl(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screenBgr,
+                     double bandPx, bool nearOnly) {
   if (alpha.size() != bgr.size())
     throw std::invalid_argument("despillEdge: the alpha is not the frame's size");
   const cv::Mat1b covered = alpha > 0.0f;
   if (cv::countNonZero(covered) == 0 || bandPx <= 0)
     return;
   const cv::Mat1f depth = depthInside(covered);
-  const cv::Mat3f lab = labOf(bgr);
   std::vector<cv::Mat1f> ch;
-  cv::split(lab, ch);
+  if (!nearOnly) {
+    cv::split(labOf(bgr), ch);
+  } else {
+    ch = {cv::Mat1f(bgr.size()), cv::Mat1f::zeros(bgr.size()), cv::Mat1f::zeros(bgr.size())};
+    const cv::Mat1b used = (depth > 0.f) & (depth <= static_cast<float>(2.0 * bandPx));
+    constexpr int kTile = 64;
+    const cv::Rect frame(0, 0, bgr.cols, bgr.rows);
+    for (int ty = 0; ty < bgr.rows; ty += kTile)
+      for (int tx = 0; tx < bgr.cols; tx += kTile) {
+        const cv::Rect r = cv::Rect(tx, ty, kTile, kTile) & frame;
+        if (cv::countNonZero(used(r)) == 0)
+          continue;
+        const cv::Mat3f l = labOf(bgr(r));
+        for (int y = 0; y < r.height; ++y) {
+          const cv::Vec3f* in = l.ptr<cv::Vec3f>(y);
+          float* c0 = ch[0].ptr<float>(r.y + y) + r.x;
+          float* c1 = ch[1].ptr<float>(r.y + y) + r.x;
+          float* c2 = ch[2].ptr<float>(r.y + y) + r.x;
+          for (int x = 0; x < r.width; ++x) {
+            c0[x] = in[x][0];
+            c1[x] = in[x][1];
+            c2[x] = in[x][2];
+          }
+        }
+      }
+  }
   // The garment's inside chroma near each edge pixel: a wide blur of the chroma of the ring just
   // deeper than the band. Parts too narrow to have a ring (a strap) take the whole inside's.
   const cv::Mat1b ring =
@@ -424,27 +520,40 @@ void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screen
   std::vector<cv::Mat1f> sums;
   cv::Mat1f wsum;
   weightedBlur({ch[1], ch[2]}, w, 1.5 * bandPx, sums, wsum);
-  cv::Vec2f fallback;
-  if (cv::countNonZero(deep) > 0) {
-    fallback = cv::Vec2f(static_cast<float>(cv::mean(ch[1], deep)[0]),
-                         static_cast<float>(cv::mean(ch[2], deep)[0]));
-  } else {
-    // No inside at all: nothing to compare with but the screen; neutral is the safe guess.
-    fallback = cv::Vec2f(0.f, 0.f);
+  bool fallbackRead = !nearOnly;
+  for (int y = 0; y < bgr.rows && !fallbackRead; ++y) {
+    const float* dp = depth.ptr<float>(y);
+    const float* wsp = wsum.ptr<float>(y);
+    for (int x = 0; x < bgr.cols; ++x)
+      if (dp[x] > 0.f && dp[x] <= static_cast<float>(bandPx) && !(wsp[x] > 0.02f)) {
+        fallbackRead = true;
+        break;
+      }
   }
+  cv::Vec2f fallback(0.f, 0.f);
+  if (fallbackRead && cv::countNonZero(deep) > 0) {
+    std::vector<cv::Mat1f> all;
+    if (nearOnly)
+      cv::split(labOf(bgr), all);
+    const std::vector<cv::Mat1f>& c = nearOnly ? all : ch;
+    fallback = cv::Vec2f(static_cast<float>(cv::mean(c[1], deep)[0]),
+                         static_cast<float>(cv::mean(c[2], deep)[0]));
+  }
+  // (No inside at all: nothing to compare with but the screen; neutral is the safe guess.)
   cv::Mat3b screenPx(1, 1, screenBgr);
   const cv::Vec3f screenLab = labOf(screenPx)(0, 0);
   const cv::Vec2f screenAB(screenLab[1], screenLab[2]);
 
-  cv::Mat3f out = lab.clone();
-  cv::Mat1b changed = cv::Mat1b::zeros(bgr.size());
+  std::vector<cv::Point> at;
+  std::vector<cv::Vec3f> moved;
   for (int y = 0; y < bgr.rows; ++y) {
     const float* dp = depth.ptr<float>(y);
     const float* wsp = wsum.ptr<float>(y);
     const float* sa = sums[0].ptr<float>(y);
     const float* sb = sums[1].ptr<float>(y);
-    cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
-    uchar* c = changed.ptr(y);
+    const float* c0 = ch[0].ptr<float>(y);
+    const float* c1 = ch[1].ptr<float>(y);
+    const float* c2 = ch[2].ptr<float>(y);
     for (int x = 0; x < bgr.cols; ++x) {
       if (dp[x] <= 0.f || dp[x] > static_cast<float>(bandPx))
         continue;
@@ -454,16 +563,27 @@ void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screen
       if (len < 1e-3f)
         continue;
       u /= len;
-      const cv::Vec2f p(o[x][1], o[x][2]);
+      const cv::Vec2f p(c1[x], c2[x]);
       const float t = (p - ref).dot(u);
       if (t <= 0.f)
         continue;
-      o[x][1] -= t * u[0];
-      o[x][2] -= t * u[1];
-      c[x] = 255;
+      at.emplace_back(x, y);
+      moved.emplace_back(c0[x], c1[x] - t * u[0], c2[x] - t * u[1]);
     }
   }
-  bgrOf(out).copyTo(bgr, changed);
+  if (moved.empty())
+    return;
+  // Back to BGR, only the changed pixels (one row of them).
+  const cv::Mat3b back = bgrOf(cv::Mat3f(1, static_cast<int>(moved.size()), moved.data()));
+  for (std::size_t i = 0; i < at.size(); ++i)
+    bgr(at[i]) = back(0, static_cast<int>(i));
+}
+
+}  // namespace
+
+void despillEdge(cv::Mat3b& bgr, const cv::Mat1f& alpha, const cv::Vec3b& screenBgr,
+                 double bandPx) {
+  despillEdgeImpl(bgr, alpha, screenBgr, bandPx, false);
 }
 
 namespace {
@@ -575,19 +695,23 @@ ProductLayer productLayer(const cv::Mat3b& dressed, const cv::Mat1b& mask, const
     throw std::invalid_argument(
         "product image: the frame, the bare frame and the mask differ in size");
   const double s = options.pxPerCm;
-  cv::Mat1f alpha =
-      refinedAlpha(dressed, mask, std::max(2, static_cast<int>(std::lround(kGuideRadiusCm * s))));
+  const int guideR = std::max(2, static_cast<int>(std::lround(kGuideRadiusCm * s)));
+  cv::Mat1f alpha = refinedAlpha(dressed, mask, guideR);
   if (!bare.empty()) {
     // The cut covers the outside too: the guided filter's ramp reaches a few px beyond the mask,
     // and what of it still looks as the bare frame did is no garment either.
+    // The alpha is 0 beyond guideR of the mask (refinedAlpha's band), so the cut matters only
+    // that near; formRemainsNear keeps it exact 2 px less far than it tests.
     const cv::Mat1b cut =
-        formRemains(dressed, bare, mask, std::max(3.0, kFormBandCm * s), kFormDeltaE, screenBgr);
+        formRemainsNear(dressed, bare, mask, std::max(3.0, kFormBandCm * s), kFormDeltaE, screenBgr,
+                        options.wholeCropPasses ? -1 : guideR + 3);
     alpha.setTo(0.0f, cut);
   }
   cv::Mat3b colour = dressed.clone();
   if (!bare.empty())
     unmixEdge(colour, alpha, bare);
-  despillEdge(colour, alpha, screenBgr, std::max(3.0, kSpillBandCm * s));
+  despillEdgeImpl(colour, alpha, screenBgr, std::max(3.0, kSpillBandCm * s),
+                  !options.wholeCropPasses);
   return {colour, alpha};
 }
 

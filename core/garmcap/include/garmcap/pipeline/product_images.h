@@ -31,6 +31,10 @@ struct ProductImageOptions {
   // marketplaces that ask for a pure white background (RGB 255) refuse a main image with one,
   // and a theme that lays the photo on a tint shows its grey; docs/exports.md.
   bool shadow = false;
+  // productLayer: the form-remains test and the despill's Lab conversions over the whole crop,
+  // as before they were kept to the pixels near the outline (the same layer, slower); kept for
+  // the identity test (ProductPhotoRig.LayerNearTheOutlineEqualsTheWholeCropPasses).
+  bool wholeCropPasses = false;
 };
 
 /// BGRA cut-out of the whole frame: colour from `bgr`, alpha from `mask` (CV_8U, non-zero =
