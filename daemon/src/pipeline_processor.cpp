@@ -13,6 +13,7 @@
 #include <mutex>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/objdetect.hpp>
+#include <stdexcept>
 
 #include "garmcap/calib/registration.h"
 #include "garmcap/daemon/capture_processor.h"
@@ -487,9 +488,8 @@ bool isSkuText(const std::string& text) {
 #ifdef GARMCAP_HAVE_ZBAR
 // zbar reads QR codes and the 1-D codes of retail and in-house labels. Symbologies prone to
 // false reads in a busy frame (Interleaved 2 of 5, Codabar, DataBar) stay off.
-std::string decodeWithZbar(const cv::Mat& bgr, const cv::Mat& bare) {
+std::string decodeWithZbar(const cv::Mat& gray) {
   using namespace zbar;  // zbar.h puts its C API in namespace zbar when compiled as C++
-  const cv::Mat gray = hangTagScanImage(bgr, nullptr, bare);
   if (gray.empty())
     return "";
   std::unique_ptr<zbar_image_scanner_t, void (*)(zbar_image_scanner_t*)> scanner(
@@ -539,7 +539,7 @@ std::string decodeHangTagSku(const cv::Mat& bgr, const cv::Mat& bare) {
     return "";
 #ifdef GARMCAP_HAVE_ZBAR
   try {
-    return decodeWithZbar(bgr, bare);
+    return decodeWithZbar(hangTagScanImage(bgr, nullptr, bare));
   } catch (const std::exception& e) {
     spdlog::warn("sku: reading the hang tag failed: {}", e.what());
     return "";
@@ -554,6 +554,17 @@ std::string decodeHangTagSku(const cv::Mat& bgr, const cv::Mat& bare) {
     spdlog::warn("sku: QR detection failed: {}", e.what());
     return "";
   }
+#endif
+}
+
+std::string decodeSkuInGrey(const cv::Mat& grey) {
+#ifdef GARMCAP_HAVE_ZBAR
+  if (grey.type() != CV_8UC1)
+    throw std::invalid_argument("decodeSkuInGrey: the image is not 8-bit grey");
+  return decodeWithZbar(grey.isContinuous() ? grey : grey.clone());
+#else
+  (void)grey;
+  return "";
 #endif
 }
 

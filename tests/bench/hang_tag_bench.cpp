@@ -3,10 +3,6 @@
 // hangTagScanImage). Prints the median wall and CPU time of each, what each read, and the region
 // scanned. Usage: hang_tag_bench STILL.png [--bare BARE_FORM.png] [--reps N]. No assertions: the
 // reads are tested in tests/daemon/sku_barcode_test.cpp and sku_test.cpp.
-#ifdef GARMCAP_HAVE_ZBAR
-#include <zbar.h>
-#endif
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -28,30 +24,12 @@ double cpuMs() {
   return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
 }
 
-#ifdef GARMCAP_HAVE_ZBAR
-// The scan as it was: the whole frame, same symbologies, first SKU-like payload.
+// The scan as it was: zbar over the whole frame's grey.
 std::string wholeFrameScan(const cv::Mat& bgr) {
-  using namespace zbar;
-  cv::Mat gray;
-  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-  std::unique_ptr<zbar_image_scanner_t, void (*)(zbar_image_scanner_t*)> scanner(
-      zbar_image_scanner_create(), zbar_image_scanner_destroy);
-  std::unique_ptr<zbar_image_t, void (*)(zbar_image_t*)> image(zbar_image_create(),
-                                                               zbar_image_destroy);
-  zbar_image_scanner_set_config(scanner.get(), ZBAR_NONE, ZBAR_CFG_ENABLE, 0);
-  for (zbar_symbol_type_t t :
-       {ZBAR_QRCODE, ZBAR_EAN13, ZBAR_EAN8, ZBAR_UPCA, ZBAR_UPCE, ZBAR_CODE128, ZBAR_CODE39})
-    zbar_image_scanner_set_config(scanner.get(), t, ZBAR_CFG_ENABLE, 1);
-  zbar_image_set_format(image.get(), zbar_fourcc('Y', '8', '0', '0'));
-  zbar_image_set_size(image.get(), static_cast<unsigned>(gray.cols),
-                      static_cast<unsigned>(gray.rows));
-  zbar_image_set_data(image.get(), gray.data, gray.total(), nullptr);
-  if (zbar_scan_image(scanner.get(), image.get()) <= 0)
-    return "";
-  const zbar_symbol_t* sym = zbar_image_first_symbol(image.get());
-  return sym ? zbar_symbol_get_data(sym) : "";
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  return garmcap::daemon::decodeSkuInGrey(grey);
 }
-#endif
 
 template <class F>
 void timeIt(const char* name, int reps, F&& f) {

@@ -19,10 +19,6 @@
 
 #include "garmcap/daemon/capture_processor.h"
 
-#ifdef GARMCAP_HAVE_ZBAR
-#include <zbar.h>
-#endif
-
 namespace garmcap::daemon {
 namespace {
 
@@ -332,30 +328,9 @@ cv::Mat code128Symbol(const std::string& sku, double modulePx) {
 /// What zbar reads on the whole frame in grey, as decodeHangTagSku scanned before issue 16 (same
 /// symbologies): the reference a scan of less than the frame must match.
 std::string wholeFrameZbar(const cv::Mat& bgr) {
-#ifdef GARMCAP_HAVE_ZBAR
-  using namespace zbar;
-  cv::Mat gray;
-  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-  std::unique_ptr<zbar_image_scanner_t, void (*)(zbar_image_scanner_t*)> scanner(
-      zbar_image_scanner_create(), zbar_image_scanner_destroy);
-  std::unique_ptr<zbar_image_t, void (*)(zbar_image_t*)> image(zbar_image_create(),
-                                                               zbar_image_destroy);
-  zbar_image_scanner_set_config(scanner.get(), ZBAR_NONE, ZBAR_CFG_ENABLE, 0);
-  for (zbar_symbol_type_t t :
-       {ZBAR_QRCODE, ZBAR_EAN13, ZBAR_EAN8, ZBAR_UPCA, ZBAR_UPCE, ZBAR_CODE128, ZBAR_CODE39})
-    zbar_image_scanner_set_config(scanner.get(), t, ZBAR_CFG_ENABLE, 1);
-  zbar_image_set_format(image.get(), zbar_fourcc('Y', '8', '0', '0'));
-  zbar_image_set_size(image.get(), static_cast<unsigned>(gray.cols),
-                      static_cast<unsigned>(gray.rows));
-  zbar_image_set_data(image.get(), gray.data, gray.total(), nullptr);
-  if (zbar_scan_image(scanner.get(), image.get()) <= 0)
-    return "";
-  const zbar_symbol_t* sym = zbar_image_first_symbol(image.get());
-  return sym ? zbar_symbol_get_data(sym) : "";
-#else
-  (void)bgr;
-  return "";
-#endif
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  return decodeSkuInGrey(grey);
 }
 
 cv::Mat shoot(const cv::Mat& symbol, const Shot& shot) {

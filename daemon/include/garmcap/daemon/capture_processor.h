@@ -99,6 +99,10 @@ std::string decodeHangTagSku(const cv::Mat& bgr, const cv::Mat& bare = {});
 /// form, its arms and legs. The crop is at least 1048 px a side (or the frame), as zbar's QR
 /// reading depends on the image's size below that.
 cv::Mat hangTagScanImage(const cv::Mat& bgr, cv::Rect* region = nullptr, const cv::Mat& bare = {});
+/// zbar over exactly `grey` (8-bit, one channel), the SKU chosen as decodeHangTagSku chooses it;
+/// "" without zbar. On the whole frame's grey it is the scan as it was before hangTagScanImage,
+/// the reference the tests and the bench hold the region's scan to.
+std::string decodeSkuInGrey(const cv::Mat& grey);
 /// "zbar" or "opencv": what decodeHangTagSku reads with in this build.
 std::string hangTagDecoder();
 
