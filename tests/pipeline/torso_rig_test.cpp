@@ -26,18 +26,22 @@ namespace {
 
 constexpr double kMaxErrorCm = 3.0;  // issue 15's max abs error per measurement
 
+// The body both tests cut their torso form from (bust 85: korean_women 55).
+drafts::Measurements torsoBody() {
+  return drafts::Measurements({{"height", 171},
+                               {"bust_circ", 85},
+                               {"waist_circ", 65},
+                               {"hip_circ", 90},
+                               {"neck_back_to_waist_b", 39},
+                               {"waist_to_hip_b", 19}});
+}
+
 fs::path makeTorsoRig() {
   const fs::path dir =
       fs::temp_directory_path() / ("garmcap_torso_rig_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir / "form");
-  drafts::Measurements body({{"height", 171},
-                             {"bust_circ", 85},
-                             {"waist_circ", 65},
-                             {"hip_circ", 90},
-                             {"neck_back_to_waist_b", 39},
-                             {"waist_to_hip_b", 19}});
-  const sim::ParametricForm pf(body, sim::FormKind::kTorso);
+  const sim::ParametricForm pf(torsoBody(), sim::FormKind::kTorso);
   calib::writeObj(dir / "form" / "torso.obj", pf.mesh(), "torso form");
   calib::writeFormSidecar(dir / "form" / "torso.json", pf.sidecar("torso.obj"));
   const auto form = calib::FormModel::load(dir / "form" / "torso.json");
@@ -108,13 +112,7 @@ TEST(TorsoRig, RegisteredFromTheBareFrameAndMeasured) {
 // The drafts' body on a torso form: its girths are the form's, its stature the size chart's (the
 // mesh's height is the stand's, floor to neck cap, 20 cm short of the body's).
 TEST(TorsoRig, DraftBodyTakesTheChartsStatureNotTheStands) {
-  drafts::Measurements body({{"height", 171},
-                             {"bust_circ", 85},
-                             {"waist_circ", 65},
-                             {"hip_circ", 90},
-                             {"neck_back_to_waist_b", 39},
-                             {"waist_to_hip_b", 19}});
-  const sim::ParametricForm pf(body, sim::FormKind::kTorso);
+  const sim::ParametricForm pf(torsoBody(), sim::FormKind::kTorso);
   const calib::FormModel form(pf.mesh(), calib::FormSidecar{});
   ASSERT_TRUE(form.isTorsoForm());
   const drafts::SizeChart& chart = drafts::sizeChart(pipeline::kDefaultSizeChart);
