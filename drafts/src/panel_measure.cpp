@@ -299,21 +299,24 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
   Measurer m(pattern);
   std::map<std::string, double> out;
   const std::string& t = pattern.type;
-  const bool top = t == "bodice" || t == "dress" || t == "blouse" || t == "sweater";
+  const bool top =
+      t == "bodice" || t == "dress" || t == "blouse" || t == "sweater" || t == "dress_shift";
+  // Pieces cut from the shoulder to the hem in one (no waist seam).
+  const bool onePiece = t == "sweater" || t == "dress_shift";
   const bool skirtTop = t == "skirt_h" || t == "skirt_a" || t == "dress";
   // Bust and waist.
   if (top) {
     out["bust_circ"] = m.girth("level_bust", true);
-    if (t == "blouse")
+    if (t == "blouse" || t == "dress_shift")
       out["waist_circ"] = m.girth("level_waist", true);
     else if (t != "sweater")
       out["waist_circ"] = m.girth("level_waist", false, "bodice");
-    const std::string back = t == "sweater" ? "body_back" : "bodice_back";
+    const std::string back = onePiece ? "body_back" : "bodice_back";
     const Panel& pb = m.needPanel(back);
     out["neck_back_to_waist_b"] =
         std::abs(m.point("level_waist").y() -
                  pb.outline[static_cast<std::size_t>(m.vertex(pb, "neck_back_cb"))].y());
-    const std::string front = t == "sweater" ? "body_front" : "bodice_front";
+    const std::string front = onePiece ? "body_front" : "bodice_front";
     const double fah = m.along(front, "shoulder_tip_front", "bust_side");
     const double bah = m.along(back, "shoulder_tip_back", "bust_side");
     out["armhole_front"] = fah;
@@ -391,6 +394,13 @@ std::map<std::string, double> measurePattern(const Pattern& pattern) {
   // The hem of the body of a sweater (no darts, cut on the fold at CB and CF).
   if (t == "sweater")
     out["hem_circ"] = m.hem({"body_back", "body_front"}, true);
+  // A shift dress: its skirt length from the waist level to the hem at CF, as a dress's.
+  if (t == "dress_shift") {
+    const Panel& f = m.needPanel("body_front");
+    out["skirt_length"] = std::abs(f.outline[static_cast<std::size_t>(m.vertex(f, "hem_cf"))].y() -
+                                   m.point("level_waist").y());
+    out["hem_circ"] = m.hem({"body_back", "body_front"}, true);
+  }
   // Sleeve.
   if (const Panel* s = m.panel("sleeve")) {
     const Point2 topV = s->outline[static_cast<std::size_t>(m.vertex(*s, "sleeve_cap_top"))];

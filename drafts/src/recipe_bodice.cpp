@@ -241,7 +241,9 @@ BodiceDraft draftBodiceBlock(DraftBuilder& b, double B, double W, double WBL,
 
   // 19. Waist darts, % of the total suppression.
   const DartWidths widths = dartWidths(dTot);
-  b.require(widths.a > 0.3 * 0.14 * dTot && widths.e > 0.3 * 0.18 * dTot,
+  // A garment wider at the waist than at the bust (a shift, no waist darts) has no darts to
+  // lose; its dart specs then only place the fish-eye darts.
+  b.require(dTot <= 0 || (widths.a > 0.3 * 0.14 * dTot && widths.e > 0.3 * 0.18 * dTot),
             "the side seam cannot take " + std::to_string(extra) +
                 " cm more of the waist suppression (the waist darts would vanish)");
   const double a = widths.a, bb = widths.b, c = widths.c, dd = widths.d, e = widths.e, f = widths.f;

@@ -23,11 +23,13 @@ SleeveOptions sleeveFor(DraftBuilder& b, const BodiceDraft& d, double capFactor)
   return o;
 }
 
-void addSleeveTo(DraftBuilder& b, const BodiceDraft& d, double capFactor) {
+void addSleeveTo(DraftBuilder& b, const BodiceDraft& d, double capFactor,
+                 const std::string& back = "bodice_back",
+                 const std::string& front = "bodice_front") {
   if (b.design("sleeve_length") <= 0)
     return;  // sleeveless
   const SleeveDraft s = draftSleeve(b, sleeveFor(b, d, capFactor));
-  addSleevePanel(b, s, "bodice_back", d.spB, d.side, "bodice_front", d.spF, d.side);
+  addSleevePanel(b, s, back, d.spB, d.side, front, d.spF, d.side);
 }
 
 // The dress's skirt under the bodice `d`: the hip from the body, the waist the bodice's sewn
@@ -156,6 +158,87 @@ void recipeDress(DraftBuilder& b) {
   addSleeveTo(b, d, 1.0);
 }
 
+namespace {
+
+// A bodice block without waist darts carried on below the waist to a hem, as one back and one
+// front piece (the blouse and the shift dress). The side seam runs from the underarm point
+// through `sideBack` / `sideFront` (waist, hip, hem side points); fish-eye darts of `dart` cm
+// (none when 0) take part of the waist suppression, front under the bust point, back at the
+// back-width line. `hemBack` runs CB hem -> side, `hemFront` side -> CF hem.
+struct LongBodice {
+  std::string backName, frontName;          // panel ids
+  std::string sideBackName, sideFrontName;  // draft contours of the side seams
+  Polyline sideBack, sideFront;             // waist side point ... hem side point
+  Polyline hemBack, hemFront;
+  double yHem = 0, dart = 0, lowApex = 0;
+};
+
+void addLongBodicePanels(DraftBuilder& b, const BodiceDraft& d, const LongBodice& l) {
+  const Point2 cbHem = l.hemBack.front(), cfHem = l.hemFront.back();
+  const Point2 hemB = l.sideBack.back(), hemF = l.sideFront.back();
+  auto fishEye = [&](const std::string& name, double x, double topY) {
+    DraftLine line{"dart:" + name,
+                   Polyline{Point2(x, topY), Point2(x + l.dart / 2, d.wbl), Point2(x, l.lowApex),
+                            Point2(x - l.dart / 2, d.wbl), Point2(x, topY)},
+                   false};
+    b.contour("dart_" + name, line.points);
+    return line;
+  };
+  std::vector<DraftLine> backDarts, frontDarts;
+  if (l.dart > 0) {
+    // The back dart stops at the bust level so that the bust keeps all of ease_bust.
+    backDarts.push_back(fishEye("back_waist", d.backDarts[1].x, d.yS));
+    frontDarts.push_back(fishEye("front_waist", d.bp.x(), std::max(d.bp.y() + 2.5, d.yS)));
+  }
+  Polyline sideB{d.side}, sideF{d.side};
+  append(sideB, l.sideBack);
+  append(sideF, l.sideFront);
+  b.contour(l.sideBackName, sideB);
+  b.contour(l.sideFrontName, sideF);
+  b.contour("hem_back", l.hemBack);
+  b.contour("hem_front", l.hemFront);
+  b.contour("centre_back", Polyline{d.cbNeck, cbHem});
+  b.contour("centre_front", Polyline{d.fnp, cfHem});
+
+  Pattern& p = b.pattern();
+  Polyline back;
+  append(back, d.backNeck);
+  append(back, Polyline{d.shoulderDart.leg1, d.shoulderDart.apex, d.shoulderDart.leg2, d.spB});
+  append(back, d.backArmhole);
+  append(back, l.sideBack);
+  append(back, reversed(l.hemBack));
+  Panel pb = makePanel(l.backName, back);
+  pb.darts.push_back(d.shoulderDart);
+  for (const auto& dl : backDarts)
+    pb.internalLines.push_back(dl);
+  pb.grainline = grainline(Point2(4, 4), Point2(4, l.yHem - 3));
+  pb.cutOnFold = true;
+  addDoubleNotch(pb, "armhole_back", d.backArmhole, polylineLength(d.backArmhole) - 8);
+  Polyline front;
+  append(front, d.fnp);
+  append(front, reversed(d.frontNeck));
+  append(front, d.spF);
+  append(front, d.frontArmholeUpper);
+  append(front, d.bp);
+  append(front, d.frontArmholeLower);
+  append(front, l.sideFront);
+  append(front, l.hemFront);
+  Panel pf = makePanel(l.frontName, front);
+  pf.darts.push_back(Dart{"bust", d.bp, d.g2, d.g});
+  for (const auto& dl : frontDarts)
+    pf.internalLines.push_back(dl);
+  pf.grainline = grainline(Point2(d.bw - 4, d.fnp.y() + 3), Point2(d.bw - 4, l.yHem - 3));
+  pf.cutOnFold = true;
+  pf.notches.push_back(Notch{
+      "armhole_front", pointAlong(d.frontArmholeLower, polylineLength(d.frontArmholeLower) - 7)});
+  addPanelWithRegion(p, pb);
+  addPanelWithRegion(p, pf);
+  addSeam(p, "shoulder", l.backName, d.snpB, d.spB, l.frontName, d.snpF, d.spF);
+  addSeam(p, "side", l.backName, d.side, hemB, l.frontName, d.side, hemF);
+}
+
+}  // namespace
+
 void recipeBlouse(DraftBuilder& b) {
   BodiceOptions o;
   o.easeBust = b.design("ease_bust");
@@ -193,58 +276,80 @@ void recipeBlouse(DraftBuilder& b) {
   const Point2 cbHem = b.point("hem_cb", Point2(0, yHem));
   const Point2 cfHem = b.point("hem_cf", Point2(d.bw, yHem));
   b.require(yHem > wbl + 3, "blouse_length must reach at least 3 cm below the waist");
-  const double lowApex = wbl + std::min(0.6 * hl, yHem - wbl - 2);
-  auto fishEye = [&](const std::string& name, double x, double topY) {
-    DraftLine l{"dart:" + name,
-                Polyline{Point2(x, topY), Point2(x + dart / 2, wbl), Point2(x, lowApex),
-                         Point2(x - dart / 2, wbl), Point2(x, topY)},
-                false};
-    b.contour("dart_" + name, l.points);
-    return l;
-  };
-  const double backX = d.backDarts[1].x;  // under the back-width line (Bunka dart d)
-  // The back dart stops at the bust level so that the bust keeps all of ease_bust.
-  const DraftLine dartBack = fishEye("back_waist", backX, d.yS);
-  const DraftLine dartFront = fishEye("front_waist", d.bp.x(), std::max(d.bp.y() + 2.5, d.yS));
-  b.contour("side_back_blouse", Polyline{d.side, wsB, hemB});
-  b.contour("side_front_blouse", Polyline{d.side, wsF, hemF});
-  b.contour("hem_back", Polyline{cbHem, hemB});
-  b.contour("hem_front", Polyline{hemF, cfHem});
-  b.contour("centre_back", Polyline{d.cbNeck, cbHem});
-  b.contour("centre_front", Polyline{d.fnp, cfHem});
-
-  Pattern& p = b.pattern();
-  Polyline back;
-  append(back, d.backNeck);
-  append(back, Polyline{d.shoulderDart.leg1, d.shoulderDart.apex, d.shoulderDart.leg2, d.spB});
-  append(back, d.backArmhole);
-  append(back, Polyline{wsB, hemB, cbHem});
-  Panel pb = makePanel("bodice_back", back);
-  pb.darts.push_back(d.shoulderDart);
-  pb.internalLines.push_back(dartBack);
-  pb.grainline = grainline(Point2(4, 4), Point2(4, yHem - 3));
-  pb.cutOnFold = true;
-  addDoubleNotch(pb, "armhole_back", d.backArmhole, polylineLength(d.backArmhole) - 8);
-  Polyline front;
-  append(front, d.fnp);
-  append(front, reversed(d.frontNeck));
-  append(front, d.spF);
-  append(front, d.frontArmholeUpper);
-  append(front, d.bp);
-  append(front, d.frontArmholeLower);
-  append(front, Polyline{wsF, hemF, cfHem});
-  Panel pf = makePanel("bodice_front", front);
-  pf.darts.push_back(Dart{"bust", d.bp, d.g2, d.g});
-  pf.internalLines.push_back(dartFront);
-  pf.grainline = grainline(Point2(d.bw - 4, d.fnp.y() + 3), Point2(d.bw - 4, yHem - 3));
-  pf.cutOnFold = true;
-  pf.notches.push_back(Notch{
-      "armhole_front", pointAlong(d.frontArmholeLower, polylineLength(d.frontArmholeLower) - 7)});
-  addPanelWithRegion(p, pb);
-  addPanelWithRegion(p, pf);
-  addSeam(p, "shoulder", "bodice_back", d.snpB, d.spB, "bodice_front", d.snpF, d.spF);
-  addSeam(p, "side", "bodice_back", d.side, hemB, "bodice_front", d.side, hemF);
+  LongBodice l;
+  l.backName = "bodice_back";
+  l.frontName = "bodice_front";
+  l.sideBackName = "side_back_blouse";
+  l.sideFrontName = "side_front_blouse";
+  l.sideBack = Polyline{wsB, hemB};
+  l.sideFront = Polyline{wsF, hemF};
+  l.hemBack = Polyline{cbHem, hemB};
+  l.hemFront = Polyline{hemF, cfHem};
+  l.yHem = yHem;
+  l.dart = dart;
+  l.lowApex = wbl + std::min(0.6 * hl, yHem - wbl - 2);
+  addLongBodicePanels(b, d, l);
   addSleeveTo(b, d, 0.85);
+}
+
+// Shift dress (research/drafting_blocks.md §1.1 bodice, §2.2 flare): one back and one front
+// piece from the shoulder to the hem, no waist seam and no waist darts in the bodice block; the
+// waist is shaped (or not) at the side seam and by fish-eye darts only where the garment takes
+// in at least 1 cm there. The side runs underarm -> waist -> hip, then turns about the hip
+// point by the hem flare, as the A-line skirt's does, so the hip girth is kept. It drafts the
+// dresses the darted one-piece dress cannot: a garment whose waist is about as wide as its bust.
+void recipeDressShift(DraftBuilder& b) {
+  BodiceOptions o;
+  o.easeBust = b.design("ease_bust");
+  o.easeWaist = b.design("ease_waist");
+  o.bustpointToBustpoint = b.measurement("bustpoint_to_bustpoint");
+  o.shoulderTipToTip = b.measurement("shoulder_tip_to_shoulder_tip_b");
+  o.waistDarts = false;
+  const double B = b.measurement("bust_circ"), W = b.measurement("waist_circ");
+  const double H = b.measurement("hip_circ"), hl = b.measurement("waist_to_hip_b");
+  const BodiceDraft d = draftBodiceBlock(b, B, W, b.measurement("neck_back_to_waist_b"), o);
+  const double wbl = d.wbl, yHip = wbl + hl, yHem = wbl + b.design("skirt_length");
+  b.require(yHem >= yHip + 5, "skirt_length = " + std::to_string(b.design("skirt_length")) +
+                                  " cm ends above the hip (waist_to_hip_b + 5 cm): a dress that "
+                                  "short is drafted as a top");
+  b.point("level_hip", Point2(0, yHip));
+  b.construction("hip_line", Point2(0, yHip), Point2(d.bw, yHip));
+  b.construction("hem_line", Point2(0, yHem), Point2(d.bw, yHem));
+  b.construction("centre_back_extension", Point2(0, wbl), Point2(0, yHem));
+  // Waist: a quarter of the suppression in each fish-eye dart when that is at least 0.5 cm,
+  // the rest at the side (negative: the side stands out at the waist).
+  const double dTot = d.bw - (W + o.easeWaist) / 2;
+  const double dart = 0.25 * dTot >= 0.5 ? 0.25 * dTot : 0.0;
+  const double cw = (dTot - 2 * dart) / 2;
+  const double delta = ((H + b.design("ease_hip")) / 2 - d.bw) / 2;
+  const Point2 wsB = b.point("waist_side_back", Point2(d.side.x() - cw, wbl));
+  const Point2 wsF = b.point("waist_side_front", Point2(d.side.x() + cw, wbl));
+  const Point2 hipB = b.point("hip_side_back", Point2(d.side.x() + delta, yHip));
+  const Point2 hipF = b.point("hip_side_front", Point2(d.side.x() - delta, yHip));
+  b.require(hipF.x() > d.bp.x() - d.bw / 2 && hipB.x() > 2,
+            "hip_circ + ease_hip does not fit the bodice for a shift dress");
+  const double theta = radToDeg(std::atan2(b.design("hem_flare"), yHem - yHip));
+  const Point2 hemB = b.point("hem_side_back", rotateAbout(Point2(hipB.x(), yHem), hipB, -theta));
+  const Point2 hemF = b.point("hem_side_front", rotateAbout(Point2(hipF.x(), yHem), hipF, theta));
+  const Point2 cbHem = b.point("hem_cb", Point2(0, yHem));
+  const Point2 cfHem = b.point("hem_cf", Point2(d.bw, yHem));
+  // The hem meets CB and CF square and each side seam square (a flared hem curves up at the
+  // side, as the A-line skirt's).
+  const Point2 dB = (hemB - hipB).normalized(), dF = (hemF - hipF).normalized();
+  LongBodice l;
+  l.backName = "body_back";
+  l.frontName = "body_front";
+  l.sideBackName = "side_back";
+  l.sideFrontName = "side_front";
+  l.sideBack = Polyline{wsB, hipB, hemB};
+  l.sideFront = Polyline{wsF, hipF, hemF};
+  l.hemBack = curve({{cbHem, Point2(1, 0)}, {hemB, Point2(dB.y(), -dB.x())}}, kHemCount);
+  l.hemFront = curve({{hemF, Point2(dF.y(), -dF.x())}, {cfHem, Point2(1, 0)}}, kHemCount);
+  l.yHem = yHem;
+  l.dart = dart;
+  l.lowApex = wbl + 0.6 * hl;
+  addLongBodicePanels(b, d, l);
+  addSleeveTo(b, d, 1.0, "body_back", "body_front");
 }
 
 void recipeSkirtHighWaist(DraftBuilder& b) {

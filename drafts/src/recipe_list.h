@@ -13,6 +13,7 @@ void recipeSkirtHighWaist(DraftBuilder& b);
 void recipePants(DraftBuilder& b);
 void recipeSleeve(DraftBuilder& b);
 void recipeBlouse(DraftBuilder& b);
+void recipeDressShift(DraftBuilder& b);
 void recipeSweater(DraftBuilder& b);
 
 /// Common last step: seam allowance on every panel, checks that every outline and region is

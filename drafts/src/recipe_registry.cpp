@@ -77,6 +77,23 @@ std::vector<GarmentTypeInfo> buildTypes() {
     d.design.push_back(seamAllowance());
     t.push_back(d);
   }
+  {
+    // Ease defaults: a shift's waist is about its bust (the body's waist plus the bust-waist
+    // difference), its hip a little over the body's.
+    GarmentTypeInfo d{"dress_shift",
+                      "Shift dress: one back and one front piece from the shoulder to the hem, "
+                      "no waist seam, bust dart, the waist shaped at the side seam (fish-eye "
+                      "darts when it takes in), A-line flare at the side below the hip",
+                      {"bust_circ", "waist_circ", "hip_circ", "neck_back_to_waist_b",
+                       "waist_to_hip_b", "bustpoint_to_bustpoint", "shoulder_tip_to_shoulder_tip_b",
+                       "arm_shoulder_tip_to_wrist", "arm_wrist_circ"},
+                      {easeBust(10, 4, 30), easeWaist(24, 0, 60), easeHip(6, 0, 40),
+                       skirtLength(50), hemFlare(0, -3, 25)}};
+    for (auto& p : sleeveParams(3, 0.3, 0, 8))
+      d.design.push_back(p);
+    d.design.push_back(seamAllowance());
+    t.push_back(d);
+  }
   t.push_back({"skirt_h",
                "Straight (H-line) skirt block: back and front, two darts each, side seam "
                "straight below the hip",
@@ -288,6 +305,8 @@ Pattern draftGarment(const std::string& type, const Measurements& body,
     detail::recipeBodice(b);
   else if (type == "dress")
     detail::recipeDress(b);
+  else if (type == "dress_shift")
+    detail::recipeDressShift(b);
   else if (type == "skirt_h" || type == "skirt_a")
     detail::recipeSkirt(b);
   else if (type == "skirt_high_waist")

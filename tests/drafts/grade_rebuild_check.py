@@ -23,7 +23,7 @@ from pathlib import Path
 import ezdxf
 
 TOL_MM = 0.6  # the writer's 0.5 mm, plus the files' 0.001 mm rounding
-TYPES = ["bodice", "dress", "skirt_a", "skirt_h", "skirt_high_waist", "pants", "blouse", "sweater"]
+TYPES = ["bodice", "dress", "dress_shift", "skirt_a", "skirt_h", "skirt_high_waist", "pants", "blouse", "sweater"]
 
 
 def read_rul(path):

@@ -115,7 +115,9 @@ std::optional<std::string> garmentTypeOfRecipe(const std::string& recipe) {
     return "top";
   if (recipe == "skirt_a" || recipe == "skirt_h" || recipe == "skirt_high_waist")
     return "skirt";
-  if (recipe == "dress" || recipe == "pants")
+  if (recipe == "dress" || recipe == "dress_shift")
+    return "dress";
+  if (recipe == "pants")
     return recipe;
   return std::nullopt;
 }
