@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "garmcap/drafts/recipes.h"
@@ -13,6 +14,28 @@ std::string fmt(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f", v);
   return buf;
+}
+
+// A dress whose waist takes in less than this from its bust is drafted as a shift (no waist
+// seam): the darted one-piece dress spreads (bust - waist) / 2 over six Bunka darts, the smallest
+// (7 %) then under 0.2 cm and the largest (35 %) about 1 cm, and it refuses a waist that does not
+// stay 2 cm under the bust at all (docs/drafts.md, "Shift dress").
+constexpr double kShiftMaxWaistSuppressionCm = 6.0;
+
+// Bunka's bust ease, the darted dress's default: a dress whose bust was not read is taken to have
+// it over the form's bust.
+constexpr double kDressDefaultBustEaseCm = 12.0;
+
+bool isShift(const std::map<std::string, double>& g, const drafts::Measurements& body) {
+  const auto bust = g.find("bust_circ"), waist = g.find("waist_circ");
+  if (waist == g.end())
+    return false;
+  std::optional<double> b;
+  if (bust != g.end())
+    b = bust->second;
+  else if (body.has("bust_circ"))
+    b = body.get("bust_circ") + kDressDefaultBustEaseCm;
+  return b && *b - waist->second < kShiftMaxWaistSuppressionCm;
 }
 
 }  // namespace
@@ -29,7 +52,7 @@ DraftChoice chooseDraft(const std::string& type,
   if (type == "top")
     c.recipe = "blouse";
   else if (type == "dress")
-    c.recipe = "dress";
+    c.recipe = isShift(g, body) ? "dress_shift" : "dress";
   else if (type == "skirt")
     c.recipe = attr("skirt") == "a_line" ? "skirt_a" : "skirt_h";
   else if (type == "pants")
@@ -58,6 +81,8 @@ DraftChoice chooseDraft(const std::string& type,
   }
   if (has("sleeve_length") && body.has("arm_shoulder_tip_to_wrist"))
     c.design["sleeve_length"] = g.at("sleeve_length") / body.get("arm_shoulder_tip_to_wrist");
+  else if (attr("sleeve") == "none")
+    c.design["sleeve_length"] = 0.0;  // a torso form has no arm to read a length on
   if (type == "pants") {
     if (has("outseam") && body.has("leg_waist_side_to_floor"))
       c.design["pants_length"] = g.at("outseam") / body.get("leg_waist_side_to_floor");
