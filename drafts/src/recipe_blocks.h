@@ -52,6 +52,10 @@ struct BodiceDraft {
 BodiceDraft draftBodiceBlock(DraftBuilder& b, double bust, double waist, double wbl,
                              const BodiceOptions& o);
 
+/// The front piece's outline from the CF neck point to the underarm point: neck, shoulder,
+/// armhole with the bust dart open (legs at g2 and g, apex at the bust point).
+Polyline frontAboveSide(const BodiceDraft& d);
+
 /// Sewn waist length of the bodice back / front piece (darts closed).
 double bodiceWaistBack(const BodiceDraft& d);
 double bodiceWaistFront(const BodiceDraft& d);

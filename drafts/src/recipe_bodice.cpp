@@ -297,6 +297,17 @@ LineWithDarts waistWithDarts(DraftBuilder& b, const Point2& from, const Point2& 
 
 }  // namespace
 
+Polyline frontAboveSide(const BodiceDraft& d) {
+  Polyline front;
+  append(front, d.fnp);
+  append(front, reversed(d.frontNeck));
+  append(front, d.spF);
+  append(front, d.frontArmholeUpper);
+  append(front, d.bp);
+  append(front, d.frontArmholeLower);
+  return front;
+}
+
 double bodiceWaistBack(const BodiceDraft& d) {
   double w = d.sideWaistBack.x() - d.cbWaist.x();
   for (const auto& x : d.backDarts)
@@ -339,13 +350,7 @@ void addBodicePanels(DraftBuilder& b, const BodiceDraft& d) {
   b.contour("centre_back", Polyline{d.cbNeck, d.cbBust, d.cbWaist});
 
   const auto frontWaist = waistWithDarts(b, d.sideWaistFront, d.cfWaist, d.frontDarts);
-  Polyline front;
-  append(front, d.fnp);
-  append(front, reversed(d.frontNeck));
-  append(front, d.spF);
-  append(front, d.frontArmholeUpper);
-  append(front, d.bp);
-  append(front, d.frontArmholeLower);
+  Polyline front = frontAboveSide(d);
   append(front, frontWaist.points);
   Panel pf = makePanel("bodice_front", front);
   pf.darts.push_back(Dart{"bust", d.bp, d.g2, d.g});

@@ -214,13 +214,7 @@ void addLongBodicePanels(DraftBuilder& b, const BodiceDraft& d, const LongBodice
   pb.grainline = grainline(Point2(4, 4), Point2(4, l.yHem - 3));
   pb.cutOnFold = true;
   addDoubleNotch(pb, "armhole_back", d.backArmhole, polylineLength(d.backArmhole) - 8);
-  Polyline front;
-  append(front, d.fnp);
-  append(front, reversed(d.frontNeck));
-  append(front, d.spF);
-  append(front, d.frontArmholeUpper);
-  append(front, d.bp);
-  append(front, d.frontArmholeLower);
+  Polyline front = frontAboveSide(d);
   append(front, l.sideFront);
   append(front, l.hemFront);
   Panel pf = makePanel(l.frontName, front);
