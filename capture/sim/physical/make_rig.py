@@ -481,8 +481,28 @@ def _largest_island(bm):
     return best
 
 
-def make_garment(form, kind, style, rng):
-    """The garment's starting mesh (cm): a Piece plus a description for truth.json."""
+def settle_alone(v, f, preset, frames):
+    """Vertices (cm) of a cloth piece settled alone on the scene's collider for `frames` frames
+    (no pins: it rests where the form holds it up)."""
+    ob = mesh_object("settle", v, f)
+    add_cloth(ob, preset, frames)
+    scene = bpy.context.scene
+    for fr in range(1, frames + 1):
+        scene.frame_set(fr)
+    out, _ = evaluated_mesh(ob)
+    bpy.data.objects.remove(ob)
+    scene.frame_set(1)
+    if len(out) != len(v):
+        raise RuntimeError("cloth changed the bodice's vertex count")
+    return out
+
+
+def make_garment(form, kind, style, rng, settle_frames=0):
+    """The garment's starting mesh (cm): a Piece plus a description for truth.json.
+
+    With `settle_frames` (torso forms), a dress's bodice is first settled alone and the skirt's
+    waist seam placed on the settled bodice; the piece then carries `start`, the positions the
+    cloth starts from (the bodice as settled), while `v` stays the cut bodice, its rest shape."""
     piece = gm.Piece()
     desc = {"kind": kind, "style": dict(style)}
     fabric = "knit" if (kind == "top" and rng.random() < 0.5) else ("knit" if rng.random() < 0.2 else "woven")
@@ -510,6 +530,12 @@ def make_garment(form, kind, style, rng):
             hem = rng.uniform(max(form.crotch, getattr(form, "bottom", 0.0)) + 2.0, form.hip + 10.0)
         else:
             hem = form.waist - 5.0  # the bodice ends under the skirt's waist seam
+            if settle_frames and form.torso_form:
+                # On a torso form the bodice ends at the seam, the lower of the skirt's two
+                # pinned waistband rings (gm.build_skirt: waist + 2 and 1.5 cm below), and is
+                # held there (below). Lower, its loose edge hung outside the skirt once settled
+                # (no self-collision between the two).
+                hem = form.waist + 0.5
         tv, tf, tcls = cut_top(form, v, f, form.neck_side, hem, sleeve, s, clearance=e_w + 1.0)
         piece.add(tv, tf, 0, np.zeros(len(tv), bool))
         piece.cls[:] = tcls
@@ -521,8 +547,26 @@ def make_garment(form, kind, style, rng):
             sp, sdesc = gm.build_skirt(form, rng, sk, length)
             # The skirt hangs from the waist seam, outside the bodice there (not the sleeves,
             # which hang beside it at the same height).
-            sp.v = _push_outside(sp.v, tv[tcls == gm.TORSO], margin=0.6)
+            bodice = tv
+            if settle_frames and form.torso_form:
+                # The seam is where the bodice hangs, not where it was cut: the cut bodice
+                # stands 2-4 cm off the form at the waist (the waist ease) and falls in to the
+                # form from the bust as it settles. A waistband pinned outside the cut bodice
+                # stayed there as a stiff hoop over the fallen bodice (cases 7 and 10 of the
+                # torso rig, seed 2015, read as a skirt under a roll). No rng draws here.
+                bodice = settle_alone(tv, tf, CLOTH_PRESETS[fabric], settle_frames)
+            sp.v = _push_outside(sp.v, bodice[tcls == gm.TORSO], margin=0.6)
+            if bodice is not tv:
+                sp.v = _taper_from_seam(form, sp.v)
             piece.add(sp.v, sp.f, gm.SKIRT, sp.pin)
+            if bodice is not tv:
+                piece.start = piece.v.copy()
+                piece.start[:len(tv)] = bodice
+                # The seam allowance (the cut bodice's lowest 1.5 cm, inside the pinned
+                # waistband) is held where the bodice settled, as the waistband is: the two
+                # are sewn. (By the cut heights: the cut can leave a loose vertex, no face,
+                # that falls.)
+                piece.pin[:len(tv)] = tv[:, 1] < hem + 1.5
             desc.update({"skirt_start": sdesc})
     elif kind == "skirt":
         length = rng.uniform(45, 72)
@@ -535,6 +579,30 @@ def make_garment(form, kind, style, rng):
         piece, pdesc = gm.build_pants(form, rng, style["leg"], outseam)
         desc.update(pdesc)
     return piece, desc
+
+
+def _taper_from_seam(form, skirt_v, n=96):
+    """A dress's skirt cut to its seam: between the waist seam (the lower pinned ring, sewn to
+    the bodice and as wide as it) and the hip, each ring at least as wide as the seam's ring
+    blended linearly into its own (the skirt's ease over the form) at the hip. Without it the
+    skirt stepped in from the bodice's width to the form's just under the seam, a tuck no
+    dress has. Rings share the hip section's centre and their points its angles
+    (gm.skirt_rings), so point i of every ring lies on one ray."""
+    rings = skirt_v.reshape(-1, n, 3).copy()
+    c = form.torso_hull(form.hip).mean(0)
+    seam = rings[1]
+    hs = float(seam[0, 1])
+    r_seam = np.hypot(seam[:, 0] - c[0], seam[:, 2] - c[1])
+    for k in range(2, len(rings)):
+        h = float(rings[k, 0, 1])
+        if h <= form.hip:
+            break
+        t = (hs - h) / (hs - form.hip)
+        r = np.hypot(rings[k, :, 0] - c[0], rings[k, :, 2] - c[1])
+        scale = np.maximum((1 - t) * r_seam + t * r, r) / np.maximum(r, 1e-9)
+        rings[k, :, 0] = c[0] + (rings[k, :, 0] - c[0]) * scale
+        rings[k, :, 2] = c[1] + (rings[k, :, 2] - c[1]) * scale
+    return rings.reshape(-1, 3)
 
 
 def _push_outside(ring_v, inner_v, margin):
@@ -772,8 +840,16 @@ def make_case(args, form, sidecar_path, index, out_dir):
     k2 = float(srng.uniform(0.0, 0.04))
     empty_seed = int(srng.integers(1 << 30))
 
-    piece, desc = make_garment(form, kind, style, rng)
+    piece, desc = make_garment(form, kind, style, rng, args.frames if form.torso_form else 0)
     g = mesh_object("garment", piece.v, piece.f)
+    start = getattr(piece, "start", None)
+    if start is not None:
+        # The cloth starts from the settled bodice (a shape key evaluated before the cloth)
+        # with its rest lengths from the cut one (the basis), so it is not stretched twice.
+        g.shape_key_add(name="Basis")
+        key = g.shape_key_add(name="start")
+        key.data.foreach_set("co", to_blender(start).ravel())
+        key.value = 1.0
     vg = g.vertex_groups.new(name="pin")
     pinned = np.where(piece.pin)[0].tolist()
     if pinned:
@@ -781,7 +857,9 @@ def make_case(args, form, sidecar_path, index, out_dir):
     mat, fabric = fabric_material(fabric_kind, rng, form_rgb)
     g.data.materials.append(mat)
     preset = CLOTH_PRESETS[desc["cloth"]]
-    add_cloth(g, preset, args.frames)
+    mod = add_cloth(g, preset, args.frames)
+    if start is not None:
+        mod.settings.rest_shape_key = g.data.shape_keys.key_blocks["Basis"]
     scene.frame_start = 1
     scene.frame_end = args.frames
     t_sim = time.time()
