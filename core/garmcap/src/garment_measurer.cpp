@@ -265,6 +265,7 @@ enum class DepthRule {
   kEase,     // the form's section grown by a uniform ease: depth + (w - W)
   kBust,     // kEase, at most the bust-to-armpit envelope's depth + kBustDepthEaseCm
   kBodice,   // kEase moved kBodiceHangShare towards the envelope's depth up to the armpit
+  kHanging,  // a loose bodice hanging free of the form's waist: as deep as wide (looseBodiceAt)
   kHem,      // at least the hip's depth; beyond kHemSideSwingCm, the hip section scaled
 };
 
@@ -290,6 +291,8 @@ struct DepthModel {
                                 widthCm - form.widthCm);
       case DepthRule::kHem:
         return std::max(form.depthCm, form.depthCm * (widthCm - kHemSideSwingCm) / form.widthCm);
+      case DepthRule::kHanging:
+        return std::max(widthCm, eased);
       case DepthRule::kSimilar:
         break;
     }
@@ -636,8 +639,70 @@ std::optional<DepthModel> depthModelFor(const Context& c, double heightCm, const
   return m;
 }
 
+// ---- A loose bodice at the waist (docs/measurement_model.md, "Loose bodices") ----
+// A stiff loose top (a woven with a few cm of ease) stands off the form's sides under the bust,
+// where a knit lies on them: physical rigs, tops 5-8 cm below the bust, knits 0.7-1.7 cm a side,
+// wovens 2.6-3.7. Where such a top's sides then come in towards the form's waist, it does not
+// lie on the waist: it hangs from the bust, front and back standing off, and its waist section
+// is about as deep as it is wide (tops on the torso rig: 31.9 and 33.7 cm deep at 32.1-32.2 wide,
+// against 25-26 for knits as wide). A woven whose sides keep their stand-off down to the waist
+// keeps the eased section (physical rig case_013: 27 deep at 33 wide). One front view shows no
+// more than this; docs/measurement_model.md has the cases.
+constexpr double kLooseUnderBustFromCm = 4.0;  // band under the bust, cm below it
+constexpr double kLooseUnderBustToCm = 8.0;
+// A side's stand-off under the bust that marks a loose top, and how much closer to the form its
+// sides must lie at the waist for it to hang (both midway between the cases that set them).
+constexpr double kLooseStandOffCm = 2.2;
+constexpr double kHangingDropCm = 0.4;
+
+struct LooseBodice {
+  double underBustCm = 0, waistCm = 0;  // median stand-off of the two sides, cm
+  bool loose() const { return underBustCm >= kLooseStandOffCm; }
+  bool hanging() const { return loose() && underBustCm - waistCm >= kHangingDropCm; }
+};
+
+// Median over the clear rows between heights loCm and hiCm of the sides' mean stand-off beyond
+// the form's torso edges, cm; nullopt with fewer than 3 such rows.
+std::optional<double> sideStandOffCm(Context& c, double loCm, double hiCm) {
+  const DepthModel* keep = c.depth;
+  c.depth = nullptr;
+  std::vector<double> offs;
+  const int r0 = static_cast<int>(std::lround(c.view.rowOfHeight(hiCm)));
+  const int r1 = static_cast<int>(std::lround(c.view.rowOfHeight(loCm)));
+  for (int row = r0; row <= r1; ++row) {
+    bool hidden = false;
+    const auto v = readRow(c, row, hidden);
+    if (!v || hidden || !v->torso || v->torso->widthPx() <= 1)
+      continue;
+    offs.push_back(0.5 * ((v->torso->leftPx - v->left.x) + (v->right.x - v->torso->rightPx)) / c.s);
+  }
+  c.depth = keep;
+  if (offs.size() < 3)
+    return std::nullopt;
+  return median(offs);
+}
+
+std::optional<LooseBodice> looseBodiceAt(Context& c) {
+  const double bust = c.view.bustCm();
+  const auto under = sideStandOffCm(c, bust - kLooseUnderBustToCm, bust - kLooseUnderBustFromCm);
+  const auto waist = sideStandOffCm(c, c.view.waistCm() - kBandCm, c.view.waistCm() + kBandCm);
+  if (!under || !waist)
+    return std::nullopt;
+  return LooseBodice{*under, *waist};
+}
+
 std::optional<double> circumferenceAt(Context& c, double heightCm, const std::string& name) {
-  const auto model = depthModelFor(c, heightCm, name, c.type);
+  auto model = depthModelFor(c, heightCm, name, c.type);
+  if (model && c.type == "top" && name == "waist_circ")
+    if (const auto lb = looseBodiceAt(c); lb && lb->hanging()) {
+      model->rule = DepthRule::kHanging;
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "waist_circ: a loose top hanging from the bust (its sides stand %.1f cm off "
+                    "the form under the bust, %.1f at the waist); read as deep as wide",
+                    lb->underBustCm, lb->waistCm);
+      c.out.warnings.push_back(buf);
+    }
   c.depth = model ? &*model : nullptr;
   const auto value = name == "bust_circ" ? bustFromSides(c, heightCm, name)
                                          : circumferenceReading(c, heightCm, name);
