@@ -641,25 +641,21 @@ std::optional<DepthModel> depthModelFor(const Context& c, double heightCm, const
 
 // ---- A loose bodice at the waist (docs/measurement_model.md, "Loose bodices") ----
 // A stiff loose top (a woven with a few cm of ease) stands off the form's sides under the bust,
-// where a knit lies on them: physical rigs, tops 5-8 cm below the bust, knits 0.7-1.7 cm a side,
-// wovens 2.6-3.7. Where such a top's sides then come in towards the form's waist, it does not
-// lie on the waist: it hangs from the bust, front and back standing off, and its waist section
-// is about as deep as it is wide (tops on the torso rig: 31.9 and 33.7 cm deep at 32.1-32.2 wide,
-// against 25-26 for knits as wide). A woven whose sides keep their stand-off down to the waist
-// keeps the eased section (physical rig case_013: 27 deep at 33 wide). One front view shows no
-// more than this; docs/measurement_model.md has the cases.
-constexpr double kLooseUnderBustFromCm = 4.0;  // band under the bust, cm below it
-constexpr double kLooseUnderBustToCm = 8.0;
-// A side's stand-off under the bust that marks a loose top, and how much closer to the form its
-// sides must lie at the waist for it to hang (both midway between the cases that set them).
+// where a knit lies on them (physical rigs, 4-8 cm below the bust: knits 0.8-1.7 cm a side,
+// wovens 2.6-3.7). Such a top may hang from the bust, front and back standing off the waist, its
+// waist section about as deep as it is wide (torso rig 000 and 004, physical rig 023: 32-34 cm
+// deep at 31-32 wide, 9-12 cm rounder than the hanging-depth model reads), or keep the eased
+// section (physical rig 013: 27 deep at 33 wide, read right). Nothing in the front view tells the
+// two apart: their waists' widths and side profiles overlap those of fitted tops, and the
+// simulator's loose tops, drawn with the eased section, show the same side profile as the
+// hanging ones. So the reading stays the model's and its uncertainty grows by what a top as deep
+// as wide would read more.
+// A side's stand-off under the bust that marks a loose top (midway between the physical rigs'
+// even knits, at most 1.7, and the torso rig's even wovens, at least 2.6), and the band it is
+// read over, cm below the bust.
 constexpr double kLooseStandOffCm = 2.2;
-constexpr double kHangingDropCm = 0.4;
-
-struct LooseBodice {
-  double underBustCm = 0, waistCm = 0;  // median stand-off of the two sides, cm
-  bool loose() const { return underBustCm >= kLooseStandOffCm; }
-  bool hanging() const { return loose() && underBustCm - waistCm >= kHangingDropCm; }
-};
+constexpr double kLooseUnderBustFromCm = 4.0;
+constexpr double kLooseUnderBustToCm = 8.0;
 
 // Median over the clear rows between heights loCm and hiCm of the sides' mean stand-off beyond
 // the form's torso edges, cm; nullopt with fewer than 3 such rows.
@@ -682,31 +678,40 @@ std::optional<double> sideStandOffCm(Context& c, double loCm, double hiCm) {
   return median(offs);
 }
 
-std::optional<LooseBodice> looseBodiceAt(Context& c) {
+// For a loose top's waist read as `value` by `model`: how much rounder the same silhouette reads
+// as deep as wide (kHanging), or nullopt for a top that lies on the form under the bust.
+std::optional<double> looseWaistExtraCm(Context& c, double heightCm, const DepthModel& model,
+                                        double value) {
   const double bust = c.view.bustCm();
   const auto under = sideStandOffCm(c, bust - kLooseUnderBustToCm, bust - kLooseUnderBustFromCm);
-  const auto waist = sideStandOffCm(c, c.view.waistCm() - kBandCm, c.view.waistCm() + kBandCm);
-  if (!under || !waist)
+  if (!under || *under < kLooseStandOffCm)
     return std::nullopt;
-  return LooseBodice{*under, *waist};
+  DepthModel hanging = model;
+  hanging.rule = DepthRule::kHanging;
+  GarmentMeasurement scratch;  // the landmarks and warnings are the reading's own
+  Context h{c.mask, c.view, c.s, scratch, c.type, &hanging};
+  const auto alt = circumferenceReading(h, heightCm, "waist_circ");
+  if (!alt || *alt <= value)
+    return std::nullopt;
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "waist_circ: a loose top (its sides stand %.1f cm off the form under the bust); if "
+                "it hangs from the bust its waist is up to %.1f cm larger than read, check with a "
+                "tape",
+                *under, *alt - value);
+  c.out.warnings.push_back(buf);
+  return *alt - value;
 }
 
 std::optional<double> circumferenceAt(Context& c, double heightCm, const std::string& name) {
-  auto model = depthModelFor(c, heightCm, name, c.type);
-  if (model && c.type == "top" && name == "waist_circ")
-    if (const auto lb = looseBodiceAt(c); lb && lb->hanging()) {
-      model->rule = DepthRule::kHanging;
-      char buf[160];
-      std::snprintf(buf, sizeof buf,
-                    "waist_circ: a loose top hanging from the bust (its sides stand %.1f cm off "
-                    "the form under the bust, %.1f at the waist); read as deep as wide",
-                    lb->underBustCm, lb->waistCm);
-      c.out.warnings.push_back(buf);
-    }
+  const auto model = depthModelFor(c, heightCm, name, c.type);
   c.depth = model ? &*model : nullptr;
   const auto value = name == "bust_circ" ? bustFromSides(c, heightCm, name)
                                          : circumferenceReading(c, heightCm, name);
   c.depth = nullptr;
+  if (value && model && c.type == "top" && name == "waist_circ")
+    if (const auto extra = looseWaistExtraCm(c, heightCm, *model, *value))
+      c.out.extraUncertaintyCm[name] = *extra;
   const auto ref = referenceAt(c.view, heightCm);
   if (value && ref && *value < kMinFractionOfForm * ref->circCm) {
     c.out.warnings.push_back(
