@@ -1109,7 +1109,7 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
   // small), a short-sleeved dress whose sides below the bust lie closer to the form than its truth
   // needs (bust), an H-line skirt whose sides swing out at the hip (hip), a straight leg read as
   // the ankle's section, deeper than wide (leg opening, case_017 6.5 cm large). Rounded up to 0.1
-  // cm.
+  // cm. A loose top's waist gets more on top of this (looseWaistExtraCm).
   static const std::map<std::string, double> kU95 = {
       {"bust_circ", 4.9},         // (13)
       {"waist_circ", 3.0},        // (24)
