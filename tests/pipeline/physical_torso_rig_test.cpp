@@ -176,8 +176,9 @@ TEST(PhysicalTorsoRig, TopsWaistsWithinTheirUncertainty) {
     std::printf("%s %s waist %+.2f cm, uncertainty %.1f cm\n", c.id.c_str(),
                 c.truth.at("garment").at("cloth").get<std::string>().c_str(), e, u);
     EXPECT_LE(std::abs(e), u) << c.id;
-    if (c.truth.at("garment").at("cloth") == "knit")
+    if (c.truth.at("garment").at("cloth") == "knit") {
       EXPECT_EQ(u, *pipeline::measurementUncertaintyCm("waist_circ")) << c.id;
+    }
   }
   EXPECT_GE(tops, 4);
 }
