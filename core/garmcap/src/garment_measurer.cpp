@@ -265,7 +265,7 @@ enum class DepthRule {
   kEase,     // the form's section grown by a uniform ease: depth + (w - W)
   kBust,     // kEase, at most the bust-to-armpit envelope's depth + kBustDepthEaseCm
   kBodice,   // kEase moved kBodiceHangShare towards the envelope's depth up to the armpit
-  kHanging,  // a loose bodice hanging free of the form's waist: as deep as wide (looseBodiceAt)
+  kHanging,  // a loose bodice hanging free of the form's waist: as deep as wide (looseWaistExtraCm)
   kHem,      // at least the hip's depth; beyond kHemSideSwingCm, the hip section scaled
 };
 
@@ -709,9 +709,6 @@ std::optional<double> circumferenceAt(Context& c, double heightCm, const std::st
   const auto value = name == "bust_circ" ? bustFromSides(c, heightCm, name)
                                          : circumferenceReading(c, heightCm, name);
   c.depth = nullptr;
-  if (value && model && c.type == "top" && name == "waist_circ")
-    if (const auto extra = looseWaistExtraCm(c, heightCm, *model, *value))
-      c.out.extraUncertaintyCm[name] = *extra;
   const auto ref = referenceAt(c.view, heightCm);
   if (value && ref && *value < kMinFractionOfForm * ref->circCm) {
     c.out.warnings.push_back(
@@ -721,6 +718,9 @@ std::optional<double> circumferenceAt(Context& c, double heightCm, const std::st
         " cm, so part of the garment is missing from it there; not measured, review by hand");
     return std::nullopt;
   }
+  if (value && model && c.type == "top" && name == "waist_circ")
+    if (const auto extra = looseWaistExtraCm(c, heightCm, *model, *value))
+      c.out.extraUncertaintyCm[name] = *extra;
   return value;
 }
 
