@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 #include <numbers>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <stdexcept>
 
@@ -918,6 +919,85 @@ std::optional<int> legHemRow(const Context& c, int side, int fromRow, int axisCo
   return last;
 }
 
+// One leg's section of the form at `heightCm` (side 0: the image's left leg, the form's x below
+// its axis): the x and z extent and the convex-hull perimeter of the largest loop on that side.
+struct LegSlice {
+  double minX = 0, maxX = 0, minZ = 0, maxZ = 0, perimeter = 0;
+};
+std::optional<LegSlice> formLegSlice(const calib::FormModel& form, int side, double heightCm) {
+  const calib::FormSection sec = form.section(heightCm);
+  const calib::SliceLoop* best = nullptr;
+  for (const auto& loop : sec.torsoLoops) {
+    if (loop.size() < 3)
+      continue;
+    double cx = 0;
+    for (const auto& p : loop)
+      cx += p.x();
+    cx = cx / static_cast<double>(loop.size()) - form.axisXCm();
+    if ((side == 0 ? cx < 0 : cx > 0) && (!best || loop.size() > best->size()))
+      best = &loop;
+  }
+  if (!best)
+    return std::nullopt;
+  std::vector<cv::Point2f> pts;
+  pts.reserve(best->size());
+  LegSlice out{best->front().x(), best->front().x(), best->front().y(), best->front().y(), 0};
+  for (const auto& p : *best) {
+    pts.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+    out.minX = std::min(out.minX, p.x());
+    out.maxX = std::max(out.maxX, p.x());
+    out.minZ = std::min(out.minZ, p.y());
+    out.maxZ = std::max(out.maxZ, p.y());
+  }
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(pts, hull);
+  out.perimeter = cv::arcLength(hull, true);
+  return out;
+}
+
+// Sampling step and neighbourhood of the form's leg profile for the knee (legSideViewDepthCm).
+constexpr double kKneeStepCm = 0.5;
+constexpr double kKneeWindowCm = 2.0;
+
+// Depth (front to back, cm) of the form's leg on `side` seen from the side between `fromCm`
+// and the knee: the z extent of the leg's sections over that span. A trouser leg below the knee
+// hangs straight down from what it rests on, the kneecap in front and the calf behind, so its
+// opening is at least that deep (a physical rig's slim and straight legs: 12.4-15.3 cm deep
+// where the ankle under them is 7.5-10 cm deep; docs/measurement_model.md, "Leg openings that
+// hang from the knee"). The knee is the narrowest section (convex-hull perimeter) that the leg
+// reaches going up from `fromCm`: the first one no larger than any within kKneeWindowCm of it,
+// below which the leg was larger. nullopt when the leg has no such narrowing below the top of
+// the leg (5 cm under the crotch): then there is no knee below the thigh to hang from.
+std::optional<double> legSideViewDepthCm(const FormView& view, int side, double fromCm) {
+  if (!view.crotchCm())
+    return std::nullopt;
+  const double topCm = *view.crotchCm() - 5.0;
+  const int k = static_cast<int>(std::lround(kKneeWindowCm / kKneeStepCm));
+  std::vector<LegSlice> slices;
+  // Sliced going up, and stopped at the knee: the slices above it are not needed.
+  for (double h = fromCm; h <= topCm; h += kKneeStepCm) {
+    const auto sl = formLegSlice(view.form(), side, h);
+    if (!sl)
+      return std::nullopt;
+    slices.push_back(*sl);
+    const int i = static_cast<int>(slices.size()) - 1 - k;  // the candidate with k slices above
+    if (i < k)
+      continue;
+    bool lowest = true;
+    for (int j = i - k; j <= i + k && lowest; ++j)
+      lowest = slices[i].perimeter <= slices[j].perimeter;
+    if (!lowest || !(slices[i].perimeter < slices[i - k].perimeter))
+      continue;
+    double minZ = slices[0].minZ, maxZ = slices[0].maxZ;
+    for (int j = 0; j <= i; ++j) {
+      minZ = std::min(minZ, slices[j].minZ);
+      maxZ = std::max(maxZ, slices[j].maxZ);
+    }
+    return maxZ - minZ;
+  }
+  return std::nullopt;
+}
+
 // The round of one pants leg's opening from its run across the row it is read on (side 0 is
 // the image's left leg, its run limited at the axis column; `here` the form's leg at that row).
 // - a free leg (a gap of kPressedLegGapCm or more to the centre line) hangs round the form's
@@ -951,7 +1031,19 @@ std::optional<double> legOpeningCm(const Context& c, int side, const std::pair<d
   if (here.widthPx() <= 1)
     return std::nullopt;
   const double outerHalfPx = std::abs(outer - here.centrePx());
-  return here.circCm * std::max(run.second - run.first, 2.0 * outerHalfPx) / here.widthPx();
+  const double widthPx = std::max(run.second - run.first, 2.0 * outerHalfPx);
+  // A leg hanging from the knee is never shallower than the leg's side view below the knee
+  // (legSideViewDepthCm): where the form's section scaled to the leg's width is shallower than
+  // that, the opening is an ellipse as wide as the leg and that deep.
+  const auto at = formLegSlice(c.view.form(), side, here.heightCm);
+  const auto hangDepth = legSideViewDepthCm(c.view, side, here.heightCm);
+  if (at && hangDepth && at->maxX > at->minX) {
+    const double widthCm = widthPx * (at->maxX - at->minX) / here.widthPx();
+    const double scaledDepthCm = (at->maxZ - at->minZ) * widthPx / here.widthPx();
+    if (*hangDepth > scaledDepthCm)
+      return ellipsePerimeter(widthCm, *hangDepth);
+  }
+  return here.circCm * widthPx / here.widthPx();
 }
 
 // Distance in px between the garment's outermost pixels within `reach` of the axis at `row`;
