@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -919,13 +920,12 @@ std::optional<int> legHemRow(const Context& c, int side, int fromRow, int axisCo
   return last;
 }
 
-// One leg's section of the form at `heightCm` (side 0: the image's left leg, the form's x below
-// its axis): the x and z extent and the convex-hull perimeter of the largest loop on that side.
+// One leg's section of the form (side 0: the image's left leg, the form's x below its axis): the
+// x and z extent and the convex-hull perimeter of the largest loop on that side of `sec`.
 struct LegSlice {
   double minX = 0, maxX = 0, minZ = 0, maxZ = 0, perimeter = 0;
 };
-std::optional<LegSlice> formLegSlice(const calib::FormModel& form, int side, double heightCm) {
-  const calib::FormSection sec = form.section(heightCm);
+std::optional<LegSlice> formLegSlice(const calib::FormSection& sec, double axisXCm, int side) {
   const calib::SliceLoop* best = nullptr;
   for (const auto& loop : sec.torsoLoops) {
     if (loop.size() < 3)
@@ -933,7 +933,7 @@ std::optional<LegSlice> formLegSlice(const calib::FormModel& form, int side, dou
     double cx = 0;
     for (const auto& p : loop)
       cx += p.x();
-    cx = cx / static_cast<double>(loop.size()) - form.axisXCm();
+    cx = cx / static_cast<double>(loop.size()) - axisXCm;
     if ((side == 0 ? cx < 0 : cx > 0) && (!best || loop.size() > best->size()))
       best = &loop;
   }
@@ -959,6 +959,49 @@ std::optional<LegSlice> formLegSlice(const calib::FormModel& form, int side, dou
 constexpr double kKneeStepCm = 0.5;
 constexpr double kKneeWindowCm = 2.0;
 
+// Both legs of a form sliced every kKneeStepCm from the floor to the top of the leg (5 cm under
+// the crotch), once per form: slicing the mesh per capture cost a pants capture 20-80 ms.
+struct LegTable {
+  double firstCm = 0;  // height of sample 0
+  std::array<std::vector<std::optional<LegSlice>>, 2> legs;
+};
+
+std::shared_ptr<const LegTable> legTable(const FormView& view) {
+  const calib::FormModel& form = view.form();
+  // Keyed by what identifies a loaded form, by value (as depthTable's cache, for its reasons).
+  struct Key {
+    std::size_t vertices, triangles;
+    double minY, maxY, axisX, axisZ, crotch, sample;
+    bool operator==(const Key&) const = default;
+  };
+  const auto& vs = form.mesh().vertices;
+  double sample = 0;
+  for (std::size_t i = 0; i < vs.size(); i += std::max<std::size_t>(1, vs.size() / 64))
+    sample += vs[i].x() + 3.0 * vs[i].y() + 7.0 * vs[i].z();
+  const Key key{vs.size(),      form.mesh().faces.size(), form.minYCm(),    form.maxYCm(),
+                form.axisXCm(), form.axisZCm(),           *view.crotchCm(), sample};
+  static std::mutex mutex;
+  static std::vector<std::pair<Key, std::shared_ptr<const LegTable>>> cache;
+  {
+    const std::lock_guard lock(mutex);
+    for (const auto& [k, t] : cache)
+      if (k == key)
+        return t;
+  }
+  auto table = std::make_shared<LegTable>();
+  table->firstCm = form.minYCm() + kKneeStepCm;
+  for (double h = table->firstCm; h <= *view.crotchCm() - 5.0 + 1e-9; h += kKneeStepCm) {
+    const calib::FormSection sec = form.section(h);
+    for (int side = 0; side < 2; ++side)
+      table->legs[side].push_back(formLegSlice(sec, form.axisXCm(), side));
+  }
+  const std::lock_guard lock(mutex);
+  if (cache.size() >= 8)
+    cache.erase(cache.begin());
+  cache.emplace_back(key, table);
+  return table;
+}
+
 // Depth (front to back, cm) of the form's leg on `side` seen from the side between `fromCm`
 // and the knee: the z extent of the leg's sections over that span. A trouser leg below the knee
 // hangs straight down from what it rests on, the kneecap in front and the calf behind, so its
@@ -971,27 +1014,25 @@ constexpr double kKneeWindowCm = 2.0;
 std::optional<double> legSideViewDepthCm(const FormView& view, int side, double fromCm) {
   if (!view.crotchCm())
     return std::nullopt;
-  const double topCm = *view.crotchCm() - 5.0;
+  const auto table = legTable(view);
+  const auto& leg = table->legs[side];
   const int k = static_cast<int>(std::lround(kKneeWindowCm / kKneeStepCm));
-  std::vector<LegSlice> slices;
-  // Sliced going up, and stopped at the knee: the slices above it are not needed.
-  for (double h = fromCm; h <= topCm; h += kKneeStepCm) {
-    const auto sl = formLegSlice(view.form(), side, h);
-    if (!sl)
-      return std::nullopt;
-    slices.push_back(*sl);
-    const int i = static_cast<int>(slices.size()) - 1 - k;  // the candidate with k slices above
-    if (i < k)
-      continue;
+  const auto first = static_cast<long>(std::ceil((fromCm - table->firstCm) / kKneeStepCm - 1e-9));
+  if (first < 0)
+    return std::nullopt;
+  const auto n = static_cast<long>(leg.size());
+  for (long i = first + k; i + k < n; ++i) {
     bool lowest = true;
-    for (int j = i - k; j <= i + k && lowest; ++j)
-      lowest = slices[i].perimeter <= slices[j].perimeter;
-    if (!lowest || !(slices[i].perimeter < slices[i - k].perimeter))
+    for (long j = i - k; j <= i + k && lowest; ++j)
+      lowest = leg[j] && leg[i] && leg[i]->perimeter <= leg[j]->perimeter;
+    if (!lowest || !(leg[i]->perimeter < leg[i - k]->perimeter))
       continue;
-    double minZ = slices[0].minZ, maxZ = slices[0].maxZ;
-    for (int j = 0; j <= i; ++j) {
-      minZ = std::min(minZ, slices[j].minZ);
-      maxZ = std::max(maxZ, slices[j].maxZ);
+    double minZ = leg[i]->minZ, maxZ = leg[i]->maxZ;
+    for (long j = first; j <= i; ++j) {
+      if (!leg[j])
+        return std::nullopt;
+      minZ = std::min(minZ, leg[j]->minZ);
+      maxZ = std::max(maxZ, leg[j]->maxZ);
     }
     return maxZ - minZ;
   }
@@ -1035,7 +1076,7 @@ std::optional<double> legOpeningCm(const Context& c, int side, const std::pair<d
   // A leg hanging from the knee is never shallower than the leg's side view below the knee
   // (legSideViewDepthCm): where the form's section scaled to the leg's width is shallower than
   // that, the opening is an ellipse as wide as the leg and that deep.
-  const auto at = formLegSlice(c.view.form(), side, here.heightCm);
+  const auto at = formLegSlice(c.view.form().section(here.heightCm), c.view.form().axisXCm(), side);
   const auto hangDepth = legSideViewDepthCm(c.view, side, here.heightCm);
   if (at && hangDepth && at->maxX > at->minX) {
     const double widthCm = widthPx * (at->maxX - at->minX) / here.widthPx();
