@@ -2,11 +2,13 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <numbers>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <stdexcept>
 
@@ -988,6 +990,125 @@ std::optional<int> legHemRow(const Context& c, int side, int fromRow, int axisCo
   return last;
 }
 
+// One leg's section of the form (side 0: the image's left leg, the form's x below its axis): the
+// x and z extent and the convex-hull perimeter of the largest loop on that side of `sec`.
+struct LegSlice {
+  double minX = 0, maxX = 0, minZ = 0, maxZ = 0, perimeter = 0;
+};
+std::optional<LegSlice> formLegSlice(const calib::FormSection& sec, double axisXCm, int side) {
+  const calib::SliceLoop* best = nullptr;
+  for (const auto& loop : sec.torsoLoops) {
+    if (loop.size() < 3)
+      continue;
+    double cx = 0;
+    for (const auto& p : loop)
+      cx += p.x();
+    cx = cx / static_cast<double>(loop.size()) - axisXCm;
+    if ((side == 0 ? cx < 0 : cx > 0) && (!best || loop.size() > best->size()))
+      best = &loop;
+  }
+  if (!best)
+    return std::nullopt;
+  std::vector<cv::Point2f> pts;
+  pts.reserve(best->size());
+  LegSlice out{best->front().x(), best->front().x(), best->front().y(), best->front().y(), 0};
+  for (const auto& p : *best) {
+    pts.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+    out.minX = std::min(out.minX, p.x());
+    out.maxX = std::max(out.maxX, p.x());
+    out.minZ = std::min(out.minZ, p.y());
+    out.maxZ = std::max(out.maxZ, p.y());
+  }
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(pts, hull);
+  out.perimeter = cv::arcLength(hull, true);
+  return out;
+}
+
+// Sampling step and neighbourhood of the form's leg profile for the knee (legSideViewDepthCm).
+constexpr double kKneeStepCm = 0.5;
+constexpr double kKneeWindowCm = 2.0;
+
+// Both legs of a form sliced every kKneeStepCm from the floor to the top of the leg (5 cm under
+// the crotch), once per form: slicing the mesh per capture cost a pants capture 20-80 ms.
+struct LegTable {
+  double firstCm = 0;  // height of sample 0
+  std::array<std::vector<std::optional<LegSlice>>, 2> legs;
+};
+
+std::shared_ptr<const LegTable> legTable(const FormView& view) {
+  const calib::FormModel& form = view.form();
+  // Keyed by what identifies a loaded form, by value (as depthTable's cache, for its reasons).
+  struct Key {
+    std::size_t vertices, triangles;
+    double minY, maxY, axisX, axisZ, crotch, sample;
+    bool operator==(const Key&) const = default;
+  };
+  const auto& vs = form.mesh().vertices;
+  double sample = 0;
+  for (std::size_t i = 0; i < vs.size(); i += std::max<std::size_t>(1, vs.size() / 64))
+    sample += vs[i].x() + 3.0 * vs[i].y() + 7.0 * vs[i].z();
+  const Key key{vs.size(),      form.mesh().faces.size(), form.minYCm(),    form.maxYCm(),
+                form.axisXCm(), form.axisZCm(),           *view.crotchCm(), sample};
+  static std::mutex mutex;
+  static std::vector<std::pair<Key, std::shared_ptr<const LegTable>>> cache;
+  {
+    const std::lock_guard lock(mutex);
+    for (const auto& [k, t] : cache)
+      if (k == key)
+        return t;
+  }
+  auto table = std::make_shared<LegTable>();
+  table->firstCm = form.minYCm() + kKneeStepCm;
+  for (double h = table->firstCm; h <= *view.crotchCm() - 5.0 + 1e-9; h += kKneeStepCm) {
+    const calib::FormSection sec = form.section(h);
+    for (int side = 0; side < 2; ++side)
+      table->legs[side].push_back(formLegSlice(sec, form.axisXCm(), side));
+  }
+  const std::lock_guard lock(mutex);
+  if (cache.size() >= 8)
+    cache.erase(cache.begin());
+  cache.emplace_back(key, table);
+  return table;
+}
+
+// Depth (front to back, cm) of the form's leg on `side` seen from the side between `fromCm`
+// and the knee: the z extent of the leg's sections over that span. A trouser leg below the knee
+// hangs straight down from what it rests on, the kneecap in front and the calf behind, so its
+// opening is at least that deep (a physical rig's slim and straight legs: 12.4-15.3 cm deep
+// where the ankle under them is 7.5-10 cm deep; docs/measurement_model.md, "Leg openings that
+// hang from the knee"). The knee is the narrowest section (convex-hull perimeter) that the leg
+// reaches going up from `fromCm`: the first one no larger than any within kKneeWindowCm of it,
+// below which the leg was larger. nullopt when the leg has no such narrowing below the top of
+// the leg (5 cm under the crotch): then there is no knee below the thigh to hang from.
+std::optional<double> legSideViewDepthCm(const FormView& view, int side, double fromCm) {
+  if (!view.crotchCm())
+    return std::nullopt;
+  const auto table = legTable(view);
+  const auto& leg = table->legs[side];
+  const int k = static_cast<int>(std::lround(kKneeWindowCm / kKneeStepCm));
+  const auto first = static_cast<long>(std::ceil((fromCm - table->firstCm) / kKneeStepCm - 1e-9));
+  if (first < 0)
+    return std::nullopt;
+  const auto n = static_cast<long>(leg.size());
+  for (long i = first + k; i + k < n; ++i) {
+    bool lowest = true;
+    for (long j = i - k; j <= i + k && lowest; ++j)
+      lowest = leg[j] && leg[i] && leg[i]->perimeter <= leg[j]->perimeter;
+    if (!lowest || !(leg[i]->perimeter < leg[i - k]->perimeter))
+      continue;
+    double minZ = leg[i]->minZ, maxZ = leg[i]->maxZ;
+    for (long j = first; j <= i; ++j) {
+      if (!leg[j])
+        return std::nullopt;
+      minZ = std::min(minZ, leg[j]->minZ);
+      maxZ = std::max(maxZ, leg[j]->maxZ);
+    }
+    return maxZ - minZ;
+  }
+  return std::nullopt;
+}
+
 // The round of one pants leg's opening from its run across the row it is read on (side 0 is
 // the image's left leg, its run limited at the axis column; `here` the form's leg at that row).
 // - a free leg (a gap of kPressedLegGapCm or more to the centre line) hangs round the form's
@@ -1021,7 +1142,19 @@ std::optional<double> legOpeningCm(const Context& c, int side, const std::pair<d
   if (here.widthPx() <= 1)
     return std::nullopt;
   const double outerHalfPx = std::abs(outer - here.centrePx());
-  return here.circCm * std::max(run.second - run.first, 2.0 * outerHalfPx) / here.widthPx();
+  const double widthPx = std::max(run.second - run.first, 2.0 * outerHalfPx);
+  // A leg hanging from the knee is never shallower than the leg's side view below the knee
+  // (legSideViewDepthCm): where the form's section scaled to the leg's width is shallower than
+  // that, the opening is an ellipse as wide as the leg and that deep.
+  const auto at = formLegSlice(c.view.form().section(here.heightCm), c.view.form().axisXCm(), side);
+  const auto hangDepth = legSideViewDepthCm(c.view, side, here.heightCm);
+  if (at && hangDepth && at->maxX > at->minX) {
+    const double widthCm = widthPx * (at->maxX - at->minX) / here.widthPx();
+    const double scaledDepthCm = (at->maxZ - at->minZ) * widthPx / here.widthPx();
+    if (*hangDepth > scaledDepthCm)
+      return ellipsePerimeter(widthCm, *hangDepth);
+  }
+  return here.circCm * widthPx / here.widthPx();
 }
 
 // Distance in px between the garment's outermost pixels within `reach` of the axis at `row`;
