@@ -267,7 +267,6 @@ enum class DepthRule {
   kEase,     // the form's section grown by a uniform ease: depth + (w - W)
   kBust,     // kEase, at most the bust-to-armpit envelope's depth + kBustDepthEaseCm
   kBodice,   // kEase moved kBodiceHangShare towards the envelope's depth up to the armpit
-  kHanging,  // a loose bodice hanging free of the form's waist: as deep as wide (looseWaistExtraCm)
   kHem,      // at least the hip's depth; beyond kHemSideSwingCm, the hip section scaled
 };
 
@@ -293,8 +292,6 @@ struct DepthModel {
                                 widthCm - form.widthCm);
       case DepthRule::kHem:
         return std::max(form.depthCm, form.depthCm * (widthCm - kHemSideSwingCm) / form.widthCm);
-      case DepthRule::kHanging:
-        return std::max(widthCm, eased);
       case DepthRule::kSimilar:
         break;
     }
@@ -641,70 +638,6 @@ std::optional<DepthModel> depthModelFor(const Context& c, double heightCm, const
   return m;
 }
 
-// ---- A loose bodice at the waist (docs/measurement_model.md, "Loose bodices") ----
-// A stiff loose top (a woven with a few cm of ease) stands off the form's sides under the bust,
-// where a knit lies on them (physical rigs, 4-8 cm below the bust: knits 0.8-1.7 cm a side,
-// wovens 2.6-3.7). Such a top may hang from the bust, front and back standing off the waist, its
-// waist section about as deep as it is wide (torso rig 000 and 004, physical rig 023: 32-34 cm
-// deep at 31-32 wide, 9-12 cm rounder than the hanging-depth model reads), or keep the eased
-// section (physical rig 013: 27 deep at 33 wide, read right). Nothing in the front view tells the
-// two apart: their waists' widths and side profiles overlap those of fitted tops, and the
-// simulator's loose tops, drawn with the eased section, show the same side profile as the
-// hanging ones. So the reading stays the model's and its uncertainty grows by what a top as deep
-// as wide would read more.
-// A side's stand-off under the bust that marks a loose top (midway between the physical rigs'
-// even knits, at most 1.7, and the torso rig's even wovens, at least 2.6), and the band it is
-// read over, cm below the bust.
-constexpr double kLooseStandOffCm = 2.2;
-constexpr double kLooseUnderBustFromCm = 4.0;
-constexpr double kLooseUnderBustToCm = 8.0;
-
-// Median over the clear rows between heights loCm and hiCm of the sides' mean stand-off beyond
-// the form's torso edges, cm; nullopt with fewer than 3 such rows.
-std::optional<double> sideStandOffCm(Context& c, double loCm, double hiCm) {
-  const DepthModel* keep = c.depth;
-  c.depth = nullptr;
-  std::vector<double> offs;
-  const int r0 = static_cast<int>(std::lround(c.view.rowOfHeight(hiCm)));
-  const int r1 = static_cast<int>(std::lround(c.view.rowOfHeight(loCm)));
-  for (int row = r0; row <= r1; ++row) {
-    bool hidden = false;
-    const auto v = readRow(c, row, hidden);
-    if (!v || hidden || !v->torso || v->torso->widthPx() <= 1)
-      continue;
-    offs.push_back(0.5 * ((v->torso->leftPx - v->left.x) + (v->right.x - v->torso->rightPx)) / c.s);
-  }
-  c.depth = keep;
-  if (offs.size() < 3)
-    return std::nullopt;
-  return median(offs);
-}
-
-// For a loose top's waist read as `value` by `model`: how much rounder the same silhouette reads
-// as deep as wide (kHanging), or nullopt for a top that lies on the form under the bust.
-std::optional<double> looseWaistExtraCm(Context& c, double heightCm, const DepthModel& model,
-                                        double value) {
-  const double bust = c.view.bustCm();
-  const auto under = sideStandOffCm(c, bust - kLooseUnderBustToCm, bust - kLooseUnderBustFromCm);
-  if (!under || *under < kLooseStandOffCm)
-    return std::nullopt;
-  DepthModel hanging = model;
-  hanging.rule = DepthRule::kHanging;
-  GarmentMeasurement scratch;  // the landmarks and warnings are the reading's own
-  Context h{c.mask, c.view, c.s, scratch, c.type, &hanging};
-  const auto alt = circumferenceReading(h, heightCm, "waist_circ");
-  if (!alt || *alt <= value)
-    return std::nullopt;
-  char buf[200];
-  std::snprintf(buf, sizeof buf,
-                "waist_circ: a loose top (its sides stand %.1f cm off the form under the bust); if "
-                "it hangs from the bust its waist is up to %.1f cm larger than read, check with a "
-                "tape",
-                *under, *alt - value);
-  c.out.warnings.push_back(buf);
-  return *alt - value;
-}
-
 std::optional<double> circumferenceAt(Context& c, double heightCm, const std::string& name) {
   const auto model = depthModelFor(c, heightCm, name, c.type);
   c.depth = model ? &*model : nullptr;
@@ -720,9 +653,6 @@ std::optional<double> circumferenceAt(Context& c, double heightCm, const std::st
         " cm, so part of the garment is missing from it there; not measured, review by hand");
     return std::nullopt;
   }
-  if (value && model && c.type == "top" && name == "waist_circ")
-    if (const auto extra = looseWaistExtraCm(c, heightCm, *model, *value))
-      c.out.extraUncertaintyCm[name] = *extra;
   return value;
 }
 
@@ -1242,7 +1172,7 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
   // small), a short-sleeved dress whose sides below the bust lie closer to the form than its truth
   // needs (bust), an H-line skirt whose sides swing out at the hip (hip), a straight leg read as
   // the ankle's section, deeper than wide (leg opening, case_017 6.5 cm large). Rounded up to 0.1
-  // cm. A loose top's waist gets more on top of this (looseWaistExtraCm).
+  // cm.
   static const std::map<std::string, double> kU95 = {
       {"bust_circ", 4.9},         // (13)
       {"waist_circ", 3.0},        // (24)

@@ -1,7 +1,6 @@
 #include "stage_measure.h"
 
 #include <algorithm>
-#include <cmath>
 #include <string>
 
 namespace garmcap::pipeline {
@@ -21,12 +20,8 @@ GarmentMeasurement measureCapturedGarment(const CaptureContext& ctx, const cv::M
       result.measurements["sleeve_length"] = 0.0;
   }
   for (const auto& [name, value] : result.measurements)
-    if (const auto u = measurementUncertaintyCm(name)) {
-      const auto extra = gm.extraUncertaintyCm.find(name);
-      result.uncertaintyCm[name] =
-          *u +
-          (extra != gm.extraUncertaintyCm.end() ? std::ceil(10.0 * extra->second) / 10.0 : 0.0);
-    }
+    if (const auto u = measurementUncertaintyCm(name))
+      result.uncertaintyCm[name] = *u;
   if (options.corrections) {
     nlohmann::json applied = {{"warnings", nlohmann::json::array()}};
     applyCorrections(*options.corrections, result.type, result.measurements, applied);

@@ -31,10 +31,6 @@ struct GarmentMeasurement {
   std::map<std::string, double> measurements;  // cm; only those the type has
   std::vector<GarmentLandmark> landmarks;      // for the review overlay
   std::vector<std::string> warnings;           // measured, but with a caveat
-  // Per reading, how much less sure it is than measurementUncertaintyCm says, cm: a loose top's
-  // waist, which one front view cannot tell from a fitted one's (docs/measurement_model.md,
-  // "Loose bodices"). Added to the table's value in result.json's uncertainty_cm.
-  std::map<std::string, double> extraUncertaintyCm;
 };
 
 /// How far (cm) a reported measurement may be off: the 95th percentile (nearest rank) of the
