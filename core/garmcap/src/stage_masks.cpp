@@ -26,10 +26,14 @@ constexpr double kNoiseAboveNeckCm = 4.0;
 constexpr double kAveragedDifferenceCm = 0.5;
 
 // The garment's shadow on the form (shadowOnForm): at least this much darker in Lab lightness
-// (0-255), with a chroma change of at most this fraction of the darkening plus a constant.
+// (0-255), with its a,b within a constant plus a share of the form's own chroma (as dimmed) of
+// the form's colour dimmed to that lightness.
 constexpr float kShadowMinDarkening = 8.0f;
-constexpr float kShadowChromaPerLightness = 0.2f;
 constexpr float kShadowChroma = 4.0f;
+constexpr float kShadowChromaShare = 0.1f;
+// A shadow fades into the exposed form through its penumbra, darker by less than
+// kShadowMinDarkening but with the form's chroma kept, over at most this far.
+constexpr double kShadowPenumbraCm = 1.0;
 constexpr double kShadowBlurCm = 0.2;
 // A shadow band is at least this wide (thinner is a garment's stripe or print, shaded).
 constexpr double kShadowMinWidthCm = 0.8;
@@ -118,19 +122,28 @@ cv::Mat1f labDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat&
   return out;
 }
 
-// Form pixels that look like the bare form in shadow: darker in the dressed frame, with little
-// change of chroma for the change of lightness. The garment throws its shadow on the form below
-// its hem (a band on the thighs under a top, on the shins under a skirt, in the gap between the
-// legs) and that band is no garment; a garment over the form changes its colour as well, unless
-// it is a dark neutral one, where GrabCut's colour models (not this test) decide. Both Lab
-// frames are averaged over about 0.2 cm first (sensor noise).
-cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form,
-                     double pxPerCm) {
+// Form pixels that look like the bare form in shadow: darker in the dressed frame by at least
+// `minDarkening`, with the form's own chroma dimmed with it. Dimming a colour by a factor scales
+// a*, b* and L* + 16 by the same factor (Lab's cube root), so the shade of the form has its hue
+// and a chroma scaled by (L*d + 16) / (L*e + 16); the despilled frames leave no green bounce
+// from the screen in the shade. The garment throws its shadow on the form below its hem (a band
+// on the thighs under a top, on the shins under a skirt, in the gap between the legs) and that
+// band is no garment; a garment over the form changes its colour otherwise, and a dark one keeps
+// little of the form's chroma: a near-black skirt over a beige form is neutral where the form's
+// shade would still be beige (physical rig, 2 MP: the test that allowed any chroma change up to
+// a fifth of the darkening took a dark skirt for shadow, was switched off by
+// kShadowMaxShareOfChange, and the thighs in its shade were typed as pants' legs). Over a
+// neutral form the two cannot be told apart, where the share switch still turns the test off.
+// Both Lab frames are averaged over about 0.2 cm first (sensor noise).
+cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form, double pxPerCm,
+                     float minDarkening) {
   const double sigma = std::max(0.8, kShadowBlurCm * pxPerCm);
   cv::Mat e, d;
   cv::GaussianBlur(labE, e, cv::Size(), sigma);
   cv::GaussianBlur(labD, d, cv::Size(), sigma);
   cv::Mat out(labE.size(), CV_8UC1, cv::Scalar(0));
+  // 8-bit Lab: L = L* x 255/100, a = a* + 128, b = b* + 128.
+  constexpr float kL16 = 16.0f * 255.0f / 100.0f;
   cv::parallel_for_(cv::Range(0, labE.rows), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       const cv::Vec3b* pe = e.ptr<cv::Vec3b>(y);
@@ -141,12 +154,15 @@ cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& fo
         if (!f[x])
           continue;
         const float dl = static_cast<float>(pd[x][0]) - pe[x][0];
-        const float da = static_cast<float>(pd[x][1]) - pe[x][1];
-        const float db = static_cast<float>(pd[x][2]) - pe[x][2];
-        const float dab = std::sqrt(da * da + db * db);
-        o[x] = dl <= -kShadowMinDarkening && dab <= kShadowChromaPerLightness * -dl + kShadowChroma
-                   ? 255
-                   : 0;
+        if (dl > -minDarkening)
+          continue;
+        const float k = (pd[x][0] + kL16) / (pe[x][0] + kL16);
+        const float ae = k * (static_cast<float>(pe[x][1]) - 128.0f);
+        const float be = k * (static_cast<float>(pe[x][2]) - 128.0f);
+        const float da = static_cast<float>(pd[x][1]) - 128.0f - ae;
+        const float db = static_cast<float>(pd[x][2]) - 128.0f - be;
+        const float tolerance = kShadowChroma + kShadowChromaShare * std::sqrt(ae * ae + be * be);
+        o[x] = da * da + db * db <= tolerance * tolerance ? 255 : 0;
       }
     }
   });
@@ -381,12 +397,21 @@ ExposedForm exposedForm(const cv::Mat1f& diff, const cv::Mat& labE, const cv::Ma
 // looks like shadow, the garment itself is dark and neutral, and the test is not used (empty).
 cv::Mat shadowBesideExposedForm(const cv::Mat& labE, const cv::Mat& labD, const FormBands& form,
                                 const cv::Mat& fgD, const cv::Mat& exposed, double sw) {
-  cv::Mat shadow = shadowOnForm(labE, labD, form.inside, sw) & fgD & ~exposed;
+  cv::Mat shadow = shadowOnForm(labE, labD, form.inside, sw, kShadowMinDarkening) & fgD & ~exposed;
   const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
   cv::morphologyEx(shadow, shadow, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1)));
-  cv::Mat touching;
-  cv::dilate(exposed, touching, cv::Mat(), cv::Point(-1, -1), 2);
+  // The exposed form grown through the penumbra (dimmed by less than kShadowMinDarkening, chroma
+  // kept) up to kShadowPenumbraCm: a long skirt's shade on the shins fades out over a centimetre
+  // or two above the lit feet, and only touched the exposed form through that fade (physical
+  // rig, 2 MP: the shins under a red skirt's hem were taken for garment).
+  const cv::Mat penumbra = (shadowOnForm(labE, labD, form.inside, sw, 0.5f) & fgD) | exposed;
+  cv::Mat touching = exposed.clone();
+  for (int i = 0; i < static_cast<int>(std::lround(kShadowPenumbraCm * sw)); ++i) {
+    cv::dilate(touching, touching, cv::Mat());
+    touching &= penumbra;
+  }
+  cv::dilate(touching, touching, cv::Mat(), cv::Point(-1, -1), 2);
   cv::Mat labels;
   const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
   std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
