@@ -31,6 +31,11 @@ constexpr double kAveragedDifferenceCm = 0.5;
 constexpr float kShadowMinDarkening = 8.0f;
 constexpr float kShadowChroma = 4.0f;
 constexpr float kShadowChromaShare = 0.1f;
+// A shallow shade (L* + 16 at least this share of the bare form's) may also be tinted by the
+// light the garment bounces into it: there its chroma may change by up to this fraction of the
+// darkening plus kShadowChroma.
+constexpr float kShadowShallow = 0.5f;
+constexpr float kShadowChromaPerLightness = 0.2f;
 // A shadow fades into the exposed form through its penumbra, darker by less than
 // kShadowMinDarkening but with the form's chroma kept, over at most this far.
 constexpr double kShadowPenumbraCm = 1.0;
@@ -132,8 +137,11 @@ cv::Mat1f labDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat&
 // little of the form's chroma: a near-black skirt over a beige form is neutral where the form's
 // shade would still be beige (physical rig, 2 MP: the test that allowed any chroma change up to
 // a fifth of the darkening took a dark skirt for shadow, was switched off by
-// kShadowMaxShareOfChange, and the thighs in its shade were typed as pants' legs). Over a
-// neutral form the two cannot be told apart, where the share switch still turns the test off.
+// kShadowMaxShareOfChange, and the thighs in its shade were typed as pants' legs). A shallow
+// shade (kShadowShallow) is also lit by what the garment bounces into it and may take on some of
+// its colour (the thighs under a light yellow top): there the chroma may change by a fifth of the
+// darkening. Over a neutral form a near-black garment and the form's deep shade cannot be told
+// apart, where the share switch still turns the test off.
 // Both Lab frames are averaged over about 0.2 cm first (sensor noise).
 cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form, double pxPerCm,
                      float minDarkening) {
@@ -162,7 +170,12 @@ cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& fo
         const float da = static_cast<float>(pd[x][1]) - 128.0f - ae;
         const float db = static_cast<float>(pd[x][2]) - 128.0f - be;
         const float tolerance = kShadowChroma + kShadowChromaShare * std::sqrt(ae * ae + be * be);
-        o[x] = da * da + db * db <= tolerance * tolerance ? 255 : 0;
+        const float dab = std::hypot(static_cast<float>(pd[x][1]) - pe[x][1],
+                                     static_cast<float>(pd[x][2]) - pe[x][2]);
+        const bool dimmed = da * da + db * db <= tolerance * tolerance;
+        const bool tinted =
+            k >= kShadowShallow && dab <= kShadowChromaPerLightness * -dl + kShadowChroma;
+        o[x] = dimmed || tinted ? 255 : 0;
       }
     }
   });
@@ -429,8 +442,19 @@ cv::Mat shadowBesideExposedForm(const cv::Mat& labE, const cv::Mat& labD, const 
       m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
   }
   const double changedOverForm = cv::countNonZero(form.inside & fgD & ~exposed);
-  if (cv::countNonZero(shadow) > kShadowMaxShareOfChange * changedOverForm)
+  if (cv::countNonZero(shadow) > kShadowMaxShareOfChange * changedOverForm) {
     shadow.setTo(0);
+    return shadow;
+  }
+  // The form's outline ring (left out of the test above: its pixels mix form and screen and
+  // shift between the shots) is in the shade where the form inside it is: otherwise the ring
+  // along a shaded leg stays garment and GrabCut grows it into a strip down the leg's edge
+  // (physical rig, 2 MP: a 12 cm strip below a dark skirt's hem).
+  const int ring = std::max(1, static_cast<int>(std::lround(0.25 * sw))) + 2;
+  cv::Mat nearShadow;
+  cv::dilate(shadow, nearShadow,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * ring + 1, 2 * ring + 1)));
+  shadow |= nearShadow & form.outline & fgD & ~exposed;
   return shadow;
 }
 
@@ -519,6 +543,16 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
   trimap.setTo(cv::GC_FGD + 0, settled.garment);
   trimap.setTo(cv::GC_PR_BGD + 0, exposed.exposed | shadow);
+  // Below the crotch the shade on the form's legs is sure form: it keeps the form's chroma,
+  // dimmed, and GrabCut's colour models take a dark skirt's shade for the skirt (physical rig,
+  // 2 MP: strips of thigh 12 cm long below a near-black skirt's hem). Cloth hanging beyond both
+  // edges of a leg there is still garment (closedAcrossForm, set after this).
+  if (view.crotchCm()) {
+    const int crotchRow = std::clamp(
+        static_cast<int>(std::lround(view.rowOfHeight(*view.crotchCm()) * ws)), 0, trimap.rows);
+    trimap.rowRange(crotchRow, trimap.rows)
+        .setTo(cv::GC_BGD + 0, shadow.rowRange(crotchRow, trimap.rows));
+  }
   trimap.setTo(cv::GC_BGD + 0, settled.form);
   trimap.setTo(cv::GC_FGD + 0, sure);
   const cv::Mat closed = closedAcrossForm(fgD, form.mask, view, ws, sw);
