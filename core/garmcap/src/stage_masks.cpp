@@ -543,15 +543,29 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
   trimap.setTo(cv::GC_FGD + 0, settled.garment);
   trimap.setTo(cv::GC_PR_BGD + 0, exposed.exposed | shadow);
-  // Below the crotch the shade on the form's legs is sure form: it keeps the form's chroma,
-  // dimmed, and GrabCut's colour models take a dark skirt's shade for the skirt (physical rig,
-  // 2 MP: strips of thigh 12 cm long below a near-black skirt's hem). Cloth hanging beyond both
-  // edges of a leg there is still garment (closedAcrossForm, set after this).
+  // Below the crotch, shade on the form's legs lighter than most of the garment is sure form:
+  // GrabCut's colour models take a dark skirt's shade on the thighs for the skirt (physical rig,
+  // 2 MP: strips of thigh 12 cm long below a near-black skirt's hem), and no fold of the garment
+  // is lighter than the garment's median. A light garment's own folds can look like the form's
+  // shade (light yellow pants over a beige form), and stay GrabCut's. Cloth hanging beyond both
+  // edges of a leg is still garment (closedAcrossForm, set after this).
   if (view.crotchCm()) {
     const int crotchRow = std::clamp(
         static_cast<int>(std::lround(view.rowOfHeight(*view.crotchCm()) * ws)), 0, trimap.rows);
-    trimap.rowRange(crotchRow, trimap.rows)
-        .setTo(cv::GC_BGD + 0, shadow.rowRange(crotchRow, trimap.rows));
+    std::vector<uchar> lightness;
+    for (int y = 0; y < sure.rows; y += 2)
+      for (int x = 0; x < sure.cols; x += 2)
+        if (sure.at<uchar>(y, x))
+          lightness.push_back(labD.at<cv::Vec3b>(y, x)[0]);
+    if (!lightness.empty() && crotchRow < trimap.rows) {
+      auto mid = lightness.begin() + static_cast<long>(lightness.size() / 2);
+      std::nth_element(lightness.begin(), mid, lightness.end());
+      cv::Mat lighter;
+      cv::extractChannel(labD, lighter, 0);
+      lighter = (lighter > *mid) & shadow & form.inside;
+      lighter.rowRange(0, crotchRow).setTo(0);
+      trimap.setTo(cv::GC_BGD + 0, lighter);
+    }
   }
   trimap.setTo(cv::GC_BGD + 0, settled.form);
   trimap.setTo(cv::GC_FGD + 0, sure);
