@@ -144,7 +144,7 @@ cv::Mat1f labDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat&
 // apart, where the share switch still turns the test off.
 // Both Lab frames are averaged over about 0.2 cm first (sensor noise).
 cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form, double pxPerCm,
-                     float minDarkening) {
+                     float minDarkening, float shallowFrom) {
   const double sigma = std::max(0.8, kShadowBlurCm * pxPerCm);
   cv::Mat e, d;
   cv::GaussianBlur(labE, e, cv::Size(), sigma);
@@ -174,7 +174,7 @@ cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& fo
                                      static_cast<float>(pd[x][2]) - pe[x][2]);
         const bool dimmed = da * da + db * db <= tolerance * tolerance;
         const bool tinted =
-            k >= kShadowShallow && dab <= kShadowChromaPerLightness * -dl + kShadowChroma;
+            k >= shallowFrom && dab <= kShadowChromaPerLightness * -dl + kShadowChroma;
         o[x] = dimmed || tinted ? 255 : 0;
       }
     }
@@ -406,56 +406,73 @@ ExposedForm exposedForm(const cv::Mat1f& diff, const cv::Mat& labE, const cv::Ma
 // The garment's shadow on the form, which is not sure garment: it is GrabCut's to decide. A
 // shadow is a smooth band that fades into the exposed form beside the garment: what looks like
 // shadow is opened (a stripe or print of the garment shaded darker than the form is thin) and
-// kept only where it touches the exposed form. When most of what changed over the form still
-// looks like shadow, the garment itself is dark and neutral, and the test is not used (empty).
+// kept only where it touches the exposed form. Read with any chroma change up to a fifth of the
+// darkening allowed (shallowFrom 0, the garment's bounce tints a shade). When most of what
+// changed over the form looks like shadow so, the garment itself is dark, and only the shade that
+// keeps the form's chroma in its deep part (kShadowShallow) is shadow; when most still looks like
+// shadow, the garment is dark and neutral over a neutral form, and the test is not used (empty).
 cv::Mat shadowBesideExposedForm(const cv::Mat& labE, const cv::Mat& labD, const FormBands& form,
                                 const cv::Mat& fgD, const cv::Mat& exposed, double sw) {
-  cv::Mat shadow = shadowOnForm(labE, labD, form.inside, sw, kShadowMinDarkening) & fgD & ~exposed;
-  const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
-  cv::morphologyEx(shadow, shadow, cv::MORPH_OPEN,
-                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1)));
   // The exposed form grown through the penumbra (dimmed by less than kShadowMinDarkening, chroma
   // kept) up to kShadowPenumbraCm: a long skirt's shade on the shins fades out over a centimetre
   // or two above the lit feet, and only touched the exposed form through that fade (physical
   // rig, 2 MP: the shins under a red skirt's hem were taken for garment).
-  const cv::Mat penumbra = (shadowOnForm(labE, labD, form.inside, sw, 0.5f) & fgD) | exposed;
+  const cv::Mat penumbra =
+      (shadowOnForm(labE, labD, form.inside, sw, 0.5f, kShadowShallow) & fgD) | exposed;
   cv::Mat touching = exposed.clone();
   for (int i = 0; i < static_cast<int>(std::lround(kShadowPenumbraCm * sw)); ++i) {
     cv::dilate(touching, touching, cv::Mat());
     touching &= penumbra;
   }
   cv::dilate(touching, touching, cv::Mat(), cv::Point(-1, -1), 2);
-  cv::Mat labels;
-  const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
-  std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
-  for (int y = 0; y < labels.rows; ++y) {
-    const int* l = labels.ptr<int>(y);
-    const uchar* t = touching.ptr(y);
-    for (int x = 0; x < labels.cols; ++x)
-      if (l[x] > 0 && t[x])
-        keep[static_cast<std::size_t>(l[x])] = 1;
-  }
-  for (int y = 0; y < labels.rows; ++y) {
-    const int* l = labels.ptr<int>(y);
-    uchar* m = shadow.ptr(y);
-    for (int x = 0; x < labels.cols; ++x)
-      m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
-  }
   const double changedOverForm = cv::countNonZero(form.inside & fgD & ~exposed);
-  if (cv::countNonZero(shadow) > kShadowMaxShareOfChange * changedOverForm) {
-    shadow.setTo(0);
-    return shadow;
+  const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
+  const cv::Mat open =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1));
+  cv::Mat shadow;
+  for (const float shallowFrom : {0.0f, kShadowShallow}) {
+    shadow = shadowOnForm(labE, labD, form.inside, sw, kShadowMinDarkening, shallowFrom) & fgD &
+             ~exposed;
+    cv::morphologyEx(shadow, shadow, cv::MORPH_OPEN, open);
+    cv::Mat labels;
+    const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
+    std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      const uchar* t = touching.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        if (l[x] > 0 && t[x])
+          keep[static_cast<std::size_t>(l[x])] = 1;
+    }
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      uchar* m = shadow.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
+    }
+    if (cv::countNonZero(shadow) <= kShadowMaxShareOfChange * changedOverForm)
+      return shadow;
   }
-  // The form's outline ring (left out of the test above: its pixels mix form and screen and
-  // shift between the shots) is in the shade where the form inside it is: otherwise the ring
-  // along a shaded leg stays garment and GrabCut grows it into a strip down the leg's edge
-  // (physical rig, 2 MP: a 12 cm strip below a dark skirt's hem).
+  shadow.setTo(0);
+  return shadow;
+}
+
+// The form's outline ring (left out of shadowOnForm: its pixels mix form and screen and shift
+// between the shots) beside the shade on the legs, below `fromRow`, is shade too: otherwise the
+// ring along a shaded leg stays garment and GrabCut grows it into a strip down the leg's edge
+// (physical rig, 2 MP: a 12 cm strip below a dark skirt's hem). Higher up a garment's own edge
+// lies on the ring (a simulated gingham top lost its sides' squares).
+void addOutlineBesideShade(cv::Mat& shadow, const FormBands& form, const cv::Mat& fgD,
+                           const cv::Mat& exposed, double sw, int fromRow) {
+  if (fromRow >= shadow.rows)
+    return;
   const int ring = std::max(1, static_cast<int>(std::lround(0.25 * sw))) + 2;
   cv::Mat nearShadow;
   cv::dilate(shadow, nearShadow,
              cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * ring + 1, 2 * ring + 1)));
-  shadow |= nearShadow & form.outline & fgD & ~exposed;
-  return shadow;
+  cv::Mat add = nearShadow & form.outline & fgD & ~exposed;
+  add.rowRange(0, std::max(0, fromRow)).setTo(0);
+  shadow |= add;
 }
 
 struct SettledRegions {
@@ -517,7 +534,13 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   const cv::Mat kernel =
       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
   const ExposedForm exposed = exposedForm(diff, labE, labD, form, fgD, view, g, kernel);
-  const cv::Mat shadow = shadowBesideExposedForm(labE, labD, form, fgD, exposed.exposed, sw);
+  cv::Mat shadow = shadowBesideExposedForm(labE, labD, form, fgD, exposed.exposed, sw);
+  const int crotchRow =
+      view.crotchCm()
+          ? std::clamp(static_cast<int>(std::lround(view.rowOfHeight(*view.crotchCm()) * ws)), 0,
+                       fgD.rows)
+          : fgD.rows;
+  addOutlineBesideShade(shadow, form, fgD, exposed.exposed, sw, crotchRow);
 
   cv::Mat base = fgD & ~exposed.exposed & ~shadow;
   cv::morphologyEx(base, base, cv::MORPH_OPEN, kernel);
@@ -549,15 +572,13 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   // is lighter than the garment's median. A light garment's own folds can look like the form's
   // shade (light yellow pants over a beige form), and stay GrabCut's. Cloth hanging beyond both
   // edges of a leg is still garment (closedAcrossForm, set after this).
-  if (view.crotchCm()) {
-    const int crotchRow = std::clamp(
-        static_cast<int>(std::lround(view.rowOfHeight(*view.crotchCm()) * ws)), 0, trimap.rows);
+  if (crotchRow < trimap.rows) {
     std::vector<uchar> lightness;
     for (int y = 0; y < sure.rows; y += 2)
       for (int x = 0; x < sure.cols; x += 2)
         if (sure.at<uchar>(y, x))
           lightness.push_back(labD.at<cv::Vec3b>(y, x)[0]);
-    if (!lightness.empty() && crotchRow < trimap.rows) {
+    if (!lightness.empty()) {
       auto mid = lightness.begin() + static_cast<long>(lightness.size() / 2);
       std::nth_element(lightness.begin(), mid, lightness.end());
       cv::Mat lighter;
