@@ -31,9 +31,9 @@ constexpr double kAveragedDifferenceCm = 0.5;
 constexpr float kShadowMinDarkening = 8.0f;
 constexpr float kShadowChroma = 4.0f;
 constexpr float kShadowChromaShare = 0.1f;
-// A shallow shade (L* + 16 at least this share of the bare form's) may also be tinted by the
-// light the garment bounces into it: there its chroma may change by up to this fraction of the
-// darkening plus kShadowChroma.
+// Over a dark garment, only a shallow shade (L* + 16 at least this share of the bare form's) may
+// also be tinted by the light the garment bounces into it, its chroma changed by up to this
+// fraction of the darkening plus kShadowChroma; elsewhere any shade may.
 constexpr float kShadowShallow = 0.5f;
 constexpr float kShadowChromaPerLightness = 0.2f;
 // A shadow fades into the exposed form through its penumbra, darker by less than
@@ -137,11 +137,12 @@ cv::Mat1f labDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat&
 // little of the form's chroma: a near-black skirt over a beige form is neutral where the form's
 // shade would still be beige (physical rig, 2 MP: the test that allowed any chroma change up to
 // a fifth of the darkening took a dark skirt for shadow, was switched off by
-// kShadowMaxShareOfChange, and the thighs in its shade were typed as pants' legs). A shallow
-// shade (kShadowShallow) is also lit by what the garment bounces into it and may take on some of
-// its colour (the thighs under a light yellow top): there the chroma may change by a fifth of the
-// darkening. Over a neutral form a near-black garment and the form's deep shade cannot be told
-// apart, where the share switch still turns the test off.
+// kShadowMaxShareOfChange, and the thighs in its shade were typed as pants' legs). A shade
+// with L* + 16 at least `shallowFrom` of the bare form's is also lit by what the garment bounces
+// into it and may take on some of its colour (the thighs under a light yellow top): there the
+// chroma may change by a fifth of the darkening plus kShadowChroma (shallowFrom 0: everywhere,
+// as this test read before). Over a neutral form a near-black garment and the form's deep shade
+// cannot be told apart, where the share switch still turns the test off.
 // Both Lab frames are averaged over about 0.2 cm first (sensor noise).
 cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form, double pxPerCm,
                      float minDarkening, float shallowFrom) {
