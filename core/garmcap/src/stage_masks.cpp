@@ -26,10 +26,19 @@ constexpr double kNoiseAboveNeckCm = 4.0;
 constexpr double kAveragedDifferenceCm = 0.5;
 
 // The garment's shadow on the form (shadowOnForm): at least this much darker in Lab lightness
-// (0-255), with a chroma change of at most this fraction of the darkening plus a constant.
+// (0-255), with its a,b within a constant plus a share of the form's own chroma (as dimmed) of
+// the form's colour dimmed to that lightness.
 constexpr float kShadowMinDarkening = 8.0f;
-constexpr float kShadowChromaPerLightness = 0.2f;
 constexpr float kShadowChroma = 4.0f;
+constexpr float kShadowChromaShare = 0.1f;
+// Over a dark garment, only a shallow shade (L* + 16 at least this share of the bare form's) may
+// also be tinted by the light the garment bounces into it, its chroma changed by up to this
+// fraction of the darkening plus kShadowChroma; elsewhere any shade may.
+constexpr float kShadowShallow = 0.5f;
+constexpr float kShadowChromaPerLightness = 0.2f;
+// A shadow fades into the exposed form through its penumbra, darker by less than
+// kShadowMinDarkening but with the form's chroma kept, over at most this far.
+constexpr double kShadowPenumbraCm = 1.0;
 constexpr double kShadowBlurCm = 0.2;
 // A shadow band is at least this wide (thinner is a garment's stripe or print, shaded).
 constexpr double kShadowMinWidthCm = 0.8;
@@ -118,19 +127,32 @@ cv::Mat1f labDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat&
   return out;
 }
 
-// Form pixels that look like the bare form in shadow: darker in the dressed frame, with little
-// change of chroma for the change of lightness. The garment throws its shadow on the form below
-// its hem (a band on the thighs under a top, on the shins under a skirt, in the gap between the
-// legs) and that band is no garment; a garment over the form changes its colour as well, unless
-// it is a dark neutral one, where GrabCut's colour models (not this test) decide. Both Lab
-// frames are averaged over about 0.2 cm first (sensor noise).
-cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form,
-                     double pxPerCm) {
+// Form pixels that look like the bare form in shadow: darker in the dressed frame by at least
+// `minDarkening`, with the form's own chroma dimmed with it. Dimming a colour by a factor scales
+// a*, b* and L* + 16 by the same factor (Lab's cube root), so the shade of the form has its hue
+// and a chroma scaled by (L*d + 16) / (L*e + 16); the despilled frames leave no green bounce
+// from the screen in the shade. The garment throws its shadow on the form below its hem (a band
+// on the thighs under a top, on the shins under a skirt, in the gap between the legs) and that
+// band is no garment; a garment over the form changes its colour otherwise, and a dark one keeps
+// little of the form's chroma: a near-black skirt over a beige form is neutral where the form's
+// shade would still be beige (physical rig, 2 MP: the test that allowed any chroma change up to
+// a fifth of the darkening took a dark skirt for shadow, was switched off by
+// kShadowMaxShareOfChange, and the thighs in its shade were typed as pants' legs). A shade
+// with L* + 16 at least `shallowFrom` of the bare form's is also lit by what the garment bounces
+// into it and may take on some of its colour (the thighs under a light yellow top): there the
+// chroma may change by a fifth of the darkening plus kShadowChroma (shallowFrom 0: everywhere,
+// as this test read before). Over a neutral form a near-black garment and the form's deep shade
+// cannot be told apart, where the share switch still turns the test off.
+// Both Lab frames are averaged over about 0.2 cm first (sensor noise).
+cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form, double pxPerCm,
+                     float minDarkening, float shallowFrom) {
   const double sigma = std::max(0.8, kShadowBlurCm * pxPerCm);
   cv::Mat e, d;
   cv::GaussianBlur(labE, e, cv::Size(), sigma);
   cv::GaussianBlur(labD, d, cv::Size(), sigma);
   cv::Mat out(labE.size(), CV_8UC1, cv::Scalar(0));
+  // 8-bit Lab: L = L* x 255/100, a = a* + 128, b = b* + 128.
+  constexpr float kL16 = 16.0f * 255.0f / 100.0f;
   cv::parallel_for_(cv::Range(0, labE.rows), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       const cv::Vec3b* pe = e.ptr<cv::Vec3b>(y);
@@ -141,12 +163,20 @@ cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& fo
         if (!f[x])
           continue;
         const float dl = static_cast<float>(pd[x][0]) - pe[x][0];
-        const float da = static_cast<float>(pd[x][1]) - pe[x][1];
-        const float db = static_cast<float>(pd[x][2]) - pe[x][2];
-        const float dab = std::sqrt(da * da + db * db);
-        o[x] = dl <= -kShadowMinDarkening && dab <= kShadowChromaPerLightness * -dl + kShadowChroma
-                   ? 255
-                   : 0;
+        if (dl > -minDarkening)
+          continue;
+        const float k = (pd[x][0] + kL16) / (pe[x][0] + kL16);
+        const float ae = k * (static_cast<float>(pe[x][1]) - 128.0f);
+        const float be = k * (static_cast<float>(pe[x][2]) - 128.0f);
+        const float da = static_cast<float>(pd[x][1]) - 128.0f - ae;
+        const float db = static_cast<float>(pd[x][2]) - 128.0f - be;
+        const float tolerance = kShadowChroma + kShadowChromaShare * std::sqrt(ae * ae + be * be);
+        const float dab = std::hypot(static_cast<float>(pd[x][1]) - pe[x][1],
+                                     static_cast<float>(pd[x][2]) - pe[x][2]);
+        const bool dimmed = da * da + db * db <= tolerance * tolerance;
+        const bool tinted =
+            k >= shallowFrom && dab <= kShadowChromaPerLightness * -dl + kShadowChroma;
+        o[x] = dimmed || tinted ? 255 : 0;
       }
     }
   });
@@ -377,36 +407,73 @@ ExposedForm exposedForm(const cv::Mat1f& diff, const cv::Mat& labE, const cv::Ma
 // The garment's shadow on the form, which is not sure garment: it is GrabCut's to decide. A
 // shadow is a smooth band that fades into the exposed form beside the garment: what looks like
 // shadow is opened (a stripe or print of the garment shaded darker than the form is thin) and
-// kept only where it touches the exposed form. When most of what changed over the form still
-// looks like shadow, the garment itself is dark and neutral, and the test is not used (empty).
+// kept only where it touches the exposed form. Read with any chroma change up to a fifth of the
+// darkening allowed (shallowFrom 0, the garment's bounce tints a shade). When most of what
+// changed over the form looks like shadow so, the garment itself is dark, and only the shade that
+// keeps the form's chroma in its deep part (kShadowShallow) is shadow; when most still looks like
+// shadow, the garment is dark and neutral over a neutral form, and the test is not used (empty).
 cv::Mat shadowBesideExposedForm(const cv::Mat& labE, const cv::Mat& labD, const FormBands& form,
                                 const cv::Mat& fgD, const cv::Mat& exposed, double sw) {
-  cv::Mat shadow = shadowOnForm(labE, labD, form.inside, sw) & fgD & ~exposed;
-  const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
-  cv::morphologyEx(shadow, shadow, cv::MORPH_OPEN,
-                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1)));
-  cv::Mat touching;
-  cv::dilate(exposed, touching, cv::Mat(), cv::Point(-1, -1), 2);
-  cv::Mat labels;
-  const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
-  std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
-  for (int y = 0; y < labels.rows; ++y) {
-    const int* l = labels.ptr<int>(y);
-    const uchar* t = touching.ptr(y);
-    for (int x = 0; x < labels.cols; ++x)
-      if (l[x] > 0 && t[x])
-        keep[static_cast<std::size_t>(l[x])] = 1;
+  // The exposed form grown through the penumbra (dimmed by less than kShadowMinDarkening, chroma
+  // kept) up to kShadowPenumbraCm: a long skirt's shade on the shins fades out over a centimetre
+  // or two above the lit feet, and only touched the exposed form through that fade (physical
+  // rig, 2 MP: the shins under a red skirt's hem were taken for garment).
+  const cv::Mat penumbra =
+      (shadowOnForm(labE, labD, form.inside, sw, 0.5f, kShadowShallow) & fgD) | exposed;
+  cv::Mat touching = exposed.clone();
+  for (int i = 0; i < static_cast<int>(std::lround(kShadowPenumbraCm * sw)); ++i) {
+    cv::dilate(touching, touching, cv::Mat());
+    touching &= penumbra;
   }
-  for (int y = 0; y < labels.rows; ++y) {
-    const int* l = labels.ptr<int>(y);
-    uchar* m = shadow.ptr(y);
-    for (int x = 0; x < labels.cols; ++x)
-      m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
-  }
+  cv::dilate(touching, touching, cv::Mat(), cv::Point(-1, -1), 2);
   const double changedOverForm = cv::countNonZero(form.inside & fgD & ~exposed);
-  if (cv::countNonZero(shadow) > kShadowMaxShareOfChange * changedOverForm)
-    shadow.setTo(0);
+  const int rs = std::max(1, static_cast<int>(std::lround(kShadowMinWidthCm * sw / 2)));
+  const cv::Mat open =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1));
+  cv::Mat shadow;
+  for (const float shallowFrom : {0.0f, kShadowShallow}) {
+    shadow = shadowOnForm(labE, labD, form.inside, sw, kShadowMinDarkening, shallowFrom) & fgD &
+             ~exposed;
+    cv::morphologyEx(shadow, shadow, cv::MORPH_OPEN, open);
+    cv::Mat labels;
+    const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
+    std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      const uchar* t = touching.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        if (l[x] > 0 && t[x])
+          keep[static_cast<std::size_t>(l[x])] = 1;
+    }
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      uchar* m = shadow.ptr(y);
+      for (int x = 0; x < labels.cols; ++x)
+        m[x] = l[x] > 0 && keep[static_cast<std::size_t>(l[x])] ? 255 : 0;
+    }
+    if (cv::countNonZero(shadow) <= kShadowMaxShareOfChange * changedOverForm)
+      return shadow;
+  }
+  shadow.setTo(0);
   return shadow;
+}
+
+// The form's outline ring (left out of shadowOnForm: its pixels mix form and screen and shift
+// between the shots) beside the shade on the legs, below `fromRow`, is shade too: otherwise the
+// ring along a shaded leg stays garment and GrabCut grows it into a strip down the leg's edge
+// (physical rig, 2 MP: a 12 cm strip below a dark skirt's hem). Higher up a garment's own edge
+// lies on the ring (a simulated gingham top lost its sides' squares).
+void addOutlineBesideShade(cv::Mat& shadow, const FormBands& form, const cv::Mat& fgD,
+                           const cv::Mat& exposed, double sw, int fromRow) {
+  if (fromRow >= shadow.rows)
+    return;
+  const int ring = std::max(1, static_cast<int>(std::lround(0.25 * sw))) + 2;
+  cv::Mat nearShadow;
+  cv::dilate(shadow, nearShadow,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * ring + 1, 2 * ring + 1)));
+  cv::Mat add = nearShadow & form.outline & fgD & ~exposed;
+  add.rowRange(0, std::max(0, fromRow)).setTo(0);
+  shadow |= add;
 }
 
 struct SettledRegions {
@@ -468,7 +535,13 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   const cv::Mat kernel =
       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
   const ExposedForm exposed = exposedForm(diff, labE, labD, form, fgD, view, g, kernel);
-  const cv::Mat shadow = shadowBesideExposedForm(labE, labD, form, fgD, exposed.exposed, sw);
+  cv::Mat shadow = shadowBesideExposedForm(labE, labD, form, fgD, exposed.exposed, sw);
+  const int crotchRow =
+      view.crotchCm()
+          ? std::clamp(static_cast<int>(std::lround(view.rowOfHeight(*view.crotchCm()) * ws)), 0,
+                       fgD.rows)
+          : fgD.rows;
+  addOutlineBesideShade(shadow, form, fgD, exposed.exposed, sw, crotchRow);
 
   cv::Mat base = fgD & ~exposed.exposed & ~shadow;
   cv::morphologyEx(base, base, cv::MORPH_OPEN, kernel);
@@ -494,6 +567,28 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
   trimap.setTo(cv::GC_FGD + 0, settled.garment);
   trimap.setTo(cv::GC_PR_BGD + 0, exposed.exposed | shadow);
+  // Below the crotch, shade on the form's legs lighter than most of the garment is sure form:
+  // GrabCut's colour models take a dark skirt's shade on the thighs for the skirt (physical rig,
+  // 2 MP: strips of thigh 12 cm long below a near-black skirt's hem), and no fold of the garment
+  // is lighter than the garment's median. A light garment's own folds can look like the form's
+  // shade (light yellow pants over a beige form), and stay GrabCut's. Cloth hanging beyond both
+  // edges of a leg is still garment (closedAcrossForm, set after this).
+  if (crotchRow < trimap.rows) {
+    std::vector<uchar> lightness;
+    for (int y = 0; y < sure.rows; y += 2)
+      for (int x = 0; x < sure.cols; x += 2)
+        if (sure.at<uchar>(y, x))
+          lightness.push_back(labD.at<cv::Vec3b>(y, x)[0]);
+    if (!lightness.empty()) {
+      auto mid = lightness.begin() + static_cast<long>(lightness.size() / 2);
+      std::nth_element(lightness.begin(), mid, lightness.end());
+      cv::Mat lighter;
+      cv::extractChannel(labD, lighter, 0);
+      lighter = (lighter > *mid) & shadow & form.inside;
+      lighter.rowRange(0, crotchRow).setTo(0);
+      trimap.setTo(cv::GC_BGD + 0, lighter);
+    }
+  }
   trimap.setTo(cv::GC_BGD + 0, settled.form);
   trimap.setTo(cv::GC_FGD + 0, sure);
   const cv::Mat closed = closedAcrossForm(fgD, form.mask, view, ws, sw);
