@@ -143,23 +143,34 @@ cv::Mat1f labDifference(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat&
 // chroma may change by a fifth of the darkening plus kShadowChroma (shallowFrom 0: everywhere,
 // as this test read before). Over a neutral form a near-black garment and the form's deep shade
 // cannot be told apart, where the share switch still turns the test off.
-// Both Lab frames are averaged over about 0.2 cm first (sensor noise).
-cv::Mat shadowOnForm(const cv::Mat& labE, const cv::Mat& labD, const cv::Mat& form, double pxPerCm,
-                     float minDarkening, float shallowFrom) {
+// Both Lab frames are averaged over about 0.2 cm first (sensor noise), once for every test
+// (ShadowFrames).
+struct ShadowFrames {
+  cv::Mat e, d;  // bare and dressed Lab, blurred
+};
+
+ShadowFrames shadowFrames(const cv::Mat& labE, const cv::Mat& labD, double pxPerCm) {
   const double sigma = std::max(0.8, kShadowBlurCm * pxPerCm);
-  cv::Mat e, d;
-  cv::GaussianBlur(labE, e, cv::Size(), sigma);
-  cv::GaussianBlur(labD, d, cv::Size(), sigma);
-  cv::Mat out(labE.size(), CV_8UC1, cv::Scalar(0));
+  ShadowFrames f;
+  cv::GaussianBlur(labE, f.e, cv::Size(), sigma);
+  cv::GaussianBlur(labD, f.d, cv::Size(), sigma);
+  return f;
+}
+
+cv::Mat shadowOnForm(const ShadowFrames& frames, const cv::Mat& form, float minDarkening,
+                     float shallowFrom) {
+  const cv::Mat& e = frames.e;
+  const cv::Mat& d = frames.d;
+  cv::Mat out(e.size(), CV_8UC1, cv::Scalar(0));
   // 8-bit Lab: L = L* x 255/100, a = a* + 128, b = b* + 128.
   constexpr float kL16 = 16.0f * 255.0f / 100.0f;
-  cv::parallel_for_(cv::Range(0, labE.rows), [&](const cv::Range& rows) {
+  cv::parallel_for_(cv::Range(0, e.rows), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       const cv::Vec3b* pe = e.ptr<cv::Vec3b>(y);
       const cv::Vec3b* pd = d.ptr<cv::Vec3b>(y);
       const uchar* f = form.ptr(y);
       uchar* o = out.ptr(y);
-      for (int x = 0; x < labE.cols; ++x) {
+      for (int x = 0; x < e.cols; ++x) {
         if (!f[x])
           continue;
         const float dl = static_cast<float>(pd[x][0]) - pe[x][0];
@@ -418,8 +429,9 @@ cv::Mat shadowBesideExposedForm(const cv::Mat& labE, const cv::Mat& labD, const 
   // kept) up to kShadowPenumbraCm: a long skirt's shade on the shins fades out over a centimetre
   // or two above the lit feet, and only touched the exposed form through that fade (physical
   // rig, 2 MP: the shins under a red skirt's hem were taken for garment).
+  const ShadowFrames frames = shadowFrames(labE, labD, sw);
   const cv::Mat penumbra =
-      (shadowOnForm(labE, labD, form.inside, sw, 0.5f, kShadowShallow) & fgD) | exposed;
+      (shadowOnForm(frames, form.inside, 0.5f, kShadowShallow) & fgD) | exposed;
   cv::Mat touching = exposed.clone();
   for (int i = 0; i < static_cast<int>(std::lround(kShadowPenumbraCm * sw)); ++i) {
     cv::dilate(touching, touching, cv::Mat());
@@ -432,8 +444,7 @@ cv::Mat shadowBesideExposedForm(const cv::Mat& labE, const cv::Mat& labD, const 
       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rs + 1, 2 * rs + 1));
   cv::Mat shadow;
   for (const float shallowFrom : {0.0f, kShadowShallow}) {
-    shadow = shadowOnForm(labE, labD, form.inside, sw, kShadowMinDarkening, shallowFrom) & fgD &
-             ~exposed;
+    shadow = shadowOnForm(frames, form.inside, kShadowMinDarkening, shallowFrom) & fgD & ~exposed;
     cv::morphologyEx(shadow, shadow, cv::MORPH_OPEN, open);
     cv::Mat labels;
     const int n = cv::connectedComponents(shadow, labels, 8, CV_32S);
