@@ -320,8 +320,12 @@ void recipeDressShift(DraftBuilder& b) {
   const Point2 wsF = b.point("waist_side_front", Point2(d.side.x() + cw, wbl));
   const Point2 hipB = b.point("hip_side_back", Point2(d.side.x() + delta, yHip));
   const Point2 hipF = b.point("hip_side_front", Point2(d.side.x() - delta, yHip));
-  b.require(hipF.x() > d.bp.x() - d.bw / 2 && hipB.x() > 2,
-            "hip_circ + ease_hip does not fit the bodice for a shift dress");
+  // Each piece keeps at least 2 cm of width at the hip (a hip far under the bust would move the
+  // side seam past CB or CF).
+  b.require(hipB.x() > 2 && hipF.x() < d.bw - 2,
+            "hip_circ + ease_hip = " + std::to_string(H + b.design("ease_hip")) +
+                " cm is too small for the bodice's bust (" + std::to_string(2 * d.bw) +
+                " cm) for a shift dress");
   const double theta = radToDeg(std::atan2(b.design("hem_flare"), yHem - yHip));
   const Point2 hemB = b.point("hem_side_back", rotateAbout(Point2(hipB.x(), yHem), hipB, -theta));
   const Point2 hemF = b.point("hem_side_front", rotateAbout(Point2(hipF.x(), yHem), hipF, theta));

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "garmcap/drafts/panel_measure.h"
+#include "garmcap/drafts/recipes.h"
 #include "garmcap/drafts/size_charts.h"
 
 using namespace garmcap;
@@ -99,6 +100,27 @@ TEST(DraftFromGarment, ShiftDressShorterThanTheHipIsRefusedWithItsReason) {
     FAIL() << "a 20 cm skirt ends above the hip";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("ends above the hip"), std::string::npos) << e.what();
+  }
+}
+
+// A hip read far under the form's is clamped to the form's (no negative hip ease) with a warning;
+// a body whose hip is far under its bust is refused, naming it.
+TEST(DraftFromGarment, ShiftDressWithAHipFarUnderItsBust) {
+  std::vector<std::string> warnings;
+  const std::map<std::string, double> g = {
+      {"bust_circ", 110}, {"waist_circ", 108}, {"hip_circ", 20}, {"skirt_length", 60}};
+  const auto p = pipeline::draftFromGarment("dress", {}, g, body55(), 20.0, warnings);
+  EXPECT_EQ(p.type, "dress_shift");
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings.front().find("ease_hip"), std::string::npos) << warnings.front();
+  drafts::Measurements narrow = body55();
+  narrow.set("hip_circ", 30);
+  try {
+    drafts::draftGarment("dress_shift", narrow);
+    FAIL() << "a 30 cm hip under an 85 cm bust was drafted";
+  } catch (const std::exception& e) {
+    // The body check refuses it before the recipe's own guard would (hip far under the waist).
+    EXPECT_NE(std::string(e.what()).find("hip_circ 30"), std::string::npos) << e.what();
   }
 }
 
