@@ -1,8 +1,13 @@
 #include "garmcap/drafts/file_io.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <thread>
 
 namespace fs = std::filesystem;
 using namespace garmcap::drafts;
@@ -22,9 +27,30 @@ TEST(FileIo, AtomicWriteReplacesContentAndLeavesNoTemporaries) {
   writeFileAtomic(file, "two");
   EXPECT_EQ(readFile(file), "two");
   int entries = 0;
-  for ([[maybe_unused]] const auto& e : fs::directory_iterator(file.parent_path())) ++entries;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(file.parent_path()))
+    ++entries;
   EXPECT_EQ(entries, 1);
   fs::remove_all(dir);
+}
+
+// A FIFO (like /dev/null or /dev/stdout, a node that is not a regular file) is written into, not
+// replaced by a renamed file (run as root, `--out /dev/null` made /dev/null a plain file).
+TEST(FileIo, AtomicWriteIntoAPipeKeepsThePipe) {
+  const auto dir = tempDir();
+  const auto fifo = dir / "pipe";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string got;
+  std::thread reader([&] {
+    std::ifstream in(fifo, std::ios::binary);
+    got.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  });
+  writeFileAtomic(fifo, "through the pipe");
+  reader.join();
+  EXPECT_EQ(got, "through the pipe");
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(fifo)));
+  EXPECT_THROW(writeFileAtomic(dir, "x"), FileError);
+  fs::remove(fifo);
 }
 
 TEST(FileIo, MissingFileIsNamed) {

@@ -1,6 +1,7 @@
 #include "garmcap/io/file_io.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -66,6 +67,25 @@ std::string readFile(const std::filesystem::path& path) {
 }
 
 void writeFileAtomic(const std::filesystem::path& path, std::string_view data) {
+  // A device or a pipe (/dev/null, /dev/stdout, a FIFO) is written into: a file renamed onto it
+  // would replace the node itself (as root, `garmcap draft --out /dev/null` left /dev/null a
+  // plain file, and every program that wrote to it afterwards failed).
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    if (S_ISDIR(st.st_mode))
+      throw FileError("cannot write " + path.string() + ": it is a directory");
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0)
+      throw FileError("cannot open " + path.string() + ": " + errnoText());
+    try {
+      writeAll(fd, data, path);
+    } catch (...) {
+      ::close(fd);
+      throw;
+    }
+    ::close(fd);
+    return;
+  }
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
