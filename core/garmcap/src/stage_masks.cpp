@@ -50,12 +50,18 @@ constexpr double kClosureReachCm = 1.5;
 constexpr double kClosureMinCm = 0.3;
 constexpr double kClosureClearCm = 0.3;
 // closedAcrossForm: rows between closed rows of the same section, over at most this far, are
-// closed too. A garment that hugs the form stands off it by about kClosureClearCm + kClosureMinCm,
-// so its rows pass and fail the test by a pixel (torso rig case_014: a form-coloured skirt just
-// under the waist, 4 open rows between closed ones, cut across by GrabCut: skirt length 54 cm
-// short). A tube closed above and below is closed between: its sides do not leave the form for
-// less than a centimetre and come back.
+// never sure background. A garment that hugs the form stands off it by about kClosureClearCm +
+// kClosureMinCm, so its rows pass and fail the test by a pixel (torso rig case_014: a
+// form-coloured skirt just under the waist, 4 open rows between closed ones made sure background
+// as exposed form far from garment evidence, and GrabCut had to cut across: skirt length 54 cm
+// short). A tube closed above and below does not leave the form for less than a centimetre and
+// come back, but those rows are left to GrabCut rather than made garment: near a hem that rises
+// at the centre front the sides pass while the form shows between them, and any more sure or
+// probable garment moved GrabCut's colour models (physical case_023: a lobe of the form below a
+// white top's hem, 1.2 cm on its length; a strip of arm in its cut-out).
 constexpr double kClosureGapCm = 1.0;
+// closedAcrossForm's values: a closed row's pixels, and those of rows between closed rows.
+constexpr uchar kClosedRow = 255, kBetweenClosedRows = 128;
 // coveredFromShoulders: the bust's closure is looked for this far below the bust.
 constexpr double kShoulderBustBandCm = 1.0;
 
@@ -207,7 +213,8 @@ cv::Mat shadowOnForm(const ShadowFrames& frames, const cv::Mat& form, float minD
 // the section (within kClosureReachCm, beyond kClosureClearCm of the bare form), the garment is a
 // tube round that part of the form and covers its front between them. A garment the colour of
 // the form matches the bare frame within the noise over large patches there, which the exposed
-// test then takes for bare form (physical rig: form-coloured dresses lost their skirts).
+// test then takes for bare form (physical rig: form-coloured dresses lost their skirts). Closed
+// rows' pixels are kClosedRow, those of rows between closed rows kBetweenClosedRows.
 cv::Mat closedAcrossForm(const cv::Mat& fgD, const cv::Mat& formMask, const FormView& view,
                          double ws, double sw) {
   cv::Mat out = cv::Mat::zeros(fgD.size(), CV_8UC1);
@@ -224,11 +231,11 @@ cv::Mat closedAcrossForm(const cv::Mat& fgD, const cv::Mat& formMask, const Form
     to = std::clamp(to, 0, outside.cols - 1);
     return from <= to && cv::countNonZero(outside.row(row).colRange(from, to + 1)) >= minPx;
   };
-  auto fill = [&](int row, const calib::RowSection& sec) {
+  auto fill = [&](int row, const calib::RowSection& sec, uchar value) {
     const int l = static_cast<int>(std::lround(sec.leftPx * ws));
     const int r = static_cast<int>(std::lround(sec.rightPx * ws));
     if (r > l && l >= 0 && r < out.cols)
-      out.row(row).colRange(l, r + 1).setTo(255, fgD.row(row).colRange(l, r + 1));
+      out.row(row).colRange(l, r + 1).setTo(value, fgD.row(row).colRange(l, r + 1));
   };
   auto closes = [&](int row, const calib::RowSection& sec) {
     const int l = static_cast<int>(std::lround(sec.leftPx * ws));
@@ -257,10 +264,10 @@ cv::Mat closedAcrossForm(const cv::Mat& fgD, const cv::Mat& formMask, const Form
       }
       if (!closes(row, *sec))
         continue;
-      fill(row, *sec);
+      fill(row, *sec, kClosedRow);
       if (lastClosed >= 0 && row - lastClosed - 1 <= gapPx)
         for (int between = lastClosed + 1; between < row; ++between)
-          fill(between, *sectionAt(between, part));
+          fill(between, *sectionAt(between, part), kBetweenClosedRows);
       lastClosed = row;
     }
   }
@@ -631,8 +638,10 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   trimap.setTo(cv::GC_BGD + 0, settled.form);
   trimap.setTo(cv::GC_FGD + 0, sure);
   const cv::Mat closed = closedAcrossForm(fgD, form.mask, view, ws, sw);
-  trimap.setTo(cv::GC_FGD + 0, closed);
-  trimap.setTo(cv::GC_FGD + 0, coveredFromShoulders(fgD, form.mask, closed, view, ws, sw));
+  trimap.setTo(cv::GC_FGD + 0, closed == kClosedRow);
+  trimap.setTo(cv::GC_PR_BGD + 0, (closed == kBetweenClosedRows) & (trimap == cv::GC_BGD));
+  trimap.setTo(cv::GC_FGD + 0,
+               coveredFromShoulders(fgD, form.mask, closed == kClosedRow, view, ws, sw));
   out.form = form.mask;
   out.foreground = fgD;
   out.exposed = exposed.exposed;
