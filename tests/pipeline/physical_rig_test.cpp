@@ -62,13 +62,19 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 // form-coloured bodice, case_003): garment_length 2.28 / 20.67 -> 0.88 / 1.63. h/legs15: a free
 // leg's opening is never shallower than the form's leg seen from the side up to the knee
 // (docs/measurement_model.md, "Leg openings that hang from the knee"): leg openings 3.66 / 6.52
-// -> 3.19 / 6.52 (case_012 -3.1 -> -0.8). Per measurement {mean, max} absolute error in cm.
+// -> 3.19 / 6.52 (case_012 -3.1 -> -0.8). h/dress15: the six dresses re-made without the
+// generator's waist hoop (docs/physical_rig.md, "Full-form dresses without the waist hoop"); the
+// measurer unchanged, the new truth reads worse: waist 1.22 / 10.45 -> 1.85 / 10.45 (the woven
+// sleeveless dresses 003 and 018 hang as deep as wide at the waist: -6.7 and -8.9 cm; bound 1.5 ->
+// 2.2), hip 0.72 / 2.71 -> 0.96 / 3.11 (case_014 +3.1; bound 0.9 / 3.1 -> 1.1 / 3.6), bust 1.67 /
+// 4.82 -> 1.84 / 5.22 (bound kept); sleeves 0.49 / 1.91 -> 0.43 / 1.58 (bound 1.2 / 2.7 -> 1.0 /
+// 2.3). Per measurement {mean, max} absolute error in cm.
 constexpr int kMinTypesRight = 23;
 constexpr int kMaxMissing = 2;
 const std::map<std::string, std::pair<double, double>> kBounds = {
-    {"bust_circ", {2.0, 5.5}},         {"waist_circ", {1.5, 12.0}},    {"hip_circ", {0.9, 3.1}},
+    {"bust_circ", {2.0, 5.5}},         {"waist_circ", {2.2, 12.0}},    {"hip_circ", {1.1, 3.6}},
     {"hem_circ", {2.2, 10.2}},         {"garment_length", {1.5, 2.4}}, {"skirt_length", {0.7, 1.5}},
-    {"sleeve_length", {1.2, 2.7}},     {"outseam", {0.7, 1.2}},        {"inseam", {0.6, 1.0}},
+    {"sleeve_length", {1.0, 2.3}},     {"outseam", {0.7, 1.2}},        {"inseam", {0.6, 1.0}},
     {"leg_opening_circ", {3.45, 7.4}},
 };
 

@@ -57,6 +57,10 @@ def parse_args():
     ap.add_argument("--frames", type=int, default=12, help="cloth settling frames")
     ap.add_argument("--start", type=int, default=0, help="first case index (resume)")
     ap.add_argument("--quality", type=int, default=92, help="JPEG quality")
+    ap.add_argument("--hoop", action="store_true",
+                    help="make dresses as rigs made before the fix did (full forms before "
+                         "h/dress15, torso forms before h/torsogen15): the skirt's waistband "
+                         "pinned outside the bodice as cut, a stiff hoop at the waist")
     ap.add_argument("--no-render", action="store_true",
                     help="settle the cloth and write truth.json only (for checking garments)")
     ap.add_argument("--session-size", type=int, default=6,
@@ -500,9 +504,10 @@ def settle_alone(v, f, preset, frames):
 def make_garment(form, kind, style, rng, settle_frames=0):
     """The garment's starting mesh (cm): a Piece plus a description for truth.json.
 
-    With `settle_frames` (torso forms), a dress's bodice is first settled alone and the skirt's
-    waist seam placed on the settled bodice; the piece then carries `start`, the positions the
-    cloth starts from (the bodice as settled), while `v` stays the cut bodice, its rest shape."""
+    With `settle_frames`, a dress's bodice is first settled alone and the skirt's waist seam
+    placed on the settled bodice; the piece then carries `start`, the positions the cloth starts
+    from (the bodice as settled), while `v` stays the cut bodice, its rest shape. Without it
+    (`--hoop`, rigs made before h/dress15) the waistband is pinned outside the bodice as cut."""
     piece = gm.Piece()
     desc = {"kind": kind, "style": dict(style)}
     fabric = "knit" if (kind == "top" and rng.random() < 0.5) else ("knit" if rng.random() < 0.2 else "woven")
@@ -530,11 +535,11 @@ def make_garment(form, kind, style, rng, settle_frames=0):
             hem = rng.uniform(max(form.crotch, getattr(form, "bottom", 0.0)) + 2.0, form.hip + 10.0)
         else:
             hem = form.waist - 5.0  # the bodice ends under the skirt's waist seam
-            if settle_frames and form.torso_form:
-                # On a torso form the bodice ends at the seam, the lower of the skirt's two
-                # pinned waistband rings (gm.build_skirt: waist + 2 and 1.5 cm below), and is
-                # held there (below). Lower, its loose edge hung outside the skirt once settled
-                # (no self-collision between the two).
+            if settle_frames:
+                # The bodice ends at the seam, the lower of the skirt's two pinned waistband
+                # rings (gm.build_skirt: waist + 2 and 1.5 cm below), and is held there (below).
+                # Lower, its loose edge hung outside the skirt once settled (no self-collision
+                # between the two). Only the torso is cut there: sleeves keep their own ends.
                 hem = form.waist + 0.5
         tv, tf, tcls = cut_top(form, v, f, form.neck_side, hem, sleeve, s, clearance=e_w + 1.0)
         piece.add(tv, tf, 0, np.zeros(len(tv), bool))
@@ -548,12 +553,13 @@ def make_garment(form, kind, style, rng, settle_frames=0):
             # The skirt hangs from the waist seam, outside the bodice there (not the sleeves,
             # which hang beside it at the same height).
             bodice = tv
-            if settle_frames and form.torso_form:
+            if settle_frames:
                 # The seam is where the bodice hangs, not where it was cut: the cut bodice
                 # stands 2-4 cm off the form at the waist (the waist ease) and falls in to the
                 # form from the bust as it settles. A waistband pinned outside the cut bodice
                 # stayed there as a stiff hoop over the fallen bodice (cases 7 and 10 of the
-                # torso rig, seed 2015, read as a skirt under a roll). No rng draws here.
+                # torso rig, seed 2015, read as a skirt under a roll; the full form's dresses
+                # alike, h/dress15). No rng draws here, so every case keeps its plan.
                 bodice = settle_alone(tv, tf, CLOTH_PRESETS[fabric], settle_frames)
             sp.v = _push_outside(sp.v, bodice[tcls == gm.TORSO], margin=0.6)
             if bodice is not tv:
@@ -565,8 +571,9 @@ def make_garment(form, kind, style, rng, settle_frames=0):
                 # The seam allowance (the cut bodice's lowest 1.5 cm, inside the pinned
                 # waistband) is held where the bodice settled, as the waistband is: the two
                 # are sewn. (By the cut heights: the cut can leave a loose vertex, no face,
-                # that falls.)
-                piece.pin[:len(tv)] = tv[:, 1] < hem + 1.5
+                # that falls.) The torso's only: a long sleeve hangs below the seam's height
+                # beside it and is not sewn to it.
+                piece.pin[:len(tv)] = (tv[:, 1] < hem + 1.5) & (tcls == gm.TORSO)
             desc.update({"skirt_start": sdesc})
     elif kind == "skirt":
         length = rng.uniform(45, 72)
@@ -840,7 +847,7 @@ def make_case(args, form, sidecar_path, index, out_dir):
     k2 = float(srng.uniform(0.0, 0.04))
     empty_seed = int(srng.integers(1 << 30))
 
-    piece, desc = make_garment(form, kind, style, rng, args.frames if form.torso_form else 0)
+    piece, desc = make_garment(form, kind, style, rng, 0 if args.hoop else args.frames)
     g = mesh_object("garment", piece.v, piece.f)
     start = getattr(piece, "start", None)
     if start is not None:

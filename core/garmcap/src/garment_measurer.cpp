@@ -1169,18 +1169,20 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
   // 20 that is the largest error seen. The large ones are the rig's known failures
   // (docs/physical_rig.md): a loose sleeveless woven top whose sides and hem hang wider and deeper
   // than any section model of the form reads from its front (case_023: waist 10.5, hem 8.9 cm
-  // small), a short-sleeved dress whose sides below the bust lie closer to the form than its truth
-  // needs (bust), an H-line skirt whose sides swing out at the hip (hip), a straight leg read as
-  // the ankle's section, deeper than wide (leg opening, case_017 6.5 cm large). Rounded up to 0.1
-  // cm.
+  // small), the undarted woven dresses whose bodice hangs as deep as wide from the bust to the
+  // waist seam since the generator lost its waist hoop (h/dress15: waist, cases 003 and 018 6.7
+  // and 8.9 cm small), a short-sleeved dress whose truth takes in its sleeves' underarm at the
+  // bust (bust, case_007 5.2 cm), a long-sleeved dress's hip (case_014, 3.1), a straight leg read
+  // as the ankle's section, deeper than wide (leg opening, case_017 6.5 cm large). Rounded up to
+  // 0.1 cm.
   static const std::map<std::string, double> kU95 = {
-      {"bust_circ", 4.9},         // (13)
-      {"waist_circ", 3.0},        // (24)
-      {"hip_circ", 2.8},          // (16)
+      {"bust_circ", 5.3},         // (13)
+      {"waist_circ", 9.0},        // (24)
+      {"hip_circ", 3.2},          // (16)
       {"hem_circ", 8.9},          // (19)
-      {"garment_length", 1.7},    // (14)
+      {"garment_length", 1.8},    // (14)
       {"skirt_length", 1.1},      // (11)
-      {"sleeve_length", 2.0},     // (14)
+      {"sleeve_length", 1.6},     // (14)
       {"outseam", 1.0},           // (5)
       {"inseam", 0.7},            // (5)
       {"leg_opening_circ", 6.6},  // (5)
