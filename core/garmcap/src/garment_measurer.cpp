@@ -1009,15 +1009,9 @@ std::shared_ptr<const LegTable> legTable(const FormView& view) {
 // where the ankle under them is 7.5-10 cm deep; docs/measurement_model.md, "Leg openings that
 // hang from the knee"). The knee is the narrowest section (convex-hull perimeter) that the leg
 // reaches going up from `fromCm`: the first one no larger than any within kKneeWindowCm of it,
-// below which the leg was larger; its height is returned with the depth (legOpeningCm compares
-// the garment's outline there and at the opening). nullopt when the leg has no such narrowing
-// below the top of the leg (5 cm under the crotch): then there is no knee below the thigh to
-// hang from.
-struct LegSideView {
-  double depthCm = 0;  // z extent of the leg's sections from the opening up to the knee
-  double kneeCm = 0;   // height of the knee
-};
-std::optional<LegSideView> legSideViewDepthCm(const FormView& view, int side, double fromCm) {
+// below which the leg was larger. nullopt when the leg has no such narrowing below the top of
+// the leg (5 cm under the crotch): then there is no knee below the thigh to hang from.
+std::optional<double> legSideViewDepthCm(const FormView& view, int side, double fromCm) {
   if (!view.crotchCm())
     return std::nullopt;
   const auto table = legTable(view);
@@ -1040,35 +1034,9 @@ std::optional<LegSideView> legSideViewDepthCm(const FormView& view, int side, do
       minZ = std::min(minZ, leg[j]->minZ);
       maxZ = std::max(maxZ, leg[j]->maxZ);
     }
-    return LegSideView{maxZ - minZ, table->firstCm + static_cast<double>(i) * kKneeStepCm};
+    return maxZ - minZ;
   }
   return std::nullopt;
-}
-
-// How far one pants leg's outline stands off the form's leg at `heightCm`, both sides together
-// (cm): the leg's width (as legOpeningCm takes it: the larger of its run and twice its outer
-// half) less the form's leg width, the median over the rows within 1 cm of the height. nullopt
-// when no row there holds the leg.
-std::optional<double> legStandOffCm(const Context& c, int side, int axisCol, double heightCm) {
-  const int mid = static_cast<int>(std::lround(c.view.rowOfHeight(heightCm)));
-  const int half = std::max(1, static_cast<int>(std::lround(c.s)));
-  std::vector<double> offs;
-  for (int row = mid - half; row <= mid + half; ++row) {
-    const auto leg = c.view.legAtRow(row, side);
-    if (!leg || leg->widthPx() <= 1)
-      continue;
-    const auto run = runAt(c.mask, row, static_cast<int>(std::lround(leg->centrePx())),
-                           side == 0 ? -1 : axisCol, side == 0 ? axisCol : -1);
-    if (!run)
-      continue;
-    const double outer = side == 0 ? run->first : run->second;
-    const double width =
-        std::max(run->second - run->first, 2.0 * std::abs(outer - leg->centrePx()));
-    offs.push_back((width - leg->widthPx()) / c.s);
-  }
-  if (offs.empty())
-    return std::nullopt;
-  return median(offs);
 }
 
 // The round of one pants leg's opening from its run across the row it is read on (side 0 is
@@ -1108,25 +1076,13 @@ std::optional<double> legOpeningCm(const Context& c, int side, const std::pair<d
   // A leg hanging from the knee is never shallower than the leg's side view below the knee
   // (legSideViewDepthCm): where the form's section scaled to the leg's width is shallower than
   // that, the opening is an ellipse as wide as the leg and that deep.
-  // A leg whose outline stands further off the form's leg at the opening than at the knee hangs
-  // free of the shin and ankle, which narrow away inside it: nothing inside holds it deeper than
-  // it is wide, so the section scaled (the ankle's is 1.2-1.4 times as deep as wide) is capped at
-  // the leg's width. One whose outline keeps or closes its distance to the leg follows the leg,
-  // and the leg's section scaled stands (docs/measurement_model.md, "Leg openings that hang free
-  // of the ankle").
   const auto at = formLegSlice(c.view.form().section(here.heightCm), c.view.form().axisXCm(), side);
-  const auto sideView = legSideViewDepthCm(c.view, side, here.heightCm);
-  if (at && sideView && at->maxX > at->minX) {
+  const auto hangDepth = legSideViewDepthCm(c.view, side, here.heightCm);
+  if (at && hangDepth && at->maxX > at->minX) {
     const double widthCm = widthPx * (at->maxX - at->minX) / here.widthPx();
     const double scaledDepthCm = (at->maxZ - at->minZ) * widthPx / here.widthPx();
-    double depthCm = scaledDepthCm;
-    const auto offOpening = legStandOffCm(c, side, axisCol, here.heightCm);
-    const auto offKnee = legStandOffCm(c, side, axisCol, sideView->kneeCm);
-    if (offOpening && offKnee && *offOpening > *offKnee)
-      depthCm = std::min(depthCm, widthCm);
-    depthCm = std::max(depthCm, sideView->depthCm);
-    if (depthCm != scaledDepthCm)
-      return ellipsePerimeter(widthCm, depthCm);
+    if (*hangDepth > scaledDepthCm)
+      return ellipsePerimeter(widthCm, *hangDepth);
   }
   return here.circCm * widthPx / here.widthPx();
 }
