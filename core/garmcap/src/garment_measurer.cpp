@@ -691,7 +691,8 @@ void loosenHemDepth(Context& c, DepthModel& model) {
   // the sides rest on the form and what stood off at them hangs at the front and back. Higher, a
   // hem hangs free all round and keeps its sides' stand-off (the eased section). Physical rigs'
   // and a fresh one's woven tops pass this by 0.9-1.4 cm; the simulator's loose tops, whose hems
-  // keep the eased section, fail it by 1.8 cm or more (at +0 two of them passed by 0.3 cm).
+  // keep the eased section, fail it by 1.8 cm or more (without the stand-off one passed by 0.3 cm
+  // and read its hem 0.9 cm large, another failed by 0.5).
   const auto table = depthTable(c.view);
   const SectionShape bustEnvelope = envelopeOf(*table, bust, c.view.armpitCm());
   if (model.form.widthCm < bustEnvelope.widthCm + *under)
