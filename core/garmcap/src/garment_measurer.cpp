@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -276,10 +277,17 @@ enum class DepthRule {
 struct DepthModel {
   DepthRule rule = DepthRule::kSimilar;
   SectionShape form, hang;
+  // A floor on the depth of a section wider than the form (0: none): a loose top's hem hangs
+  // from the form's sections above it (loosenHemDepth).
+  double minDepthCm = 0;
   double depthFor(double widthCm) const {
     const double scaled = form.depthCm * widthCm / form.widthCm;
     if (widthCm <= form.widthCm || rule == DepthRule::kSimilar)
       return scaled;  // tighter than the form (a knit): its shape
+    return std::max(minDepthCm, ruleDepth(widthCm));
+  }
+  double ruleDepth(double widthCm) const {
+    const double scaled = form.depthCm * widthCm / form.widthCm;
     const double eased = form.depthCm + (widthCm - form.widthCm);
     switch (rule) {
       case DepthRule::kEase:
@@ -638,8 +646,64 @@ std::optional<DepthModel> depthModelFor(const Context& c, double heightCm, const
   return m;
 }
 
+// ---- A loose top's hem (docs/measurement_model.md, "A loose top's hem") ----
+// A stiff loose top (a woven with a few cm of ease) stands off the form's sides under the bust,
+// where a knit lies on them (physical rigs, 4-8 cm below the bust: knits 0.8-1.7 cm a side,
+// wovens 2.6-3.7; h/loose15). Over the hip its sides come back onto the form (the hip is the
+// section's widest point, and the cloth rests on it), so its hem is as wide as a knit's there,
+// but its front and back keep hanging from what stands out above: the bust in front, the
+// shoulder blades and the seat behind. Its hem section is then at least as deep as the envelope
+// of the form's sections from the hem up to the armpit, plus the stand-off it hangs with.
+constexpr double kLooseStandOffCm = 2.2;       // h/loose15's mark, midway between knits and wovens
+constexpr double kLooseUnderBustFromCm = 4.0;  // band under the bust, cm below it
+constexpr double kLooseUnderBustToCm = 8.0;
+
+// Median over the clear rows between heights loCm and hiCm of the sides' mean stand-off beyond
+// the form's torso edges, cm; nullopt with fewer than 3 such rows.
+std::optional<double> sideStandOffCm(Context& c, double loCm, double hiCm) {
+  const DepthModel* keep = c.depth;
+  c.depth = nullptr;
+  std::vector<double> offs;
+  const int r0 = static_cast<int>(std::lround(c.view.rowOfHeight(hiCm)));
+  const int r1 = static_cast<int>(std::lround(c.view.rowOfHeight(loCm)));
+  for (int row = r0; row <= r1; ++row) {
+    bool hidden = false;
+    const auto v = readRow(c, row, hidden);
+    if (!v || hidden || !v->torso || v->torso->widthPx() <= 1)
+      continue;
+    offs.push_back(0.5 * ((v->torso->leftPx - v->left.x) + (v->right.x - v->torso->rightPx)) / c.s);
+  }
+  c.depth = keep;
+  if (offs.size() < 3)
+    return std::nullopt;
+  return median(offs);
+}
+
+// For a top's hem: when the top stands off the form under the bust (a loose top), its hem's depth
+// is at least the envelope's from the hem up plus that stand-off.
+void loosenHemDepth(Context& c, DepthModel& model) {
+  const double bust = c.view.bustCm();
+  const auto under = sideStandOffCm(c, bust - kLooseUnderBustToCm, bust - kLooseUnderBustFromCm);
+  if (!under || *under < kLooseStandOffCm || model.hang.depthCm <= 0)
+    return;
+  // Only over the hip: where the form's section at the hem is wider than the bust's envelope by
+  // at least the stand-off (the hip takes up half of what the top stood off at its two sides),
+  // the sides rest on the form and what stood off at them hangs at the front and back. Higher, a
+  // hem hangs free all round and keeps its sides' stand-off (the eased section). Physical rigs'
+  // and a fresh one's woven tops pass this by 0.9-1.4 cm; the simulator's loose tops, whose hems
+  // keep the eased section, fail it by 1.8 cm or more (without the stand-off one passed by 0.3 cm
+  // and read its hem 0.9 cm large, another failed by 0.5).
+  const auto table = depthTable(c.view);
+  const SectionShape bustEnvelope = envelopeOf(*table, bust, c.view.armpitCm());
+  if (model.form.widthCm < bustEnvelope.widthCm + *under)
+    return;
+  model.minDepthCm = model.hang.depthCm + *under;
+}
+
 std::optional<double> circumferenceAt(Context& c, double heightCm, const std::string& name) {
-  const auto model = depthModelFor(c, heightCm, name, c.type);
+  auto model = depthModelFor(c, heightCm, name, c.type);
+  if (model && c.type == "top" && name == "hem_circ")
+    loosenHemDepth(c, *model);
   c.depth = model ? &*model : nullptr;
   const auto value = name == "bust_circ" ? bustFromSides(c, heightCm, name)
                                          : circumferenceReading(c, heightCm, name);
