@@ -464,10 +464,16 @@ def parts_by_construction(form, cut_v, cls):
     sleeve's inner half as bodice when it hung within the waist ease + 1 cm of the torso (case
     007 of rig_physical: its bust section reached 4 cm beyond the form). Above the armpit
     the parts are cls's (the shoulder rule). The form's own arms stand apart from its torso
-    below the armpit, so its vertices are classed by the clearance rule with 0.5 cm."""
+    below the armpit, so a form vertex is arm when it lies more than 0.5 cm beyond the torso's
+    side; above the armpit, beyond the armpit's side (a vertical armhole: gm.arm_class's
+    shoulder rule there classes the torso's back and front beside the armpit as arm, and cloth
+    at the bodice's back corners, which starts just below the armpit, took it: case_014)."""
     from mathutils.kdtree import KDTree
 
-    form_cls = gm.arm_class(form, form.v, 0.5)
+    side_x = form.torso_side_x(form.v[:, 1])  # the armpit's sides above it
+    form_cls = np.full(len(form.v), gm.TORSO)
+    form_cls[form.v[:, 0] > side_x[:, 1] + 0.5] = gm.ARM_L
+    form_cls[-form.v[:, 0] > -side_x[:, 0] + 0.5] = gm.ARM_R
     tree = KDTree(len(form.v))
     for i, p in enumerate(form.v):
         tree.insert(tuple(p), i)
