@@ -68,11 +68,15 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 // sleeveless dresses 003 and 018 hang as deep as wide at the waist: -6.7 and -8.9 cm; bound 1.5 ->
 // 2.2), hip 0.72 / 2.71 -> 0.96 / 3.11 (case_014 +3.1; bound 0.9 / 3.1 -> 1.1 / 3.6), bust 1.67 /
 // 4.82 -> 1.84 / 5.22 (bound kept); sleeves 0.49 / 1.91 -> 0.43 / 1.58 (bound 1.2 / 2.7 -> 1.0 /
-// 2.3). Per measurement {mean, max} absolute error in cm.
+// 2.3). h/busttruth15: the generator's truth no longer counts sleeve cloth in the bust (the
+// sleeved cases' bust truth re-settled, docs/physical_rig.md "Sleeve cloth out of the bust
+// truth"); the measurer unchanged: bust 1.84 / 5.22 -> 1.55 / 4.11 (bound 2.0 / 5.5 -> 1.8 /
+// 4.6; case_013 -0.66 -> +4.11, its cap sleeve read as the bodice's side). Per measurement
+// {mean, max} absolute error in cm.
 constexpr int kMinTypesRight = 23;
 constexpr int kMaxMissing = 2;
 const std::map<std::string, std::pair<double, double>> kBounds = {
-    {"bust_circ", {2.0, 5.5}},         {"waist_circ", {2.2, 12.0}},    {"hip_circ", {1.1, 3.6}},
+    {"bust_circ", {1.8, 4.6}},         {"waist_circ", {2.2, 12.0}},    {"hip_circ", {1.1, 3.6}},
     {"hem_circ", {2.2, 10.2}},         {"garment_length", {1.5, 2.4}}, {"skirt_length", {0.7, 1.5}},
     {"sleeve_length", {1.0, 2.3}},     {"outseam", {0.7, 1.2}},        {"inseam", {0.6, 1.0}},
     {"leg_opening_circ", {3.45, 7.4}},
