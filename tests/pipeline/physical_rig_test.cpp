@@ -70,12 +70,16 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 // 4.82 -> 1.84 / 5.22 (bound kept); sleeves 0.49 / 1.91 -> 0.43 / 1.58 (bound 1.2 / 2.7 -> 1.0 /
 // 2.3). h/tophem15: a loose top's hem over the hip is at least as deep as the form's sections
 // above it plus its stand-off under the bust (docs/measurement_model.md, "A loose top's hem"):
-// cases 13 and 23, the woven tops, -4.5 and -8.9 -> -0.5 and -0.5. Per measurement {mean, max}
-// absolute error in cm.
+// cases 13 and 23, the woven tops, -4.5 and -8.9 -> -0.5 and -0.5. h/busttruth15: the
+// generator's truth no longer counts sleeve cloth in the bust (the sleeved cases' bust truth
+// re-settled, docs/physical_rig.md "Sleeve cloth out of the bust truth"); the measurer
+// unchanged: bust 1.84 / 5.22 -> 1.55 / 4.11 (bound 2.0 / 5.5 -> 1.8 / 4.6; case_013 -0.66 ->
+// +4.11, its cap sleeve read as the bodice's side). Per measurement {mean, max} absolute error
+// in cm.
 constexpr int kMinTypesRight = 23;
 constexpr int kMaxMissing = 2;
 const std::map<std::string, std::pair<double, double>> kBounds = {
-    {"bust_circ", {2.0, 5.5}},         {"waist_circ", {2.2, 12.0}},    {"hip_circ", {1.1, 3.6}},
+    {"bust_circ", {1.8, 4.6}},         {"waist_circ", {2.2, 12.0}},    {"hip_circ", {1.1, 3.6}},
     {"hem_circ", {1.45, 4.6}},         {"garment_length", {1.5, 2.4}}, {"skirt_length", {0.7, 1.5}},
     {"sleeve_length", {1.0, 2.3}},     {"outseam", {0.7, 1.2}},        {"inseam", {0.6, 1.0}},
     {"leg_opening_circ", {3.45, 7.4}},

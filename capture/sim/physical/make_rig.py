@@ -61,6 +61,10 @@ def parse_args():
                     help="make dresses as rigs made before the fix did (full forms before "
                          "h/dress15, torso forms before h/torsogen15): the skirt's waistband "
                          "pinned outside the bodice as cut, a stiff hoop at the waist")
+    ap.add_argument("--clearance-parts", action="store_true",
+                    help="class sleeve cloth for truth.json as rigs made before h/busttruth15 "
+                         "did: below the armpit, only cloth more than the waist ease + 1 cm "
+                         "beyond the torso's side (a sleeve's inner side counted in the bust)")
     ap.add_argument("--no-render", action="store_true",
                     help="settle the cloth and write truth.json only (for checking garments)")
     ap.add_argument("--session-size", type=int, default=6,
@@ -447,6 +451,37 @@ def cut_top(form, v, f, top_h, hem_h, sleeve_len, sleeve_style, clearance):
     cls = (np.full(len(out_v), gm.TORSO) if form.torso_form
            else gm.arm_class(form, out_v, clearance))
     return out_v, out_f, cls
+
+
+def parts_by_construction(form, cut_v, cls):
+    """The truth's part of each vertex of a cut top (the starting mesh, before the cloth
+    moves; the cloth keeps its vertices, so a part holds wherever it settles). Below the
+    armpit the offset surfaces of torso and arm merge into one sheet (the gap between them, 3.5
+    cm at the bust on the mean form, is less than the two eases and the 1.6 cm voxel), so
+    neither is a separate tube: each vertex takes the part of the form vertex nearest to it,
+    the part it was grown over, and the seam between bodice and sleeve runs where the sheet
+    leaves the torso's side for the arm. The clearance rule (gm.arm_class) counted the
+    sleeve's inner half as bodice when it hung within the waist ease + 1 cm of the torso (case
+    007 of rig_physical: its bust section reached 4 cm beyond the form). Above the armpit
+    the parts are cls's (the shoulder rule). The form's own arms stand apart from its torso
+    below the armpit, so a form vertex is arm when it lies more than 0.5 cm beyond the torso's
+    side; above the armpit, beyond the armpit's side (a vertical armhole: gm.arm_class's
+    shoulder rule there classes the torso's back and front beside the armpit as arm, and cloth
+    at the bodice's back corners, which starts just below the armpit, took it: case_014)."""
+    from mathutils.kdtree import KDTree
+
+    side_x = form.torso_side_x(form.v[:, 1])  # the armpit's sides above it
+    form_cls = np.full(len(form.v), gm.TORSO)
+    form_cls[form.v[:, 0] > side_x[:, 1] + 0.5] = gm.ARM_L
+    form_cls[-form.v[:, 0] > -side_x[:, 0] + 0.5] = gm.ARM_R
+    tree = KDTree(len(form.v))
+    for i, p in enumerate(form.v):
+        tree.insert(tuple(p), i)
+    tree.balance()
+    out = cls.copy()
+    for i in np.nonzero(cut_v[:, 1] < form.armpit)[0]:
+        out[i] = form_cls[tree.find(tuple(cut_v[i]))[1]]
+    return out
 
 
 def _centre(e):
@@ -848,6 +883,12 @@ def make_case(args, form, sidecar_path, index, out_dir):
     empty_seed = int(srng.integers(1 << 30))
 
     piece, desc = make_garment(form, kind, style, rng, 0 if args.hoop else args.frames)
+    if (kind in ("top", "dress") and style["sleeve"] != "none" and not form.torso_form
+            and not args.clearance_parts):
+        # A sleeveless cut has no sleeve part: its parts stay as the cut classed them, and
+        # every truth made before holds for it.
+        top = piece.cls != gm.SKIRT
+        piece.cls[top] = parts_by_construction(form, piece.v[top], piece.cls[top])
     g = mesh_object("garment", piece.v, piece.f)
     start = getattr(piece, "start", None)
     if start is not None:
