@@ -360,3 +360,23 @@ TEST(PhysicalRig, SkirtsShadeOnTheLegsIsNoGarment) {
     EXPECT_LE((lowest - hemRow) / pxPerCm, 5.0) << c.id << ": garment below the hem";
   }
 }
+
+// A knit top's shade on the form under its hem is no garment (docs/measurement_model.md, "A knit
+// top's shade under its hem"). tests/data/rig_physical_hem_shade holds two knit tops rendered
+// by capture/sim/physical/make_rig.py (--seed 1515 --count 1, --start 8: striped,
+// sleeveless; --start 13: a cap-sleeved mid purple; 888 x 1184), registered by the station from
+// their bare frames. GrabCut took the shade 1-1.5 cm down under the hem's centre for the top, the
+// hem was read across it: hem 3.7 and 18.3 cm small.
+TEST(PhysicalRig, KnitTopsShadeUnderTheHemIsNoGarment) {
+  const fs::path shadeRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical_hem_shade";
+  const auto rig = capture::readRig(shadeRig);
+  ASSERT_EQ(rig.cases.size(), 2u);
+  for (const auto& info : rig.cases) {
+    const auto c = capture::loadRigCase(info.dir);
+    ASSERT_EQ(c.truth.at("garment").at("cloth").get<std::string>(), "knit") << c.id;
+    const auto r = runRigCase(c);
+    EXPECT_EQ(r.type, "top") << c.id;
+    EXPECT_LE(errorCm(r, c, "hem_circ"), 2.6) << c.id;
+    EXPECT_LE(errorCm(r, c, "garment_length"), 1.5) << c.id;
+  }
+}

@@ -522,6 +522,28 @@ void addOutlineBesideShade(cv::Mat& shadow, const FormBands& form, const cv::Mat
   shadow |= add;
 }
 
+// Where shade on the form can only be the garment's shadow, not the garment: below the crotch
+// (the legs), and above it below the lowest sure garment of a column that has some. Higher up, a
+// near-black garment's lit folds look like the form's deep shade (physical rig case_005: with the
+// rule over the whole form a patch of its skirt became sure form and the skirt read 41 cm short).
+cv::Mat belowGarment(const cv::Mat& sure, int crotchRow) {
+  cv::Mat out = cv::Mat::zeros(sure.size(), CV_8UC1);
+  out.rowRange(std::clamp(crotchRow, 0, sure.rows), sure.rows).setTo(255);
+  for (int x = 0; x < sure.cols; ++x) {
+    int lowest = -1;
+    for (int y = sure.rows - 1; y >= 0; --y)
+      if (sure.at<uchar>(y, x)) {
+        lowest = y;
+        break;
+      }
+    if (lowest < 0)
+      continue;
+    for (int y = lowest + 1; y < std::min(crotchRow, sure.rows); ++y)
+      out.at<uchar>(y, x) = 255;
+  }
+  return out;
+}
+
 struct SettledRegions {
   cv::Mat garment;  // probable garment too far from any exposed form for GrabCut to decide
   cv::Mat form;     // exposed form too far from any garment evidence to be garment
@@ -613,13 +635,16 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   trimap.setTo(cv::GC_PR_FGD + 0, fgD);
   trimap.setTo(cv::GC_FGD + 0, settled.garment);
   trimap.setTo(cv::GC_PR_BGD + 0, exposed.exposed | shadow);
-  // Below the crotch, shade on the form's legs lighter than most of the garment is sure form:
-  // GrabCut's colour models take a dark skirt's shade on the thighs for the skirt (physical rig,
-  // 2 MP: strips of thigh 12 cm long below a near-black skirt's hem), and no fold of the garment
-  // is lighter than the garment's median. A light garment's own folds can look like the form's
-  // shade (light yellow pants over a beige form), and stay GrabCut's. Cloth hanging beyond both
-  // edges of a leg is still garment (closedAcrossForm, set after this).
-  if (crotchRow < trimap.rows) {
+  // Shade on the form lighter than most of the garment is sure form where it lies below the
+  // garment (belowGarment): GrabCut's colour models take a dark skirt's shade on the thighs for
+  // the skirt (physical rig, 2 MP: strips of thigh 12 cm long below a near-black skirt's hem), and
+  // a knit top's shade under its hem for the top (fresh physical cases, seed 1515 and 7373: the
+  // silhouette went 1-1.5 cm down into it at the centre, and the hem, read just above the
+  // lowest row, 3.7-18 cm small). No fold of the garment is lighter than the garment's median. A
+  // light garment's own folds can look like the form's shade (light yellow pants over a beige
+  // form), and stay GrabCut's. Cloth hanging beyond both edges of a leg is still garment
+  // (closedAcrossForm, set after this).
+  {
     std::vector<uchar> lightness;
     for (int y = 0; y < sure.rows; y += 2)
       for (int x = 0; x < sure.cols; x += 2)
@@ -630,8 +655,7 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
       std::nth_element(lightness.begin(), mid, lightness.end());
       cv::Mat lighter;
       cv::extractChannel(labD, lighter, 0);
-      lighter = (lighter > *mid) & shadow & form.inside;
-      lighter.rowRange(0, crotchRow).setTo(0);
+      lighter = (lighter > *mid) & shadow & form.inside & belowGarment(sure, crotchRow);
       trimap.setTo(cv::GC_BGD + 0, lighter);
     }
   }
