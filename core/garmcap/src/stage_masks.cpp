@@ -523,12 +523,21 @@ void addOutlineBesideShade(cv::Mat& shadow, const FormBands& form, const cv::Mat
 }
 
 // Where shade on the form can only be the garment's shadow, not the garment: below the crotch
-// (the legs), and above it below the lowest sure garment of a column that has some. Higher up, a
-// near-black garment's lit folds look like the form's deep shade (physical rig case_005: with the
-// rule over the whole form a patch of its skirt became sure form and the skirt read 41 cm short).
-cv::Mat belowGarment(const cv::Mat& sure, int crotchRow) {
+// (the legs), and, for a garment that ends above the crotch (a top), above it below the lowest
+// sure garment of a column that has some. Higher up, a near-black garment's lit folds look like
+// the form's deep shade (physical rig case_005: with the rule over the whole form a patch of its
+// skirt became sure form and the skirt read 41 cm short). Pants reach below the crotch: the
+// shade-like top of the gap between a form-coloured pair's legs is theirs (simulated hard pants,
+// seed 5: with the rule, the crotch read 5 cm high).
+constexpr double kGarmentBelowCrotchCm2 = 4.0;
+
+cv::Mat belowGarment(const cv::Mat& sure, int crotchRow, double pxPerCm) {
   cv::Mat out = cv::Mat::zeros(sure.size(), CV_8UC1);
-  out.rowRange(std::clamp(crotchRow, 0, sure.rows), sure.rows).setTo(255);
+  const int crotch = std::clamp(crotchRow, 0, sure.rows);
+  out.rowRange(crotch, sure.rows).setTo(255);
+  if (cv::countNonZero(sure.rowRange(crotch, sure.rows)) >
+      kGarmentBelowCrotchCm2 * pxPerCm * pxPerCm)
+    return out;
   for (int x = 0; x < sure.cols; ++x) {
     int lowest = -1;
     for (int y = sure.rows - 1; y >= 0; --y)
@@ -655,7 +664,7 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
       std::nth_element(lightness.begin(), mid, lightness.end());
       cv::Mat lighter;
       cv::extractChannel(labD, lighter, 0);
-      lighter = (lighter > *mid) & shadow & form.inside & belowGarment(sure, crotchRow);
+      lighter = (lighter > *mid) & shadow & form.inside & belowGarment(sure, crotchRow, sw);
       trimap.setTo(cv::GC_BGD + 0, lighter);
     }
   }
