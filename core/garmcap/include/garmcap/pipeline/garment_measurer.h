@@ -34,10 +34,11 @@ struct GarmentMeasurement {
 };
 
 /// How far (cm) a reported measurement may be off: the 95th percentile (nearest rank) of the
-/// absolute error on the physical rig (tests/data/rig_physical, cloth draped by an independent
-/// solver, the form registered from the bare frame; correctly typed cases only), rounded up to
-/// 0.1 cm. The bundled simulator's rigs stay far inside it. docs/measurement_model.md has the
-/// table, its sample sizes and the command that reproduces it. nullopt for an unknown name.
+/// absolute error on the two physical rigs pooled (tests/data/rig_physical and
+/// rig_physical_torso, cloth draped by an independent solver on a full and a torso form, the form
+/// registered from the bare frame; correctly typed cases only), rounded up to 0.1 cm. The bundled
+/// simulator's rigs stay far inside it. docs/measurement_model.md has the table, its sample sizes
+/// and the command that reproduces it. nullopt for an unknown name.
 std::optional<double> measurementUncertaintyCm(const std::string& name);
 
 /// Measures a garment of `type` from its mask (CV_8U, non-zero = garment, the frame's size and
