@@ -226,6 +226,17 @@ double errorCm(const pipeline::CaptureResult& r, const capture::RigCase& c,
   return std::abs(it->second - c.truth.at("measurements").at(name).get<double>());
 }
 
+// The cases of a small rig of tests/data beside the full one; fails the test when it does not
+// hold `count` of them.
+std::vector<capture::RigCase> casesOf(const std::string& rigName, std::size_t count) {
+  const auto rig = capture::readRig(fs::path(GARMCAP_TEST_DATA_DIR) / rigName);
+  EXPECT_EQ(rig.cases.size(), count) << rigName;
+  std::vector<capture::RigCase> cases;
+  for (const auto& info : rig.cases)
+    cases.push_back(capture::loadRigCase(info.dir));
+  return cases;
+}
+
 bool warnsOfSlit(const pipeline::CaptureResult& r) {
   return std::any_of(r.warnings.begin(), r.warnings.end(),
                      [](const std::string& w) { return w.find("dark slit") != std::string::npos; });
@@ -339,11 +350,7 @@ TEST(PhysicalRig, LooseWovenTopsHemsHangFromTheFormAbove) {
 // height is the cloth's own (truth.json), its row the station's registration of the bare frame;
 // the hem's front hangs nearer the camera and shows a few cm lower.
 TEST(PhysicalRig, SkirtsShadeOnTheLegsIsNoGarment) {
-  const fs::path shadeRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical_shade";
-  const auto rig = capture::readRig(shadeRig);
-  ASSERT_EQ(rig.cases.size(), 2u);
-  for (const auto& info : rig.cases) {
-    const auto c = capture::loadRigCase(info.dir);
+  for (const auto& c : casesOf("rig_physical_shade", 2)) {
     const auto r = runRigCase(c);
     EXPECT_EQ(r.type, "skirt") << c.id;
     EXPECT_LE(errorCm(r, c, "skirt_length"), 1.5) << c.id;
@@ -368,11 +375,7 @@ TEST(PhysicalRig, SkirtsShadeOnTheLegsIsNoGarment) {
 // their bare frames. GrabCut took the shade 1-1.5 cm down under the hem's centre for the top, the
 // hem was read across it: hem 3.7 and 18.3 cm small.
 TEST(PhysicalRig, KnitTopsShadeUnderTheHemIsNoGarment) {
-  const fs::path shadeRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical_hem_shade";
-  const auto rig = capture::readRig(shadeRig);
-  ASSERT_EQ(rig.cases.size(), 2u);
-  for (const auto& info : rig.cases) {
-    const auto c = capture::loadRigCase(info.dir);
+  for (const auto& c : casesOf("rig_physical_hem_shade", 2)) {
     ASSERT_EQ(c.truth.at("garment").at("cloth").get<std::string>(), "knit") << c.id;
     const auto r = runRigCase(c);
     EXPECT_EQ(r.type, "top") << c.id;
