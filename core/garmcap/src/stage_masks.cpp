@@ -547,7 +547,7 @@ cv::Mat belowGarment(const cv::Mat& sure, int crotchRow, double pxPerCm) {
       }
     if (lowest < 0)
       continue;
-    for (int y = lowest + 1; y < std::min(crotchRow, sure.rows); ++y)
+    for (int y = lowest + 1; y < crotch; ++y)
       out.at<uchar>(y, x) = 255;
   }
   return out;
@@ -671,10 +671,10 @@ GarmentMasks garmentMasks(const calib::KeyResult& keyE, const calib::KeyResult& 
   trimap.setTo(cv::GC_BGD + 0, settled.form);
   trimap.setTo(cv::GC_FGD + 0, sure);
   const cv::Mat closed = closedAcrossForm(fgD, form.mask, view, ws, sw);
-  trimap.setTo(cv::GC_FGD + 0, closed == kClosedRow);
+  const cv::Mat closedRows = closed == kClosedRow;
+  trimap.setTo(cv::GC_FGD + 0, closedRows);
   trimap.setTo(cv::GC_PR_BGD + 0, (closed == kBetweenClosedRows) & (trimap == cv::GC_BGD));
-  trimap.setTo(cv::GC_FGD + 0,
-               coveredFromShoulders(fgD, form.mask, closed == kClosedRow, view, ws, sw));
+  trimap.setTo(cv::GC_FGD + 0, coveredFromShoulders(fgD, form.mask, closedRows, view, ws, sw));
   out.form = form.mask;
   out.foreground = fgD;
   out.exposed = exposed.exposed;
