@@ -35,9 +35,16 @@ RegisteredFrame registerDressedFrame(const cv::Mat& dressedRaw, const CaptureCon
   if (std::abs(pose.rollRad) > 1e-6)
     dressed = rotateAbout(dressed, g.centre, pose.rollRad, cv::INTER_LINEAR);
   dressed = denoised(dressed);
+  // The key of the frame as it stands runs beside the motion check: a camera that did not move
+  // (the usual capture) needs no other, and the two share no data (the warp below writes a new
+  // buffer). It is keyed on a worker thread: the key's frame-sized buffers then come from that
+  // thread's malloc arena (pipeline_bench measured the later stages ~5 % slower with them on the
+  // calling thread's). Its errors surface at get(), after the motion check: a moved camera can
+  // also push the form against the frame's edge, and "the camera moved" is the reason staff can
+  // act on.
+  auto keyed = std::async(std::launch::async,
+                          [frame = dressed] { return keyFrame(frame, "dressed frame"); });
 
-  // The shift comes first: a moved camera can also push the form against the frame's edge, and
-  // "the camera moved" is the reason staff can act on.
   const FrameMotion motion = bare.motion->motionOf(dressed);
   const double shiftPx = motion.largestPx(0.5 * dressed.rows) / ws;  // full-frame px
   if (shiftPx > kMaxShiftCm * s)
@@ -48,8 +55,10 @@ RegisteredFrame registerDressedFrame(const cv::Mat& dressedRaw, const CaptureCon
   const bool reregister = shiftPx > kMinShiftPx;
   if (reregister) {
     const cv::Matx33d back = motion.registration(dressed.size(), 1.0);
-    cv::warpAffine(dressed, dressed, cv::Mat(back).rowRange(0, 2), dressed.size(), cv::INTER_LINEAR,
-                   cv::BORDER_REPLICATE);
+    cv::Mat registered;  // not in place: the key above may still be reading `dressed`
+    cv::warpAffine(dressed, registered, cv::Mat(back).rowRange(0, 2), dressed.size(),
+                   cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    dressed = registered;
     warnings.push_back("re-registered a camera shift of " + fmt1(shiftPx) + " px");
   }
   // The full dressed frame, upright and registered: one warp, and none when neither applies.
@@ -70,11 +79,12 @@ RegisteredFrame registerDressedFrame(const cv::Mat& dressedRaw, const CaptureCon
                        cv::INTER_LINEAR, cv::BORDER_REPLICATE);
         return full;
       });
-  // Keyed on a worker thread, as before the stages were split: the key's frame-sized buffers then
-  // come from that thread's malloc arena (pipeline_bench measured the later stages ~5 % slower
-  // with them on the calling thread's).
-  out.key =
-      std::async(std::launch::async, [&] { return keyFrame(dressed, "dressed frame"); }).get();
+  if (reregister) {
+    keyed.wait();  // the unregistered frame's key (or its error) is not wanted
+    keyed = std::async(std::launch::async,
+                       [frame = dressed] { return keyFrame(frame, "dressed frame"); });
+  }
+  out.key = keyed.get();
   return out;
 }
 
