@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -80,6 +81,17 @@ PhotoLayer makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput
     const cv::Rect box = photoBox(garment, s);
     const cv::Mat3b crop = dressedFull(box);
     const cv::Mat1b maskCrop = garment(box);
+    // The fabric's texture reads the same crop as the product photos and nothing they write, so
+    // it is extracted beside them.
+    std::future<TextureResult> texture;
+    if (options.makeTexture)
+      texture = std::async(std::launch::async, [crop, maskCrop] {
+        cv::Mat3b despilled = crop.clone();
+        cv::Mat1b spill;
+        cv::dilate(maskCrop, spill, cv::Mat(), cv::Point(-1, -1), 2);
+        calib::despill(despilled, spill);
+        return extractTexture(despilled, maskCrop);
+      });
     if (options.makeProductImages) {
       const ProductImageOptions po = productImageOptions(options, dressedFull.size(), s);
       front.layer = productLayer(crop, maskCrop, in.bare.uprightFull(box), in.screenBgr, po);
@@ -91,12 +103,8 @@ PhotoLayer makeCaptureImages(const CaptureContext& ctx, const CaptureImagesInput
       result.productPortrait = p.portrait;
     }
     timer.done("images");
-    if (options.makeTexture) {
-      cv::Mat3b despilled = crop.clone();
-      cv::Mat1b spill;
-      cv::dilate(maskCrop, spill, cv::Mat(), cv::Point(-1, -1), 2);
-      calib::despill(despilled, spill);
-      const TextureResult t = extractTexture(despilled, maskCrop);
+    if (texture.valid()) {
+      const TextureResult t = texture.get();  // "texture" times only what is left of it
       result.texture = t.tile;
       result.attributes["fabric"] = drafts::fabricKindName(t.kind);
       timer.done("texture");
