@@ -81,6 +81,54 @@ double circFromKnots(const std::vector<Knot>& k, double h) {
   return k.back().c;
 }
 
+// The form's legs seen from the side: per cm of height from `loCm` to `hiCm`, each leg's z
+// extent, read at the nearest slice (slicing costs about a millisecond, so the legs are sliced
+// once per garment, not per image row).
+class LegSideView {
+ public:
+  LegSideView(const FormView& view, double loCm, double hiCm) : lo_(std::floor(loCm)) {
+    const double axis = view.form().axisXCm();
+    for (double h = lo_; h <= hiCm + 1.0; h += 1.0) {
+      Extent e{};
+      for (const auto& loop : view.form().section(h).torsoLoops)
+        for (const auto& p : loop) {
+          const int side = p.x() < axis ? 0 : 1;
+          e.z0[side] = std::min(e.z0[side], p.y());
+          e.z1[side] = std::max(e.z1[side], p.y());
+        }
+      rows_.push_back(e);
+    }
+  }
+  // The deeper leg's z extent over the heights [loCm, hiCm] together (0 where no leg).
+  double depthCm(double loCm, double hiCm) const {
+    double best = 0;
+    for (int side = 0; side < 2; ++side) {
+      double z0 = 1e9, z1 = -1e9;
+      for (std::size_t i = index(loCm); i <= index(hiCm) && i < rows_.size(); ++i) {
+        z0 = std::min(z0, rows_[i].z0[side]);
+        z1 = std::max(z1, rows_[i].z1[side]);
+      }
+      best = std::max(best, z1 - z0);
+    }
+    return best;
+  }
+
+ private:
+  struct Extent {
+    double z0[2] = {1e9, 1e9}, z1[2] = {-1e9, -1e9};
+  };
+  std::size_t index(double hCm) const {
+    const long i = std::lround(hCm - lo_);
+    return static_cast<std::size_t>(std::clamp<long>(i, 0, static_cast<long>(rows_.size()) - 1));
+  }
+  double lo_;
+  std::vector<Extent> rows_;
+};
+
+// A leg's cloth hangs straight down from what stands deepest in the leg within this height above
+// it (the knee and calf, for an opening near the ankle).
+constexpr double kLegHangSpanCm = 20.0;
+
 // How a garment hangs (docs/simulator.md, "Width model"). Its section at a height is a
 // Minkowski sum of convex pieces: a hull of the form's sections, a disc of radius e (a uniform
 // ease: perimeter + 2 pi e, width and depth + 2 e), a segment across (the sides standing out:
@@ -598,6 +646,7 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
       throw std::invalid_argument("the form has no hip section for the pants' seat");
     }
     const int thighRow = static_cast<int>(std::lround(view.rowOfHeight(thighRefCm)));
+    const LegSideView legSide(view, gh.hemCm, thighRefCm);
     const int y0 = std::max(0, static_cast<int>(std::floor(lowRowC)));
     const int y1 = std::min(size.height - 1, static_cast<int>(std::ceil(hemRowC)) + 1);
     for (int side = 0; side < 2; ++side) {
@@ -618,7 +667,19 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
           c = thighCirc + (opening - thighCirc) * std::clamp(t, 0.0, 1.0);
         }
         c = std::max(c, ref->circCm + 1.0);
-        const double hw = 0.5 * ref->widthPx() * c / ref->circCm;
+        // The leg's section scaled to the tube's round, but no deeper than wide where the tube
+        // hangs free of the leg: a cloth tube round a leg that is deeper than wide (the ankle,
+        // 1.2-1.4 times) takes the leg's shape only while something holds it; once a round tube
+        // of its circumference (c / pi across) clears the leg's side view over the
+        // kLegHangSpanCm above (the calf and knee it hangs from), nothing holds it deeper than
+        // it is wide, and it is at least c / pi wide (the independent physical rig's free legs
+        // are 0.83-1.0 times as deep as wide at their openings, whatever leg is inside;
+        // docs/simulator.md, Pants).
+        double widthPx = ref->widthPx() * c / ref->circCm;
+        if (h <= thighRefCm &&
+            c / std::numbers::pi >= legSide.depthCm(h, std::min(h + kLegHangSpanCm, thighRefCm)))
+          widthPx = std::max(widthPx, s * c / std::numbers::pi);
+        const double hw = 0.5 * widthPx;
         double l = ref->centrePx() - hw, r = ref->centrePx() + hw;
         // The outer edge leaves the seat's line at the crotch and reaches the leg's own over
         // the next 10 cm (the thigh of real pants; not a measured width).

@@ -1137,16 +1137,25 @@ std::optional<double> legOpeningCm(const Context& c, int side, const std::pair<d
     return std::nullopt;
   const double outerHalfPx = std::abs(outer - here.centrePx());
   const double widthPx = std::max(run.second - run.first, 2.0 * outerHalfPx);
-  // A leg hanging from the knee is never shallower than the leg's side view below the knee
-  // (legSideViewDepthCm): where the form's section scaled to the leg's width is shallower than
-  // that, the opening is an ellipse as wide as the leg and that deep.
+  // The form's leg section scaled to the leg's width, with two bounds on its depth:
+  // - a leg at least as wide as the form's leg there is deep hangs free of it (a round tube as
+  //   wide clears it front and back), and nothing holds a free cloth tube deeper than it is wide:
+  //   the ankle's section scaled (1.2-1.4 times as deep as wide) is capped at the width. A
+  //   narrower one lies on the leg and keeps its shape (docs/measurement_model.md, "Leg
+  //   openings that hang free of the ankle");
+  // - a leg hanging from the knee is never shallower than the leg's side view below the knee
+  //   (legSideViewDepthCm).
+  // Where either moves the depth, the opening is an ellipse as wide as the leg and that deep.
   const auto at = formLegSlice(c.view.form().section(here.heightCm), c.view.form().axisXCm(), side);
   const auto hangDepth = legSideViewDepthCm(c.view, side, here.heightCm);
   if (at && hangDepth && at->maxX > at->minX) {
     const double widthCm = widthPx * (at->maxX - at->minX) / here.widthPx();
-    const double scaledDepthCm = (at->maxZ - at->minZ) * widthPx / here.widthPx();
-    if (*hangDepth > scaledDepthCm)
-      return ellipsePerimeter(widthCm, *hangDepth);
+    const double legDepthCm = at->maxZ - at->minZ;
+    const double scaledDepthCm = legDepthCm * widthPx / here.widthPx();
+    double depthCm = widthCm >= legDepthCm ? std::min(scaledDepthCm, widthCm) : scaledDepthCm;
+    depthCm = std::max(depthCm, *hangDepth);
+    if (depthCm != scaledDepthCm)
+      return ellipsePerimeter(widthCm, depthCm);
   }
   return here.circCm * widthPx / here.widthPx();
 }
