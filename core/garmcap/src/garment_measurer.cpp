@@ -1141,8 +1141,8 @@ std::optional<double> legOpeningCm(const Context& c, int side, const std::pair<d
   // - a leg at least as wide as the form's leg there is deep hangs free of it (a round tube as
   //   wide clears it front and back), and nothing holds a free cloth tube deeper than it is wide:
   //   the ankle's section scaled (1.2-1.4 times as deep as wide) is capped at the width. A
-  //   narrower one lies on the leg and keeps its shape (docs/measurement_model.md, "Leg
-  //   openings that hang free of the ankle");
+  //   narrower one lies on the leg and keeps its shape (docs/measurement_model.md, "A free leg
+  //   is no deeper than wide, in the simulator as in the measurer");
   // - a leg hanging from the knee is never shallower than the leg's side view below the knee
   //   (legSideViewDepthCm).
   // Where either moves the depth, the opening is an ellipse as wide as the leg and that deep.
