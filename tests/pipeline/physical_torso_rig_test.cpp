@@ -50,14 +50,20 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical_torso";
 // between closed rows (up to 1 cm) are never sure background (stage_masks, kClosureGapCm).
 // case_014's form-coloured skirt had been cut across 7 cm under its waist: hem 38.25 -> 0.47,
 // skirt_length 54.45 -> 0.12. Now (this test) bust 1.29 / 2.90, garment_length 1.48 / 4.72,
-// hem 1.95 / 6.44, hip 1.69 / 7.49, skirt_length 0.21 / 0.53, waist 4.79 / 12.98.
+// hem 1.95 / 6.44, hip 1.69 / 7.49, skirt_length 0.21 / 0.53, waist 4.79 / 12.98. Stop 42: shade
+// under a top's hem darker than nearly all of the top is sure form (docs/measurement_model.md,
+// "Shade under a light top's hem"): the light tops 000 and 004 keep their hems and lengths, 5 -> 3
+// readings missing, garment_length 1.48 / 4.72 -> 0.69 / 1.42 (bound 2.2 / 5.9 -> 1.0 / 2.0),
+// hem 1.95 / 6.44 -> 2.55 / 9.35 (bound 2.8 / 7.9 -> 3.0 / 10.3): the two hems now read are 9.4
+// and 3.6 cm small, loose sleeveless wovens that hang as deep as wide (the waist's failure, at the
+// hem).
 constexpr std::size_t kCases = 16;
 constexpr int kMinTypesRight = 16;
-constexpr int kMaxMissing = 5;
+constexpr int kMaxMissing = 3;
 constexpr double kMaxScaleError = 0.004;
 const std::map<std::string, std::pair<double, double>> kBounds = {
     {"bust_circ", {2.0, 3.9}}, {"waist_circ", {6.0, 14.5}},    {"hip_circ", {2.5, 9.1}},
-    {"hem_circ", {2.8, 7.9}},  {"garment_length", {2.2, 5.9}}, {"skirt_length", {0.8, 1.2}},
+    {"hem_circ", {3.0, 10.3}}, {"garment_length", {1.0, 2.0}}, {"skirt_length", {0.8, 1.2}},
 };
 
 // Issue 15's acceptance on a rig.

@@ -1246,18 +1246,18 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
   // (93.5 %), its pants' inseam, outseam and leg openings among the eight outside: the pants'
   // values then came from five pairs. The large ones are the rigs' known failures
   // (docs/measurement_model.md): loose woven bodices and undarted dresses that hang as deep as
-  // wide at the waist (waist: torso case_007, 11.3 cm small), light tops on the ivory torso
-  // whose hem's shade joins them (garment_length: torso case_000, 4.4 long), an A-line dress's
-  // hem (case_018, 3.8 small), wide legs pressed together whose depth the front view does not
-  // show (leg opening: pants case_006, 20.0 cm small), a checked straight leg whose crotch is
-  // read low (inseam: pants case_032, 6.3 short); the cap-sleeved woven top's flap read as its
-  // bust's side (case_013, 4.1 cm large) lies outside the bust's 3.1.
+  // wide at the waist (waist: torso case_007, 11.3 cm small; hem: the same dress, 6.4, and the
+  // light sleeveless woven top torso case_000, 9.4 small, read since stop 42), wide legs pressed
+  // together whose depth the front view does not show (leg opening: pants case_006, 20.0 cm
+  // small), a checked straight leg whose crotch is read low (inseam: pants case_032, 6.3 short);
+  // the cap-sleeved woven top's flap read as its bust's side (case_013, 4.1 cm large) lies
+  // outside the bust's 3.1.
   static const std::map<std::string, double> kU95 = {
       {"bust_circ", 3.1},          // (23)
       {"waist_circ", 11.4},        // (50)
       {"hip_circ", 3.2},           // (38)
-      {"hem_circ", 3.8},           // (32)
-      {"garment_length", 4.5},     // (23)
+      {"hem_circ", 6.5},           // (34)
+      {"garment_length", 1.8},     // (23)
       {"skirt_length", 1.1},       // (22)
       {"sleeve_length", 1.6},      // (14)
       {"outseam", 2.6},            // (15)
