@@ -56,13 +56,15 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical_torso";
 // readings missing, garment_length 1.48 / 4.72 -> 0.69 / 1.42 (bound 2.2 / 5.9 -> 1.0 / 2.0),
 // hem 1.95 / 6.44 -> 2.55 / 9.35 (bound 2.8 / 7.9 -> 3.0 / 10.3): the two hems now read are 9.4
 // and 3.6 cm small, loose sleeveless wovens that hang as deep as wide (the waist's failure, at the
-// hem).
+// hem). Also stop 42: a loose bodice's sides are fins (docs/measurement_model.md, "A loose
+// bodice's sides are fins"): bust 1.29 / 2.90 -> 0.88 / 2.90 in this test (`rig eval`, which
+// registers each case itself: 1.05 / 1.77 -> 0.64 / 1.49; bound 2.0 / 3.9 -> 1.0 / 3.2).
 constexpr std::size_t kCases = 16;
 constexpr int kMinTypesRight = 16;
 constexpr int kMaxMissing = 3;
 constexpr double kMaxScaleError = 0.004;
 const std::map<std::string, std::pair<double, double>> kBounds = {
-    {"bust_circ", {2.0, 3.9}}, {"waist_circ", {6.0, 14.5}},    {"hip_circ", {2.5, 9.1}},
+    {"bust_circ", {1.0, 3.2}}, {"waist_circ", {6.0, 14.5}},    {"hip_circ", {2.5, 9.1}},
     {"hem_circ", {3.0, 10.3}}, {"garment_length", {1.0, 2.0}}, {"skirt_length", {0.8, 1.2}},
 };
 

@@ -131,11 +131,13 @@ constexpr double kLegHangSpanCm = 20.0;
 
 // How a garment hangs (docs/simulator.md, "Width model"). Its section at a height is a
 // Minkowski sum of convex pieces: a hull of the form's sections, a disc of radius e (a uniform
-// ease: perimeter + 2 pi e, width and depth + 2 e), a segment across (the sides standing out:
-// perimeter + 2 L, width + L) and a segment front to back (the front and back hanging off the
-// bust: perimeter + 2 L, depth + L). Only the width is drawn; the sums are what the physical
-// rig's cloth does (docs/physical_rig.md), written without the measurer's ellipses.
+// ease: perimeter + 2 pi e, width and depth + 2 e), a segment across (a skirt's sides swinging
+// out: perimeter + 2 L, width + L) and a segment front to back (the front and back hanging off
+// the bust: perimeter + 2 L, depth + L); at the bust a loose bodice's sides stand out as fins
+// (FinnedSection), convex hulls rather than sums. Only the width is drawn; the shapes are what
+// the physical rig's cloth does (docs/physical_rig.md), written without the measurer's ellipses.
 constexpr double kBustEaseCm = 0.5;    // a bodice's uniform ease at the bust, at most
+constexpr double kRoundEaseCm = 1.0;   // a loose bodice's round ease before its sides stand out
 constexpr double kBodiceHang = 0.25;   // share of the bust's extra depth kept below it
 constexpr double kSkirtSwingCm = 3.0;  // a skirt's side swing below the hip, at most
 constexpr double kLieOnFormCm = 0.5;   // a bodice with less ease than this does not hang
@@ -153,6 +155,7 @@ class HangingSections {
   }
   struct Hull {
     double width = 0, depth = 0, perimeter = 0;
+    std::vector<Eigen::Vector2d> polygon;  // (x, z) cm, counter-clockwise
   };
   // The hull of every section in [loCm, hiCm] (cm).
   Hull hull(double loCm, double hiCm) const {
@@ -174,7 +177,7 @@ class HangingSections {
       z0 = std::min(z0, p.y());
       z1 = std::max(z1, p.y());
     }
-    return {x1 - x0, z1 - z0, calib::polygonPerimeter(poly)};
+    return {x1 - x0, z1 - z0, calib::polygonPerimeter(poly), poly};
   }
 
  private:
@@ -182,18 +185,67 @@ class HangingSections {
   std::vector<std::vector<Eigen::Vector2d>> hulls_;
 };
 
+// The convex hull of a polygon grown by a disc of radius `ease`, and the perimeter of its hull
+// with a fin of length `fin` standing out beyond each end of its width, at the height (z) of
+// that end.
+class FinnedSection {
+ public:
+  FinnedSection(const std::vector<Eigen::Vector2d>& polygon, double ease) {
+    constexpr int kDiscPoints = 32;
+    calib::SliceLoop pts;
+    pts.reserve(polygon.size() * kDiscPoints);
+    for (const auto& p : polygon)
+      for (int k = 0; k < kDiscPoints; ++k) {
+        const double a = 2 * std::numbers::pi * k / kDiscPoints;
+        pts.push_back(p + ease * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      }
+    grown_ = calib::convexHull({pts});
+    left_ = right_ = grown_.front();
+    for (const auto& p : grown_) {
+      if (p.x() < left_.x())
+        left_ = p;
+      if (p.x() > right_.x())
+        right_ = p;
+    }
+  }
+  double perimeter(double fin) const {
+    calib::SliceLoop pts = grown_;
+    pts.push_back(left_ - Eigen::Vector2d(fin, 0));
+    pts.push_back(right_ + Eigen::Vector2d(fin, 0));
+    return calib::polygonPerimeter(calib::convexHull({pts}));
+  }
+
+ private:
+  std::vector<Eigen::Vector2d> grown_;
+  Eigen::Vector2d left_, right_;
+};
+
 // Width beyond the form's section `f` (cm) of a garment of circumference c whose section is
-// `base` (f, or a hull containing it) grown by a disc of radius `ease` and, for the rest, a
-// segment across. A garment tighter than that is a Minkowski blend of f and it.
+// `base` (f, or a hull containing it) grown by a disc of radius `ease` and, for the rest, a fin
+// at each side: the side seams of a loose bodice stand out from the form as fins of cloth, front
+// and back panels meeting at them (the physical rig's settled cloth; docs/simulator.md, "Width
+// model"). A fin adds width and little round: the hull gains the two tangents to its tip less
+// the arc between their feet. A garment tighter than that is a Minkowski blend of f and it.
 double sidesOut(const HangingSections::Hull& f, const HangingSections::Hull& base, double c,
                 double ease) {
   const double pi = std::numbers::pi;
   const double grownW = base.width + 2 * ease, grownP = base.perimeter + 2 * pi * ease;
-  if (c <= grownP) {
+  if (c <= grownP || base.polygon.size() < 3) {
     const double t = std::clamp((c - f.perimeter) / std::max(grownP - f.perimeter, 1e-9), 0.0, 1.0);
     return t * (grownW - f.width);
   }
-  return grownW - f.width + 0.5 * (c - grownP);
+  // A loose bodice first rounds out to kRoundEaseCm all round, then stands out at its sides.
+  const double roundP = base.perimeter + 2 * pi * kRoundEaseCm;
+  if (c <= roundP)
+    return base.width + 2 * (c - base.perimeter) / (2 * pi) - f.width;
+  // The hull's perimeter grows with the fins' length (by less than twice it): bisect.
+  const FinnedSection finned(base.polygon, kRoundEaseCm);
+  double lo = 0, hi = c;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (finned.perimeter(mid) < c ? lo : hi) = mid;
+  }
+  return base.width + 2 * kRoundEaseCm - f.width + 2 * lo;
 }
 
 // Width beyond `f` of a garment grown from f by a uniform ease e: c = C_f + 2 pi e.
