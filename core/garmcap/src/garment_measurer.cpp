@@ -15,6 +15,7 @@
 
 #include "garmcap/calib/slicer.h"
 #include "garmcap/drafts/garment_vocabulary.h"
+#include "garmcap/pipeline/section_perimeter.h"
 
 namespace garmcap::pipeline {
 namespace {
@@ -241,37 +242,6 @@ SectionShape sectionOf(const DepthTable& t, double hCm) {
   const auto i = static_cast<std::size_t>(std::clamp(std::lround((hCm - t.firstCm) / kDepthStepCm),
                                                      0L, static_cast<long>(t.hulls.size()) - 1));
   return shapeOf(t.hulls[i]);
-}
-
-// Perimeter of an ellipse of full width w and depth d (Ramanujan's first approximation, within
-// 0.01 % for the ratios of a body's sections).
-double ellipsePerimeter(double w, double d) {
-  const double a = 0.5 * w, b = 0.5 * d;
-  return std::numbers::pi * (3.0 * (a + b) - std::sqrt((3.0 * a + b) * (a + 3.0 * b)));
-}
-
-// What a fin of length f standing out from the end of an ellipse's width (full width w, depth d)
-// adds to the perimeter of their convex hull: the two tangents from the fin's tip to the ellipse
-// less the arc between their feet (a side seam standing off the form: the hull follows the
-// tangents, not a wider ellipse).
-double finHullGain(double w, double d, double f) {
-  if (f <= 0 || w <= 0 || d <= 0)
-    return 0.0;
-  const double a = 0.5 * w, b = 0.5 * d;
-  // The tangent points from (a + f, 0) lie on the tip's polar line x = a^2 / (a + f).
-  const double xt = a * a / (a + f);
-  const double yt = b * std::sqrt(std::max(0.0, 1.0 - (xt * xt) / (a * a)));
-  const double tangent = std::hypot(a + f - xt, yt);
-  // Arc of x = a cos t, y = b sin t over |t| <= acos(a / (a + f)), by the midpoint rule.
-  const double tEnd = std::acos(a / (a + f));
-  constexpr int kSteps = 64;
-  double arc = 0;
-  for (int i = 0; i < kSteps; ++i) {
-    const double t = (i + 0.5) * tEnd / kSteps;
-    arc += std::hypot(a * std::sin(t), b * std::cos(t));
-  }
-  arc *= 2.0 * tEnd / kSteps;
-  return 2.0 * tangent - arc;
 }
 
 // A bodice's section at the bust is round out to the envelope of the form's sections up to the
