@@ -546,17 +546,28 @@ struct HemReading {
 };
 
 std::vector<int> lowestSureNear(const cv::Mat& sure, double pxPerCm, const HemReading& how) {
-  cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(sure, labels, stats, centroids, 8, CV_32S);
-  std::vector<uchar> piece(static_cast<std::size_t>(n), 0);
-  for (int i = 1; i < n; ++i)
-    piece[static_cast<std::size_t>(i)] =
-        stats.at<int>(i, cv::CC_STAT_AREA) >= how.minPieceCm2 * pxPerCm * pxPerCm;
+  // Labelling the pieces costs a pass over the frame; only a minimum size needs it.
+  cv::Mat pieces = sure;
+  if (how.minPieceCm2 > 0) {
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(sure, labels, stats, centroids, 8, CV_32S);
+    std::vector<uchar> keep(static_cast<std::size_t>(n), 0);
+    for (int i = 1; i < n; ++i)
+      keep[static_cast<std::size_t>(i)] =
+          stats.at<int>(i, cv::CC_STAT_AREA) >= how.minPieceCm2 * pxPerCm * pxPerCm ? 255 : 0;
+    pieces = cv::Mat(sure.size(), CV_8UC1);
+    for (int y = 0; y < sure.rows; ++y) {
+      const int* l = labels.ptr<int>(y);
+      uchar* m = pieces.ptr(y);
+      for (int x = 0; x < sure.cols; ++x)
+        m[x] = keep[static_cast<std::size_t>(l[x])];
+    }
+  }
   std::vector<int> lowest(static_cast<std::size_t>(sure.cols), -1);
-  for (int y = 0; y < sure.rows; ++y) {
-    const int* l = labels.ptr<int>(y);
-    for (int x = 0; x < sure.cols; ++x)
-      if (piece[static_cast<std::size_t>(l[x])])
+  for (int y = 0; y < pieces.rows; ++y) {
+    const uchar* m = pieces.ptr(y);
+    for (int x = 0; x < pieces.cols; ++x)
+      if (m[x])
         lowest[static_cast<std::size_t>(x)] = y;
   }
   const int halfWidth = static_cast<int>(std::lround(how.neighbourhoodCm * pxPerCm));
