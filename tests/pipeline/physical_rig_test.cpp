@@ -79,11 +79,14 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 // openings 3.20 / 6.52 -> 2.25 / 4.42 (case_017 +6.5 -> +1.8; bound 3.45 / 7.4 -> 2.5 / 5.3). Stop
 // 42: a loose bodice's sides are fins ("A loose bodice's sides are fins"): bust 1.55 / 4.11 ->
 // 0.94 / 2.21 (case_013 +4.11 -> +1.06, 023 +3.05 -> +1.67, 018 +2.97 -> +1.21; bound 1.8 / 4.6
-// -> 1.1 / 2.7). Per measurement {mean, max} absolute error in cm.
+// -> 1.1 / 2.7). Stop 43: a sleeveless bodice's waist on a form with arms shows half its ease at
+// its sides ("A sleeveless bodice's waist hangs"): waist 1.85 / 10.45 -> 1.02 / 2.87 (case_023
+// -10.45 -> -2.87, 018 -8.91 -> +1.67, 003 -6.74 -> +2.11; bound 2.2 / 12.0 -> 1.2 / 3.3). Per
+// measurement {mean, max} absolute error in cm.
 constexpr int kMinTypesRight = 23;
 constexpr int kMaxMissing = 2;
 const std::map<std::string, std::pair<double, double>> kBounds = {
-    {"bust_circ", {1.1, 2.7}},        {"waist_circ", {2.2, 12.0}},    {"hip_circ", {1.1, 3.6}},
+    {"bust_circ", {1.1, 2.7}},        {"waist_circ", {1.2, 3.3}},     {"hip_circ", {1.1, 3.6}},
     {"hem_circ", {1.45, 4.6}},        {"garment_length", {1.5, 2.4}}, {"skirt_length", {0.7, 1.5}},
     {"sleeve_length", {1.0, 2.3}},    {"outseam", {0.7, 1.2}},        {"inseam", {0.6, 1.0}},
     {"leg_opening_circ", {2.5, 5.3}},

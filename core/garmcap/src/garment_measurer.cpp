@@ -263,13 +263,27 @@ constexpr double kBodiceHangShare = 0.3;
 // depth (an H-line hem keeps the hip's depth; physical rig, even cases, 0-6 cm tried).
 constexpr double kHemSideSwingCm = 3.0;
 
+// A sleeveless bodice's waist: only this share of the ease it has there shows at its sides, the
+// rest hangs in front and behind (nothing holds its sides out, as a sleeve does; the physical
+// rigs' sleeveless wovens on the full form stand 1.0-1.8 cm off the form's waist at each side with
+// 16-25 cm of ease; docs/measurement_model.md, "A sleeveless bodice's waist hangs"). Chosen on the
+// committed full-form rig, where 0.5 reads its five sleeveless waists within 2.9 cm (they read
+// 2.0-10.5 cm small by the bodice rule); a fresh full-form rig would take 0.4-0.45 (at 0.5 its
+// worst is 5.9 cm small, from 13.3): a front view does not know this depth. Not
+// on an armless torso form: there the sides stand out further for the same ease (the committed
+// torso rig would take 0.6-0.7; a fresh one read its dresses 13-15 cm large at 0.5), and the
+// bodice rule reads them better.
+constexpr double kSleevelessSideShare = 0.5;
+
 // Which rule gives a garment's section its depth (docs/measurement_model.md, "Section depth").
 enum class DepthRule {
-  kSimilar,  // the form's section scaled (a waistband)
-  kEase,     // the form's section grown by a uniform ease: depth + (w - W)
-  kBust,     // kEase, at most the bust-to-armpit envelope's depth + kBustDepthEaseCm
-  kBodice,   // kEase moved kBodiceHangShare towards the envelope's depth up to the armpit
-  kHem,      // at least the hip's depth; beyond kHemSideSwingCm, the hip section scaled
+  kSimilar,         // the form's section scaled (a waistband)
+  kEase,            // the form's section grown by a uniform ease: depth + (w - W)
+  kBust,            // kEase, at most the bust-to-armpit envelope's depth + kBustDepthEaseCm
+  kBodice,          // kEase moved kBodiceHangShare towards the envelope's depth up to the armpit
+  kHem,             // at least the hip's depth; beyond kHemSideSwingCm, the hip section scaled
+  kSidesShowShare,  // no ellipse: kSleevelessSideShare of the ease shows as width (a sleeveless
+                    // bodice's waist)
 };
 
 // What the measurer takes a garment's section at one height to be: an ellipse as wide as the
@@ -301,6 +315,8 @@ struct DepthModel {
                                 widthCm - form.widthCm);
       case DepthRule::kHem:
         return std::max(form.depthCm, form.depthCm * (widthCm - kHemSideSwingCm) / form.widthCm);
+      case DepthRule::kSidesShowShare:  // circFor reads it without a depth; as wide as eased
+        return eased;
       case DepthRule::kSimilar:
         break;
     }
@@ -311,6 +327,10 @@ struct DepthModel {
   // wide as the form reads the form's tape and kSimilar reads what the similar section reads.
   double circFor(double ratio, double formCircCm) const {
     const double w = form.widthCm * ratio;
+    // The sides stand (w - W) / 2 off the form, a uniform ease's perimeter 2 pi of that a side,
+    // which is kSleevelessSideShare of the whole ease.
+    if (rule == DepthRule::kSidesShowShare && w > form.widthCm)
+      return formCircCm + std::numbers::pi * (w - form.widthCm) / kSleevelessSideShare;
     return formCircCm * ellipsePerimeter(w, depthFor(w)) /
            ellipsePerimeter(form.widthCm, form.depthCm);
   }
@@ -338,6 +358,7 @@ struct Context {
   GarmentMeasurement& out;
   std::string type;
   const DepthModel* depth = nullptr;  // nullptr: the similar-section model
+  bool sleeveless = false;            // a top or dress without sleeves on a form with arms
 };
 
 // Whether the form at `heightCm` is inside the frame; when the frame cuts the form above it (a
@@ -649,6 +670,8 @@ std::optional<DepthModel> depthModelFor(const Context& c, double heightCm, const
   if (name == "bust_circ") {
     m.rule = DepthRule::kBust;
     m.hang = envelopeOf(*table, heightCm, c.view.armpitCm());
+  } else if (upper && name == "waist_circ" && c.sleeveless) {
+    m.rule = DepthRule::kSidesShowShare;
   } else if (upper && (name == "waist_circ" || (type == "top" && name == "hem_circ"))) {
     // A top hangs from the bust down to its hem; a dress's bodice down to its waist seam.
     m.rule = DepthRule::kBodice;
@@ -1270,6 +1293,9 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
   // Since stop 42 a loose bodice's sides are read as fins (kBustRoundEaseCm): bust 3.1 -> 1.8.
   // Two fresh rigs, seen while choosing kBustRoundEaseCm, hold 14 of 14 (seed 8686) and 4 of 7
   // (seed 4242: two knit tops' -2.1 and -2.4, unchanged by the fins, and 013's +1.9) within it.
+  // Since stop 43 a sleeveless bodice's waist on a form with arms is read by
+  // kSleevelessSideShare: the full rig's waists 1.85 / 10.45 -> 1.02 / 2.87 cm, the torso rig's
+  // (armless, unchanged) still set the waist's value.
   static const std::map<std::string, double> kU95 = {
       {"bust_circ", 1.8},          // (23)
       {"waist_circ", 11.4},        // (50)
@@ -1302,6 +1328,21 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
     if (v && std::isfinite(*v))
       out.measurements[n] = *v;
   };
+
+  // The sleeves first: a sleeveless bodice's waist is read by a rule of its own.
+  std::vector<std::optional<SleeveEnd>> sleeves;
+  if (wants("sleeve_length")) {
+    for (int side = 0; side < 2; ++side)
+      sleeves.push_back(sleeveOnArm(c, side));
+    double longest = -1;
+    for (const auto& s : sleeves)
+      if (s)
+        longest = std::max(longest, s->lengthCm);
+    // Only on a form with arms (longest -1: none): on the physical torso rigs' armless forms a
+    // sleeveless bodice's sides stand further out for the same ease, and the bodice rule reads
+    // their waists better (kSleevelessSideShare).
+    c.sleeveless = longest >= 0 && longest < kSleevelessBelowCm;
+  }
 
   if (wants("bust_circ") && formInFrame(c, view.bustCm(), "bust_circ", "bust"))
     put("bust_circ", circumferenceAt(c, view.bustCm(), "bust_circ"));
@@ -1436,7 +1477,7 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
   if (wants("sleeve_length")) {
     std::vector<double> lengths;
     for (int side = 0; side < 2; ++side)
-      if (const auto s = sleeveOnArm(c, side)) {
+      if (const auto& s = sleeves[static_cast<std::size_t>(side)]) {
         lengths.push_back(s->lengthCm);
         if (s->lengthCm > 0)
           out.landmarks.push_back({side == 0 ? "sleeve_end_left" : "sleeve_end_right", s->endPx});

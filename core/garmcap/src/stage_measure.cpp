@@ -14,7 +14,7 @@ GarmentMeasurement measureCapturedGarment(const CaptureContext& ctx, const cv::M
     // The measurer reads 0 where the garment's cover of the arm is the bodice's shoulder or
     // armhole, not a sleeve (garment_measurer.cpp, endsInArmhole).
     const double sl = gm.measurements.at("sleeve_length");
-    const bool sleeveless = sl < 2.0;
+    const bool sleeveless = sl < kSleevelessBelowCm;
     result.attributes["sleeve"] = sleeveless ? "none" : (sl < 35.0 ? "short" : "long");
     if (sleeveless)
       result.measurements["sleeve_length"] = 0.0;

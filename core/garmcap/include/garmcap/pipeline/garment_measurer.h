@@ -41,6 +41,10 @@ struct GarmentMeasurement {
 /// and the command that reproduces it. nullopt for an unknown name.
 std::optional<double> measurementUncertaintyCm(const std::string& name);
 
+/// A sleeve shorter than this (cm, from the shoulder line) is no sleeve: the cover of the arm's
+/// root by a bodice's shoulder or extended armhole reads a centimetre or two.
+constexpr double kSleevelessBelowCm = 2.0;
+
 /// Measures a garment of `type` from its mask (CV_8U, non-zero = garment, the frame's size and
 /// without camera roll) on the form seen through `view`. A measurement that cannot be taken (the
 /// garment does not reach the height, no sleeve on a form without arms) is left out and a
