@@ -58,13 +58,16 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical_torso";
 // and 3.6 cm small, loose sleeveless wovens that hang as deep as wide (the waist's failure, at the
 // hem). Also stop 42: a loose bodice's sides are fins (docs/measurement_model.md, "A loose
 // bodice's sides are fins"): bust 1.29 / 2.90 -> 0.88 / 2.90 in this test (`rig eval`, which
-// registers each case itself: 1.05 / 1.77 -> 0.64 / 1.49; bound 2.0 / 3.9 -> 1.0 / 3.2).
+// registers each case itself: 1.05 / 1.77 -> 0.64 / 1.49; bound 2.0 / 3.9 -> 1.0 / 3.2). Stop 43:
+// a sleeveless bodice's waist on an armless form shows 0.7 of its ease at its sides ("A
+// sleeveless bodice's waist hangs"): waist 4.78 / 12.98 -> 2.08 / 12.98 (bound 6.0 / 14.5 -> 2.5 /
+// 14.5; the largest, case_015's -13.0, is its striped knit dress's outline lost below the bust).
 constexpr std::size_t kCases = 16;
 constexpr int kMinTypesRight = 16;
 constexpr int kMaxMissing = 3;
 constexpr double kMaxScaleError = 0.004;
 const std::map<std::string, std::pair<double, double>> kBounds = {
-    {"bust_circ", {1.0, 3.2}}, {"waist_circ", {6.0, 14.5}},    {"hip_circ", {2.5, 9.1}},
+    {"bust_circ", {1.0, 3.2}}, {"waist_circ", {2.5, 14.5}},    {"hip_circ", {2.5, 9.1}},
     {"hem_circ", {3.0, 10.3}}, {"garment_length", {1.0, 2.0}}, {"skirt_length", {0.8, 1.2}},
 };
 

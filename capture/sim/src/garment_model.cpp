@@ -142,11 +142,12 @@ constexpr double kBodiceHang = 0.25;   // share of the bust's extra depth kept b
 constexpr double kSkirtSwingCm = 3.0;  // a skirt's side swing below the hip, at most
 constexpr double kLieOnFormCm = 0.5;   // a bodice with less ease than this does not hang
 constexpr double kBustSidesCm = 8.0;   // the bust's side offset holds this far below it
-// A sleeveless bodice below the bust on a form with arms: nothing holds its sides out, so this
-// share of its ease shows at them and the rest hangs off the bust and shoulder blades, front to
-// back (the physical rig's sleeveless wovens: 1.0-1.8 cm a side at the waist for 16-25 cm of
-// ease).
+// A sleeveless bodice below the bust: nothing holds its sides out, so only a share of its ease
+// shows at them and the rest hangs off the bust and shoulder blades, front to back (the physical
+// rig's sleeveless wovens: 1.0-1.8 cm a side at the waist for 16-25 cm of ease); on an armless
+// torso form the sides stand further out for the same ease (the physical torso rigs).
 constexpr double kSleevelessSideShare = 0.5;
+constexpr double kArmlessSideShare = 0.7;
 
 class HangingSections {
  public:
@@ -278,10 +279,10 @@ double bodiceOut(const HangingSections::Hull& f, const HangingSections::Hull& ha
 }
 
 // Width beyond `f` of a sleeveless bodice below the bust: f plus a disc of radius e, which is
-// kSleevelessSideShare of its ease, plus a front-to-back segment for the rest (perimeter
-// 2 pi e + 2 L = c - C_f).
-double sleevelessOut(const HangingSections::Hull& f, double c) {
-  return kSleevelessSideShare * easeOut(f, c);
+// `share` of its ease, plus a front-to-back segment for the rest (perimeter 2 pi e + 2 L =
+// c - C_f).
+double sleevelessOut(const HangingSections::Hull& f, double c, double share) {
+  return share * easeOut(f, c);
 }
 
 // Width beyond the hip section `f` of a skirt below the hip: the sides swing out first (up to
@@ -512,9 +513,8 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
   const auto knots = torsoKnots(spec, view, gh);
   const bool upper = spec.type == "top" || spec.type == "dress";
   const bool aLine = attr(spec, "skirt") == "a_line";
-  // On a form with arms only: on an armless torso form a bodice's sides hang from the shoulder
-  // caps' edges, as far out as a bodice rule puts them (the physical torso rigs).
-  const bool sleeveless = upper && attr(spec, "sleeve") == "none" && (view.arm(0) || view.arm(1));
+  const bool sleeveless = upper && attr(spec, "sleeve") == "none";
+  const double sideShare = view.arm(0) || view.arm(1) ? kSleevelessSideShare : kArmlessSideShare;
   const auto hipSec = view.torsoAtHeight(view.hipCm());
   const double hemRowC = view.rowOfHeight(gh.hemCm);
   const double topRowC = view.rowOfHeight(upper ? view.armpitCm() : gh.topCm);
@@ -571,7 +571,7 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
         // four rigs, docs/measurement_model.md, "A sleeveless bodice's waist hangs").
         const double hemHigh = std::min(waistLow, gh.hemCm + kKnotPlateauCm);
         const double u = std::clamp((waistLow - h) / std::max(waistLow - hemHigh, 1e-9), 0.0, 1.0);
-        below = (1 - u) * sleevelessOut(f, c) + u * below;
+        below = (1 - u) * sleevelessOut(f, c, sideShare) + u * below;
       }
       const double t = std::clamp((h - waistHigh) / std::max(bustLow - waistHigh, 1e-9), 0.0, 1.0);
       out = t * atBust + (1 - t) * below;
@@ -584,8 +584,8 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
       // A dress below its waist's plateau: from the bodice's hang to the skirt's uniform ease at
       // the hip's plateau.
       const double t = std::clamp((waistLow - h) / std::max(waistLow - hipHigh, 1e-9), 0.0, 1.0);
-      const double bodice =
-          sleeveless ? sleevelessOut(f, c) : bodiceOut(f, hanging.hull(h, view.armpitCm()), c);
+      const double bodice = sleeveless ? sleevelessOut(f, c, sideShare)
+                                       : bodiceOut(f, hanging.hull(h, view.armpitCm()), c);
       out = (1 - t) * bodice + t * easeOut(f, c);
     } else if (h >= view.hipCm() - kKnotPlateauCm || spec.type == "pants") {
       out = easeOut(f, c);  // a uniform ease over the form's own section

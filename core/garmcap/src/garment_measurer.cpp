@@ -263,17 +263,18 @@ constexpr double kBodiceHangShare = 0.3;
 // depth (an H-line hem keeps the hip's depth; physical rig, even cases, 0-6 cm tried).
 constexpr double kHemSideSwingCm = 3.0;
 
-// A sleeveless bodice's waist: only this share of the ease it has there shows at its sides, the
-// rest hangs in front and behind (nothing holds its sides out, as a sleeve does; the physical
-// rigs' sleeveless wovens on the full form stand 1.0-1.8 cm off the form's waist at each side with
-// 16-25 cm of ease; docs/measurement_model.md, "A sleeveless bodice's waist hangs"). Chosen on the
-// committed full-form rig, where 0.5 reads its five sleeveless waists within 2.9 cm (they read
-// 2.0-10.5 cm small by the bodice rule); a fresh full-form rig would take 0.4-0.45 (at 0.5 its
-// worst is 5.9 cm small, from 13.3): a front view does not know this depth. Not
-// on an armless torso form: there the sides stand out further for the same ease (the committed
-// torso rig would take 0.6-0.7; a fresh one read its dresses 13-15 cm large at 0.5), and the
-// bodice rule reads them better.
+// A sleeveless bodice's waist: only a share of the ease it has there shows at its sides, the rest
+// hangs in front and behind (nothing holds its sides out, as a sleeve does; the physical rigs'
+// sleeveless wovens on the full form stand 1.0-1.8 cm off the form's waist at each side with
+// 16-25 cm of ease; docs/measurement_model.md, "A sleeveless bodice's waist hangs"). On a form
+// with arms, chosen on the committed full-form rig, where 0.5 reads its five sleeveless waists
+// within 2.9 cm (they read 2.0-10.5 cm small by the bodice rule); a fresh full-form rig would
+// take 0.4-0.45 (at 0.5 its worst is 5.9 cm small, from 13.3): a front view does not know this
+// depth. On an armless torso form the sides stand out further for the same ease (a fresh torso
+// rig read its dresses 13-15 cm large at 0.5): the committed torso rig's tops' and dresses'
+// median share, 0.68, rounded (a fresh torso rig's median is 0.73).
 constexpr double kSleevelessSideShare = 0.5;
+constexpr double kArmlessSideShare = 0.7;
 
 // Which rule gives a garment's section its depth (docs/measurement_model.md, "Section depth").
 enum class DepthRule {
@@ -282,8 +283,8 @@ enum class DepthRule {
   kBust,            // kEase, at most the bust-to-armpit envelope's depth + kBustDepthEaseCm
   kBodice,          // kEase moved kBodiceHangShare towards the envelope's depth up to the armpit
   kHem,             // at least the hip's depth; beyond kHemSideSwingCm, the hip section scaled
-  kSidesShowShare,  // no ellipse: kSleevelessSideShare of the ease shows as width (a sleeveless
-                    // bodice's waist)
+  kSidesShowShare,  // no ellipse: sidesShare of the ease shows as width (a sleeveless bodice's
+                    // waist)
 };
 
 // What the measurer takes a garment's section at one height to be: an ellipse as wide as the
@@ -295,6 +296,7 @@ struct DepthModel {
   // A floor on the depth of a section wider than the form (0: none): a loose top's hem hangs
   // from the form's sections above it (loosenHemDepth).
   double minDepthCm = 0;
+  double sidesShare = 1.0;  // kSidesShowShare: the share of the ease that shows as width
   double depthFor(double widthCm) const {
     const double scaled = form.depthCm * widthCm / form.widthCm;
     if (widthCm <= form.widthCm || rule == DepthRule::kSimilar)
@@ -328,9 +330,9 @@ struct DepthModel {
   double circFor(double ratio, double formCircCm) const {
     const double w = form.widthCm * ratio;
     // The sides stand (w - W) / 2 off the form, a uniform ease's perimeter 2 pi of that a side,
-    // which is kSleevelessSideShare of the whole ease.
+    // which is sidesShare of the whole ease.
     if (rule == DepthRule::kSidesShowShare && w > form.widthCm)
-      return formCircCm + std::numbers::pi * (w - form.widthCm) / kSleevelessSideShare;
+      return formCircCm + std::numbers::pi * (w - form.widthCm) / sidesShare;
     return formCircCm * ellipsePerimeter(w, depthFor(w)) /
            ellipsePerimeter(form.widthCm, form.depthCm);
   }
@@ -358,7 +360,7 @@ struct Context {
   GarmentMeasurement& out;
   std::string type;
   const DepthModel* depth = nullptr;  // nullptr: the similar-section model
-  bool sleeveless = false;            // a top or dress without sleeves on a form with arms
+  double sleevelessShare = 0;  // a sleeveless top's or dress's kSidesShowShare share; 0: none
 };
 
 // Whether the form at `heightCm` is inside the frame; when the frame cuts the form above it (a
@@ -670,8 +672,9 @@ std::optional<DepthModel> depthModelFor(const Context& c, double heightCm, const
   if (name == "bust_circ") {
     m.rule = DepthRule::kBust;
     m.hang = envelopeOf(*table, heightCm, c.view.armpitCm());
-  } else if (upper && name == "waist_circ" && c.sleeveless) {
+  } else if (upper && name == "waist_circ" && c.sleevelessShare > 0) {
     m.rule = DepthRule::kSidesShowShare;
+    m.sidesShare = c.sleevelessShare;
   } else if (upper && (name == "waist_circ" || (type == "top" && name == "hem_circ"))) {
     // A top hangs from the bust down to its hem; a dress's bodice down to its waist seam.
     m.rule = DepthRule::kBodice;
@@ -1286,19 +1289,18 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
   // (93.5 %), its pants' inseam, outseam and leg openings among the eight outside: the pants'
   // values then came from five pairs. The large ones are the rigs' known failures
   // (docs/measurement_model.md): loose woven bodices and undarted dresses that hang as deep as
-  // wide at the waist (waist: torso case_007, 11.3 cm small; hem: the same dress, 6.4, and the
-  // light sleeveless woven top torso case_000, 9.4 small, read since stop 42), wide legs pressed
+  // wide (hem: torso case_007, 6.4 cm small, and the light sleeveless woven top torso case_000,
+  // 9.4 small, read since stop 42), wide legs pressed
   // together whose depth the front view does not show (leg opening: pants case_006, 20.0 cm
   // small), a checked straight leg whose crotch is read low (inseam: pants case_032, 6.3 short).
   // Since stop 42 a loose bodice's sides are read as fins (kBustRoundEaseCm): bust 3.1 -> 1.8.
   // Two fresh rigs, seen while choosing kBustRoundEaseCm, hold 14 of 14 (seed 8686) and 4 of 7
   // (seed 4242: two knit tops' -2.1 and -2.4, unchanged by the fins, and 013's +1.9) within it.
-  // Since stop 43 a sleeveless bodice's waist on a form with arms is read by
-  // kSleevelessSideShare: the full rig's waists 1.85 / 10.45 -> 1.02 / 2.87 cm, the torso rig's
-  // (armless, unchanged) still set the waist's value.
+  // Since stop 43 a sleeveless bodice's waist is read by kSidesShowShare: waist 11.4 -> 4.0
+  // (n = 50; the largest left, 13.0, is the torso rig's striped knit dress, its outline lost).
   static const std::map<std::string, double> kU95 = {
       {"bust_circ", 1.8},          // (23)
-      {"waist_circ", 11.4},        // (50)
+      {"waist_circ", 4.0},         // (50)
       {"hip_circ", 3.2},           // (38)
       {"hem_circ", 6.5},           // (34)
       {"garment_length", 1.8},     // (23)
@@ -1338,10 +1340,11 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
     for (const auto& s : sleeves)
       if (s)
         longest = std::max(longest, s->lengthCm);
-    // Only on a form with arms (longest -1: none): on the physical torso rigs' armless forms a
-    // sleeveless bodice's sides stand further out for the same ease, and the bodice rule reads
-    // their waists better (kSleevelessSideShare).
-    c.sleeveless = longest >= 0 && longest < kSleevelessBelowCm;
+    // longest -1: the form has no arms, and every bodice on it is sleeveless.
+    if (longest < 0)
+      c.sleevelessShare = kArmlessSideShare;
+    else if (longest < kSleevelessBelowCm)
+      c.sleevelessShare = kSleevelessSideShare;
   }
 
   if (wants("bust_circ") && formInFrame(c, view.bustCm(), "bust_circ", "bust"))
