@@ -222,8 +222,9 @@ KeyResult keyGreenScreen(const cv::Mat3b& frame, const std::string& what, const 
             : l + w == frame.cols ? "right"
                                   : "bottom")
         << " edge); move the camera back or zoom out so that "
-        << (opt.allowCutAtBottom ? "the form's head, arms and hips are in view (its legs may "
-                                   "leave the frame at the bottom)"
+        << (opt.allowCutAtBottom ? "the form is in view from its top (head or neck cap) and "
+                                   "its sides down past its hips (its legs or stand may leave "
+                                   "the frame at the bottom)"
                                  : "the whole form is in view");
     throw CalibError(CalibErrorKind::kFormCutOff, msg.str());
   }

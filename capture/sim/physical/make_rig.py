@@ -291,9 +291,17 @@ def direction_to_euler(d):
     return Vector(tuple(d)).to_track_quat("-Z", "Y").to_euler()
 
 
-def build_camera(rng, width, height, margin, span=(192, 206)):
+# Room kept between the form's top and the frame's top edge at the axis plane, cm: the top's
+# front stands closer to the camera and the lens bows it outward, so a torso form framed with
+# 2.2 cm there touched the edge in its bare frame (seed 5252, session 1) and the station
+# rightly refused to calibrate; 4.4 cm was enough (seed 2015, session 1).
+TOP_HEADROOM_CM = 4.0
+
+
+def build_camera(rng, width, height, margin, span=(192, 206), top_cm=None):
     """A perspective camera 2.7-3.1 m in front of the form's axis plane, looking along +y
-    (form -z), framing the whole form; returns its intrinsics as OpenCV would state them."""
+    (form -z), framing the whole form (top_cm: its highest point) with TOP_HEADROOM_CM above
+    it; returns its intrinsics as OpenCV would state them."""
     scene = bpy.context.scene
     distance_cm = rng.uniform(270, 310)
     span_cm = rng.uniform(*span)  # frame height at the axis plane
@@ -308,7 +316,11 @@ def build_camera(rng, width, height, margin, span=(192, 206)):
     cx_cm = rng.uniform(-4, 4)
     # The feet (a torso form's foot) 10-16 cm above the frame's bottom edge: registration needs the whole form in
     # view, contact shadow included.
-    cz_cm = span_cm / 2 - rng.uniform(10, 16)
+    foot_cm = rng.uniform(10, 16)
+    if top_cm is not None:
+        # Lower the frame, never the draw: every framing that kept the room is unchanged.
+        foot_cm = min(foot_cm, span_cm - top_cm - TOP_HEADROOM_CM)
+    cz_cm = span_cm / 2 - foot_cm
     roll = math.radians(rng.uniform(-0.6, 0.6))
     ob.location = (cx_cm * CM, -distance_cm * CM, cz_cm * CM)
     ob.rotation_euler = (math.pi / 2, roll, 0)
@@ -876,7 +888,7 @@ def make_case(args, form, sidecar_path, index, out_dir):
     margin = 32
     # A torso form is 145 cm tall: the frame spans it and its foot as a station would frame it.
     cam = build_camera(srng, args.width, args.height, margin,
-                       (160, 172) if form.torso_form else (192, 206))
+                       (160, 172) if form.torso_form else (192, 206), form.height)
     configure_render(args.width, args.height, margin, args.samples, 0)
     k1 = float(srng.uniform(-0.10, -0.02))
     k2 = float(srng.uniform(0.0, 0.04))
