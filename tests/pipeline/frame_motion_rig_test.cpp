@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
@@ -138,4 +140,33 @@ TEST(FrameMotion, ReadingsThroughOneReferenceDoNotDrift) {
   EXPECT_NEAR(fresh.shift.y, first.shift.y, 1e-9);
   EXPECT_NEAR(first.shift.x, 1.2, 0.5) << first.shift;
   EXPECT_NEAR(first.shift.y, -0.7, 0.5) << first.shift;
+}
+
+// A torso form framed close to its neck cap leaves no top band (the pipeline's band ends 2 cm
+// above the side neck: 45 rows of this 2 MP frame, 22 edge rows), and a form-coloured dress on it
+// changes much of the frame. Read over the whole frame, this still pair (the physical torso
+// generator's seed 5252 case 7, make_rig.py; tests/data/motion/README.md) moved by 5.9 px and the
+// pipeline "re-registered" it, shifting the bare frame off the form, and typed the dress
+// "unknown"; the bottom band alone (the floor and the stand's foot) reads it still.
+TEST(FrameMotion, AStillCameraReadsStillFromTheBottomBandWhenTheTopBandIsTooThin) {
+  const std::filesystem::path dir =
+      std::filesystem::path(GARMCAP_TEST_DATA_DIR) / "motion" / "torso_still_form_coloured_dress";
+  const cv::Mat empty = cv::imread((dir / "empty.jpg").string(), cv::IMREAD_COLOR);
+  const cv::Mat dressed = cv::imread((dir / "dressed.jpg").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(empty.empty());
+  ASSERT_EQ(dressed.size(), empty.size());
+  const pipeline::MotionReference ref(empty, 45, static_cast<int>(0.85 * empty.rows));
+  const auto m = ref.motionOf(dressed);
+  EXPECT_LT(std::hypot(m.shift.x, m.shift.y), 0.5) << m.shift;
+  EXPECT_EQ(m.rollRad, 0.0);
+  // A shift of the dressed frame is still read, from that band.
+  const cv::Mat moved = [&] {
+    cv::Mat out;
+    const cv::Matx23d t(1, 0, 1.5, 0, 1, -1.0);
+    cv::warpAffine(dressed, out, t, dressed.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    return out;
+  }();
+  const auto mm = ref.motionOf(moved);
+  EXPECT_NEAR(mm.shift.x, 1.5, 0.4) << mm.shift;
+  EXPECT_NEAR(mm.shift.y, -1.0, 0.4) << mm.shift;
 }

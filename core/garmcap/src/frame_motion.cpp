@@ -65,9 +65,11 @@ MotionReference::MotionReference(const cv::Mat& bareBgr, int topEndRow, int bott
   const int b0 = std::clamp(static_cast<int>(bottomStartRow * scale_), 0, edges_.rows);
   bands_ = t1 >= kMinBandRows && edges_.rows - b0 >= kMinBandRows && b0 - t1 >= kMinBandRows;
   topOnly_ = !bands_ && bottomStartRow >= bareBgr.rows && t1 >= kMinBandRows;
+  bottomOnly_ = !bands_ && !topOnly_ && bottomStartRow < bareBgr.rows &&
+                edges_.rows - b0 >= kMinBandRows && b0 >= kMinBandRows;
   if (bands_ || topOnly_)
     top_ = region(cv::Rect(0, 0, edges_.cols, t1));
-  if (bands_)
+  if (bands_ || bottomOnly_)
     bottom_ = region(cv::Rect(0, b0, edges_.cols, edges_.rows - b0));
 }
 
@@ -97,8 +99,8 @@ FrameMotion MotionReference::motionOf(const cv::Mat& dressedBgr) const {
         std::to_string(frameSize_.width) + "x" + std::to_string(frameSize_.height));
   const cv::Mat b = motionEdges(dressedBgr, scale_);
   FrameMotion m;
-  if (topOnly_) {
-    m.shift = shiftOf(top_, b) / scale_;
+  if (topOnly_ || bottomOnly_) {
+    m.shift = shiftOf(topOnly_ ? top_ : bottom_, b) / scale_;
     return m;
   }
   m.shift = shiftOf(whole_, b) / scale_;

@@ -31,7 +31,10 @@ struct FrameMotion {
 /// moved), the roll is 0 and the shift the whole frame's. With no bottom band at all
 /// (`bottomStartRow` at or below the frame's last row: the frame cuts the form's legs, and its
 /// bottom rows may hold a skirt) the shift is the top band's alone, when it is 32 edge rows or
-/// more: the whole frame's reading is pulled by the garment, which then fills much of it.
+/// more: the whole frame's reading is pulled by the garment, which then fills much of it. Likewise
+/// with a top band under 32 edge rows (a torso form framed close to its neck cap) the shift is the
+/// bottom band's alone: a form-coloured dress on such a form pulled the whole frame's reading to
+/// 4.6-5.9 px with the camera still (tests/data/motion).
 class MotionReference {
  public:
   MotionReference(const cv::Mat& bareBgr, int topEndRow, int bottomStartRow);
@@ -51,7 +54,8 @@ class MotionReference {
   cv::Mat edges_;
   Region whole_, top_, bottom_;
   bool bands_ = false;
-  bool topOnly_ = false;  // no bottom band: the shift from the top band
+  bool topOnly_ = false;     // no bottom band: the shift from the top band
+  bool bottomOnly_ = false;  // no top band: the shift from the bottom band
 
   Region region(const cv::Rect& rect) const;
   cv::Point2d shiftOf(const Region& r, const cv::Mat& dressedEdges) const;
