@@ -183,7 +183,7 @@ TEST(PhysicalRig, AccuracyOnClothDrapedByAnIndependentSolver) {
   std::printf("issue 15 targets (type >= 95 %%, mean <= 1.0 cm, max <= 3.0 cm, none missing): %s\n",
               targetsMet ? "met" : "NOT met");
 
-  // result.json's uncertainty_cm claims 95 % over this rig and the torso rig pooled, its sources.
+  // result.json's uncertainty_cm claims 95 %; this rig is one of the nine it is pooled from.
   std::printf("within uncertainty_cm: %d of %d readings\n", withinUncertainty, scored);
   EXPECT_GE(withinUncertainty, 0.95 * scored);
 
