@@ -10,6 +10,7 @@
 #include <ctime>
 
 #include "garmcap/daemon/disk_full.h"
+#include "garmcap/daemon/review_policy.h"
 
 namespace garmcap::daemon {
 
@@ -891,6 +892,7 @@ nlohmann::json Item::toJson() const {
                    {"attributes", attributes},
                    {"confidence", confidence},
                    {"warnings", warnings},
+                   {"checks", checksOf(warnings)},
                    {"measurements", measurementsCm},
                    {"units", "cm"},
                    {"sizes", sizes},

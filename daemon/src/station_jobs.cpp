@@ -13,6 +13,7 @@
 
 #include "garmcap/capture/camera.h"
 #include "garmcap/daemon/disk_full.h"
+#include "garmcap/daemon/review_policy.h"
 #include "garmcap/daemon/station.h"
 #include "garmcap/daemon/tape.h"
 #include "garmcap/pipeline/image_files.h"
@@ -390,7 +391,7 @@ void Station::runDressed(Pending req, cv::Mat dressed, std::shared_future<Stored
       item->result = r.result;
       item->calibrationId = cal.id;
       item->jobId = req.jobId;
-      item->needsReview = r.confidence < threshold || !r.warnings.empty();
+      item->needsReview = needsReview(r.confidence, threshold, r.warnings);
       for (ImageRef& ref : photos)
         item->images.push_back(std::move(ref));
       const StoredFrame frame = stored.get();  // throws what storing the still threw

@@ -41,12 +41,14 @@ function plainFailure(error) {
   return { what: 'The garment could not be measured.', next: 'Check that the garment sits straight on the form and nothing stands in front of the camera, then press Capture garment again.' };
 }
 
-// Warnings that need a person say what to check; the rest are notes that do not block.
-const NOTE_PATTERNS = [/^draft: /, /re-registered/, /^size run: /, /recipe's range/, /^colour not named/];
-function splitWarnings(list) {
-  const checks = [], notes = [];
-  for (const w of list || []) (NOTE_PATTERNS.some((r) => r.test(w)) ? notes : checks).push(w);
-  return { checks, notes };
+// Warnings that need a person say what to check; the rest are notes that do not block. The
+// station decides which is which (the item's `checks`, daemon/src/review_policy.cpp); without
+// them (an older station) every warning is a check.
+function splitWarnings(list, checkList) {
+  const all = list || [];
+  if (!Array.isArray(checkList)) return { checks: all.slice(), notes: [] };
+  const isCheck = new Set(checkList);
+  return { checks: all.filter((w) => isCheck.has(w)), notes: all.filter((w) => !isCheck.has(w)) };
 }
 function checkText(w) {
   if (/type|silhouette|IoU/i.test(w)) return 'Check the garment type: ' + w;
@@ -54,8 +56,8 @@ function checkText(w) {
   if (/size guide|graded/i.test(w)) return 'Check the sizes: ' + w;
   return 'Check: ' + w;
 }
-function showWarnings(listEl, notesEl, warnings) {
-  const { checks, notes } = splitWarnings(warnings);
+function showWarnings(listEl, notesEl, warnings, checkList) {
+  const { checks, notes } = splitWarnings(warnings, checkList);
   listEl.replaceChildren(...checks.map((w) => el('li', { text: checkText(w) })));
   notesEl.replaceChildren(...notes.map((w) => el('li', { text: 'Note: ' + w })));
 }
@@ -264,7 +266,7 @@ async function showLastResult(id) {
     $('#last-sku').textContent = (it.sku ? 'SKU ' + it.sku + ' · ' : 'No SKU · ') + (STATUS_NAMES[it.status] || it.status) +
       (it.base_size ? ' · fits size ' + it.base_size : '');
     measTable($('#last-meas'), it.measurements);
-    showWarnings($('#last-warn'), $('#last-notes'), it.warnings);
+    showWarnings($('#last-warn'), $('#last-notes'), it.warnings, it.checks);
     const note = reviewNote(it);
     $('#last-review').hidden = !note;
     $('#last-review').textContent = note ? note.title + ' Approve it to export it.' : '';
@@ -386,7 +388,7 @@ async function loadItem(id) {
     it.base_size ? 'fits size ' + it.base_size : null,
     (it.attributes || {}).color ? 'colour ' + it.attributes.color : null,
     'captured ' + (it.created_at || '').replace('T', ' ').replace('Z', ' UTC')].filter(Boolean).join(' · ');
-  showWarnings($('#item-warn'), $('#item-notes'), it.warnings);
+  showWarnings($('#item-warn'), $('#item-notes'), it.warnings, it.checks);
   // Photos
   const kinds = ['product', 'product_ghost', 'product_back', 'cutout', 'dressed', 'back', 'overlay', 'texture']
     .filter((k) => it.images && it.images[k]);

@@ -171,6 +171,20 @@ async function main() {
 
   await captureAndSeeResult('BRW-001', 'capture (double tap)');
   await shot('capture-result');
+  // The result lists what staff must check apart from notes on how it was read (the item's
+  // `checks`, daemon/src/review_policy.cpp): a note is never shown as a check, nor the reverse.
+  {
+    const checks = await page.$$eval('#last-warn li', (l) => l.map((e) => e.textContent));
+    const notes = await page.$$eval('#last-notes li', (l) => l.map((e) => e.textContent));
+    if (notes.some((t) => !t.startsWith('Note: ')) || checks.some((t) => !t.startsWith('Check')))
+      throw new Error('checks and notes mixed up: ' + JSON.stringify({ checks, notes }));
+    if (stub && (checks.length !== 1 || !checks[0].includes('centre front') || notes.length !== 1 ||
+                 !notes[0].includes('recipe'))) {
+      throw new Error('the stub item\'s check and draft note are not listed apart: ' +
+                      JSON.stringify({ checks, notes }));
+    }
+    step(`the result lists ${checks.length} check(s) to act on and ${notes.length} note(s) apart`);
+  }
 
   // A failed capture: red, a toast, plain words and the next step, and the SKU stays. Against the
   // stub only: the simulated rig has no fault that fails a capture once the form is calibrated

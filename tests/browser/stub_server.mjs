@@ -59,6 +59,7 @@ function runJob(kind, sku) {
       items.push({ id, sku: sku || '', title: '', default_title: 'Navy short-sleeve dress', status: 'needs_review', type: 'dress', notes: '', tags: [],
         attributes: { sleeve: 'short', skirt: 'a_line', color: 'Navy', pattern: 'solid' }, confidence: 0.93,
         warnings: ['draft: ease_bust 7.5 is outside the dress recipe\'s range [8.0, 40.0]; drafted with 8.0', 'the garment does not cover the centre front at the waist'],
+        checks: ['the garment does not cover the centre front at the waist'],
         price_cents: null, measurements: { ...measurements }, original: { ...measurements }, units: 'cm',
         images: { product: { url: '/stub/product.svg' }, cutout: { url: '/stub/product.svg' } }, sizes: ['base', '55', '66', '77'], base_size: '66',
         created_at: new Date().toISOString() });

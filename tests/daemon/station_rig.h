@@ -110,6 +110,7 @@ class FakeProcessor : public CaptureProcessor {
     r.type = "skirt";
     r.confidence = confidence;
     r.measurementsCm = {{"waist_circ", 60.0 + dressed.at<cv::Vec3b>(0, 0)[0]}};
+    r.warnings = warnings;
     if (undraftable || legacyEmptyPattern) {
       // The draft failed: the pipeline keeps the measurements and says why. Catalogs written
       // before storeBasePattern kept an empty pattern row too.
@@ -163,6 +164,7 @@ class FakeProcessor : public CaptureProcessor {
   std::atomic<bool> legacyEmptyPattern{
       false};  // ... and an empty pattern row stored (old catalogs)
   double confidence = 0.95;
+  std::vector<std::string> warnings;  // what the pipeline said (set before the capture)
 };
 
 struct Rig {

@@ -352,6 +352,32 @@ TEST(Station, LowConfidenceWaitsForReview) {
   EXPECT_EQ(rig.json(ok)["status"], "approved");
 }
 
+// Notes on how a reading was made do not hold an item back; a warning that says it may be wrong
+// does (daemon/src/review_policy.cpp), and the item lists it under `checks`.
+TEST(Station, NotesAloneDoNotHoldAnItemBackButACheckDoes) {
+  Rig rig;
+  const std::string note =
+      "bust_circ: sleeves cover the sides at the bust; read from the sides down to 6 cm lower, "
+      "where they show";
+  const std::string check =
+      "the garment is close to the screen's colour (5 cm2 of it over the form keys as screen); "
+      "its outline was found against the bare-form frame, check it";
+  rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture/empty"))["job"]);
+  rig.processor->warnings = {note};
+  auto job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  auto item = rig.json(rig.call(http::verb::get, "/api/items/" + job["item_id"].dump()));
+  EXPECT_EQ(item["status"], "approved");
+  EXPECT_EQ(item["warnings"], nlohmann::json::array({note}));
+  EXPECT_EQ(item["checks"], nlohmann::json::array());
+
+  rig.processor->warnings = {note, check};
+  job = rig.waitJob(rig.json(rig.call(http::verb::post, "/api/capture"))["job"]);
+  item = rig.json(rig.call(http::verb::get, "/api/items/" + job["item_id"].dump()));
+  EXPECT_EQ(item["status"], "needs_review");
+  EXPECT_EQ(item["warnings"], nlohmann::json::array({note, check}));
+  EXPECT_EQ(item["checks"], nlohmann::json::array({check}));
+}
+
 TEST(Station, PressesDuringAJobAreMergedNotLost) {
   Rig rig;
   rig.camera->delay = 150ms;
