@@ -114,11 +114,15 @@ const ITEMS = [
   { station: 'shop2', local: 2, sku: 'S2-0002', title: 'White short-sleeve top', type: 'top', price: 3200 },
 ];
 
+const BUST_NOTE = 'bust_circ: sleeves cover the sides at the bust; read from the sides down to 6 cm lower, where they show';
 function stationItem(it, sha) {
   const meas = { waist_circ: 70 + it.local, hip_circ: 96 + it.local, garment_length: 60 + 2 * it.local };
   return {
     id: it.local, sku: it.sku, title: it.title, type: it.type, status: 'needs_review', price_cents: it.price,
-    measurements: meas, base_size: '38', warnings: it.local === 2 ? ['waist line uncertain'] : [],
+    measurements: meas, base_size: '38',
+    // A station of today says which warnings are checks (local 1); an older one did not (local 2).
+    ...(it.local === 1 ? { warnings: [BUST_NOTE, 'waist line uncertain'], checks: ['waist line uncertain'] }
+      : { warnings: it.local === 2 ? ['waist line uncertain'] : [] }),
     images: { product: { sha256: sha, media_type: 'image/jpeg' } },
     size_guide: {
       units: 'cm', type: it.type, chart: 'eu_women', base_size: '38', measurements: Object.keys(meas),
@@ -209,6 +213,9 @@ try {
   const meas = await page.$$eval('#item-meas tr', (rs) => rs.map((r) => r.textContent));
   check(meas.includes('Waist71.0 cm'), 'measurements: ' + meas);
   check(await page.isHidden('#f-reject'), 'no Reject while the station owns the item');
+  const warns = await page.$$eval('#item-warn li', (ls) => ls.map((l) => l.textContent));
+  check(JSON.stringify(warns) === JSON.stringify(['Note: ' + BUST_NOTE, 'Check: waist line uncertain']),
+    'the station\'s check and note listed apart: ' + JSON.stringify(warns));
   step('item page: photo, measurements, size guide (3 sizes, this piece 38), station of origin');
   const itemOverflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
   check(itemOverflow <= 0, 'the item page is ' + itemOverflow + ' px wider than the 768 px screen');

@@ -177,7 +177,10 @@ async function loadItem(id) {
     ['Received', at(it.created_at)],
     ['Changed', at(it.updated_at)],
   ].map(([k, v]) => el('tr', {}, el('td', { text: k }), el('td', { text: v }))));
-  $('#item-warn').replaceChildren(...(st.warnings || []).map((w) => el('li', { text: 'Check: ' + w })));
+  // The station said which warnings are checks (docs/api.md, "checks"); an older station did not.
+  const checks = Array.isArray(st.checks) ? new Set(st.checks) : null;
+  $('#item-warn').replaceChildren(...(st.warnings || []).map((w) =>
+    el('li', { text: (!checks || checks.has(w) ? 'Check: ' : 'Note: ') + w })));
   const kinds = ['product_4x5', 'product', 'cutout', 'dressed', 'overlay', 'texture'].filter((k) => it.images && it.images[k]);
   for (const k of Object.keys(it.images || {})) if (!kinds.includes(k)) kinds.push(k);
   hub.photoKind = kinds[0] || null;
