@@ -62,13 +62,15 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical_torso";
 // a sleeveless bodice's waist on an armless form shows 0.7 of its ease at its sides ("A
 // sleeveless bodice's waist hangs"): waist 4.78 / 12.98 -> 2.08 / 12.98 (bound 6.0 / 14.5 -> 2.5 /
 // 14.5; the largest, case_015's -13.0, is its striped knit dress's outline lost below the bust).
+// Stop 44: a dress's hem hangs from its bodice ("A dress's hem hangs from its bodice"): hem 2.55
+// / 9.35 -> 2.23 / 9.35, its dresses' hems 1.1 cm larger each (bound 3.0 -> 2.4).
 constexpr std::size_t kCases = 16;
 constexpr int kMinTypesRight = 16;
 constexpr int kMaxMissing = 3;
 constexpr double kMaxScaleError = 0.004;
 const std::map<std::string, std::pair<double, double>> kBounds = {
     {"bust_circ", {1.0, 3.2}}, {"waist_circ", {2.5, 14.5}},    {"hip_circ", {2.5, 9.1}},
-    {"hem_circ", {3.0, 10.3}}, {"garment_length", {1.0, 2.0}}, {"skirt_length", {0.8, 1.2}},
+    {"hem_circ", {2.4, 10.3}}, {"garment_length", {1.0, 2.0}}, {"skirt_length", {0.8, 1.2}},
 };
 
 // Issue 15's acceptance on a rig.

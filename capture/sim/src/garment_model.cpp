@@ -140,8 +140,15 @@ constexpr double kBustEaseCm = 0.5;    // a bodice's uniform ease at the bust, a
 constexpr double kRoundEaseCm = 1.0;   // a loose bodice's round ease before its sides stand out
 constexpr double kBodiceHang = 0.25;   // share of the bust's extra depth kept below it
 constexpr double kSkirtSwingCm = 3.0;  // a skirt's side swing below the hip, at most
-constexpr double kLieOnFormCm = 0.5;   // a bodice with less ease than this does not hang
-constexpr double kBustSidesCm = 8.0;   // the bust's side offset holds this far below it
+// A dress's hem hangs from its bodice (its front from the bust, its back from the shoulder blades
+// and seat), so it is rounder than a skirt's of the same width: a front-to-back segment of this
+// share of what the envelope of the form's sections from the hip to the bust is deeper than the
+// hip (perimeter + 2 L: on the full form 2 L = 1.0 cm, the round the physical rigs' dress hems
+// carry beyond a skirt's section of their width, which the measurer reads as an ellipse 0.15 of
+// that excess deeper, kDressHemHangShare; docs/simulator.md, "Width model").
+constexpr double kDressHemHang = 0.1;
+constexpr double kLieOnFormCm = 0.5;  // a bodice with less ease than this does not hang
+constexpr double kBustSidesCm = 8.0;  // the bust's side offset holds this far below it
 // A sleeveless bodice below the bust: nothing holds its sides out, so only a share of its ease
 // shows at them and the rest hangs off the bust and shoulder blades, front to back (the physical
 // rig's sleeveless wovens: 1.0-1.8 cm a side at the waist for 16-25 cm of ease); on an armless
@@ -541,6 +548,12 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
     bustOutShare = sidesOut(fb, hanging.hull(view.bustCm(), view.armpitCm()), cb, kBustEaseCm) /
                    (b->widthPx() / s);
   }
+  double dressHemHangCm = 0;
+  if (spec.type == "dress") {
+    dressHemHangCm =
+        kDressHemHang * std::max(0.0, hanging.hull(view.hipCm(), view.bustCm()).depth -
+                                          hanging.hull(view.hipCm(), view.hipCm()).depth);
+  }
   auto bandAt = [&](int row, double& l, double& r) -> bool {
     const double h = view.heightOfRow(row);
     std::optional<RowSection> ref;
@@ -605,10 +618,12 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
       out = easeOut(f, c);  // a uniform ease over the form's own section
     } else {
       // A skirt below the hip's plateau: from the uniform ease there to the hem's side swing
-      // and flare at the hem's plateau.
+      // and flare at the hem's plateau; a dress's hem spends 2 L of its round on hanging
+      // deeper (a segment front to back, perimeter + 2 L).
       const double top = view.hipCm() - kKnotPlateauCm, bottom = gh.hemCm + kKnotPlateauCm;
       const double t = std::clamp((top - h) / std::max(top - bottom, 1e-9), 0.0, 1.0);
-      out = (1 - t) * easeOut(f, c) + t * hemOut(f, c);
+      const double hang = std::min(t * dressHemHangCm, 0.5 * std::max(0.0, c - f.perimeter));
+      out = (1 - t) * easeOut(f, c) + t * hemOut(f, c - 2 * hang);
     }
     const double w = ref->widthPx() + s * out;
     l = ref->centrePx() - 0.5 * w;
