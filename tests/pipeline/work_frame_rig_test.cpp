@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
@@ -78,34 +79,57 @@ TEST(PartedLegs, RejectsAMaskOfTheWrongSize) {
 }
 
 // A 2 MP frame segmented on a 1 MP work frame (the default's ratio at 4 MP) against the same
-// frame segmented at full resolution: the silhouette is as close to the rendered truth, and no
-// measurement is more than 0.5 cm further from the truth.
+// frame segmented at full resolution, over eight scenes each of dresses and pants (seeds 1-8).
+// One scene says little: on a dark checked pair the two paths' IoU differ by up to 0.008 either
+// way, and which one wins flips with any change to the scene (seed 5: work frame 0.9893 / full
+// 0.9845, then 0.9812 / 0.9894 with the pants' lower legs drawn 10 % narrower; seed 4 0.9871 /
+// 0.9924). So each scene holds the silhouette within 0.97 IoU of the rendered truth and within
+// 0.01 of the full frame's, each reading within 1.5 cm of the full frame's distance from the
+// truth, and on average over the scenes the work frame is as close as the full frame: IoU within
+// 0.002, readings within 0.2 cm.
 TEST(WorkFrame, AsAccurateAsFullResolutionSegmentation) {
-  for (const std::string type : {"dress", "pants"}) {
-    const sim::SceneRenderer r = scene(type, 5, {1224, 1632});
-    const cv::Mat empty = r.renderEmpty(), dressed = r.renderDressed();
-    const auto cal = r.calibration();
-    const auto small = pipeline::runCapture(empty, dressed, cal, measureOnly(1.0));
-    const auto full = pipeline::runCapture(empty, dressed, cal, measureOnly(100.0));
-    EXPECT_EQ(small.type, type);
-    EXPECT_EQ(full.type, type);
-    ASSERT_EQ(small.silhouette.size(), empty.size());
-    const cv::Mat truth = r.garmentCoverage() > 0.5f;
-    const double iouSmall = pipeline::maskIou(small.silhouette, truth);
-    const double iouFull = pipeline::maskIou(full.silhouette, truth);
-    EXPECT_GT(iouSmall, 0.97) << type;
-    EXPECT_GT(iouSmall, iouFull - 0.005) << type;
-    const nlohmann::json expected = r.truth().at("measurements");
-    ASSERT_EQ(small.measurements.size(), full.measurements.size()) << type;
-    for (const auto& [name, v] : full.measurements) {
-      ASSERT_TRUE(small.measurements.count(name)) << type << " " << name;
-      ASSERT_TRUE(expected.contains(name)) << type << " " << name;
-      const double t = expected.at(name).get<double>();
-      EXPECT_LE(std::abs(small.measurements.at(name) - t), std::abs(v - t) + 0.5)
-          << type << " " << name << ": work frame " << small.measurements.at(name)
-          << ", full resolution " << v << ", truth " << t;
+  double iouGapSum = 0, readingGapSum = 0;
+  int scenes = 0, readings = 0;
+  for (unsigned seed = 1; seed <= 8; ++seed) {
+    for (const std::string type : {"dress", "pants"}) {
+      const sim::SceneRenderer r = scene(type, seed, {1224, 1632});
+      const cv::Mat empty = r.renderEmpty(), dressed = r.renderDressed();
+      const auto cal = r.calibration();
+      const auto small = pipeline::runCapture(empty, dressed, cal, measureOnly(1.0));
+      const auto full = pipeline::runCapture(empty, dressed, cal, measureOnly(100.0));
+      const std::string what = type + " seed " + std::to_string(seed);
+      EXPECT_EQ(small.type, type) << what;
+      EXPECT_EQ(full.type, type) << what;
+      ASSERT_EQ(small.silhouette.size(), empty.size()) << what;
+      const cv::Mat truth = r.garmentCoverage() > 0.5f;
+      const double iouSmall = pipeline::maskIou(small.silhouette, truth);
+      const double iouFull = pipeline::maskIou(full.silhouette, truth);
+      EXPECT_GT(iouSmall, 0.97) << what;
+      EXPECT_GT(iouSmall, iouFull - 0.01) << what;
+      iouGapSum += iouFull - iouSmall;
+      ++scenes;
+      const nlohmann::json expected = r.truth().at("measurements");
+      ASSERT_EQ(small.measurements.size(), full.measurements.size()) << what;
+      for (const auto& [name, v] : full.measurements) {
+        ASSERT_TRUE(small.measurements.count(name)) << what << " " << name;
+        ASSERT_TRUE(expected.contains(name)) << what << " " << name;
+        const double t = expected.at(name).get<double>();
+        const double gap = std::abs(small.measurements.at(name) - t) - std::abs(v - t);
+        EXPECT_LE(gap, 1.5) << what << " " << name << ": work frame " << small.measurements.at(name)
+                            << ", full resolution " << v << ", truth " << t;
+        readingGapSum += gap;
+        ++readings;
+      }
     }
   }
+  ASSERT_GT(scenes, 0);
+  ASSERT_GT(readings, 0);
+  std::printf(
+      "work frame against full resolution, %d scenes: IoU %.4f lower, readings %.3f cm "
+      "further from the truth, on average\n",
+      scenes, iouGapSum / scenes, readingGapSum / readings);
+  EXPECT_LE(iouGapSum / scenes, 0.002);
+  EXPECT_LE(readingGapSum / readings, 0.2);
 }
 
 // Hard scenes (fabric the colour of the form or dark green, camera shake, strong spill). History:
