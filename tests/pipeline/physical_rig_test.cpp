@@ -81,7 +81,9 @@ const fs::path kRig = fs::path(GARMCAP_TEST_DATA_DIR) / "rig_physical";
 // 0.94 / 2.21 (case_013 +4.11 -> +1.06, 023 +3.05 -> +1.67, 018 +2.97 -> +1.21; bound 1.8 / 4.6
 // -> 1.1 / 2.7). Stop 43: a sleeveless bodice's waist on a form with arms shows half its ease at
 // its sides ("A sleeveless bodice's waist hangs"): waist 1.85 / 10.45 -> 1.02 / 2.87 (case_023
-// -10.45 -> -2.87, 018 -8.91 -> +1.67, 003 -6.74 -> +2.11; bound 2.2 / 12.0 -> 1.2 / 3.3). Per
+// -10.45 -> -2.87, 018 -8.91 -> +1.67, 003 -6.74 -> +2.11; bound 2.2 / 12.0 -> 1.2 / 3.3). Stop
+// 44: a free leg hangs flattened to 0.9 of its width ("A free leg hangs flattened"): leg opening
+// 2.25 / 4.42 -> 1.67 / 4.42 (case_002 +1.78 -> 0.00, 017 +1.81 -> -0.66; bound 2.5 -> 2.0). Per
 // measurement {mean, max} absolute error in cm.
 constexpr int kMinTypesRight = 23;
 constexpr int kMaxMissing = 2;
@@ -89,7 +91,7 @@ const std::map<std::string, std::pair<double, double>> kBounds = {
     {"bust_circ", {1.1, 2.7}},        {"waist_circ", {1.2, 3.3}},     {"hip_circ", {1.1, 3.6}},
     {"hem_circ", {1.45, 4.6}},        {"garment_length", {1.5, 2.4}}, {"skirt_length", {0.7, 1.5}},
     {"sleeve_length", {1.0, 2.3}},    {"outseam", {0.7, 1.2}},        {"inseam", {0.6, 1.0}},
-    {"leg_opening_circ", {2.5, 5.3}},
+    {"leg_opening_circ", {2.0, 5.3}},
 };
 
 // Issue 15's acceptance on a rig: type >= 95 %, every measurement mean <= 1.0 cm, max <= 3.0 cm,
@@ -421,11 +423,12 @@ TEST(PhysicalRig, KnitTopsShadeUnderTheHemIsNoGarment) {
 // rig"). Every case is typed pants and measured in full; the bounds are today's figures plus a
 // margin, a regression guard (the pressed wide pair case_006 reads its opening 20 cm small, the
 // straight checked case_032 its inseam 6.3 cm short; run from calibration.json, case_021 reads
-// its waist 4.0 cm large, 2.7 under rig eval's own registration), not the issue's targets.
+// its waist 4.0 cm large, 2.7 under rig eval's own registration), not the issue's targets. Stop
+// 44: a free leg hangs flattened (leg opening 3.97 -> 3.25 mean, bound 4.6 -> 3.7).
 TEST(PhysicalRig, FreshPantsAreTypedAndMeasuredInFull) {
   const std::map<std::string, std::pair<double, double>> bounds = {
       {"waist_circ", {0.95, 4.5}}, {"hip_circ", {0.65, 3.4}},         {"outseam", {0.75, 3.0}},
-      {"inseam", {1.8, 6.8}},      {"leg_opening_circ", {4.6, 21.5}},
+      {"inseam", {1.8, 6.8}},      {"leg_opening_circ", {3.7, 21.5}},
   };
   std::map<std::string, std::pair<double, double>> sumMax;  // per measurement: sum, max of |error|
   const auto cases = casesOf("rig_physical_pants", 10);

@@ -9,6 +9,7 @@
 
 #include "garmcap/calib/slicer.h"
 #include "garmcap/drafts/file_io.h"
+#include "garmcap/sim/form_generator.h"
 
 namespace garmcap::sim {
 
@@ -128,6 +129,11 @@ class LegSideView {
 // A leg's cloth hangs straight down from what stands deepest in the leg within this height above
 // it (the knee and calf, for an opening near the ankle).
 constexpr double kLegHangSpanCm = 20.0;
+// A free tube hangs flattened front to back, this deep for its width: the physical rig's free
+// straight legs measured on their settled cloth at the opening (docs/measurement_model.md, "Leg
+// openings that hang from the knee": 14.6 / 16.3, 14.7 / 16.5, 14.0 / 16.8, 15.3 / 15.5 cm; "A
+// free leg hangs flattened").
+constexpr double kFreeTubeDepthShare = 0.9;
 
 // How a garment hangs (docs/simulator.md, "Width model"). Its section at a height is a
 // Minkowski sum of convex pieces: a hull of the form's sections, a disc of radius e (a uniform
@@ -785,7 +791,7 @@ GarmentLayer layGarment(const GarmentSpec& spec, const FormView& view) {
         double widthPx = ref->widthPx() * c / ref->circCm;
         if (h <= thighRefCm &&
             c / std::numbers::pi >= legSide.depthCm(h, std::min(h + kLegHangSpanCm, thighRefCm)))
-          widthPx = std::max(widthPx, s * c / std::numbers::pi);
+          widthPx = std::max(widthPx, s * c / ellipsePerimeter(0.5, 0.5 * kFreeTubeDepthShare));
         const double hw = 0.5 * widthPx;
         double l = ref->centrePx() - hw, r = ref->centrePx() + hw;
         // The outer edge leaves the seat's line at the crotch and reaches the leg's own over

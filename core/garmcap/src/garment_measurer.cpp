@@ -53,6 +53,12 @@ constexpr double kHemTailCm = 4.0;
 // pressed against the other leg (legOpeningCm); touching legs meet at the centre line, and the
 // slit between them is carved +-0.5 cm around it (leg_gap.h).
 constexpr double kPressedLegGapCm = 1.0;
+// A free trouser leg hangs as a tube flattened front to back, this deep for its width at its
+// opening: the mean of the physical rig's free straight legs measured on their settled cloth
+// (tests/data/rig_physical case_002 14.6 / 16.3 and 14.7 / 16.5, case_017 14.0 / 16.8 and
+// 15.3 / 15.5 cm; docs/measurement_model.md, "Leg openings that hang from the knee" and "A free
+// leg hangs flattened").
+constexpr double kFreeLegDepthShare = 0.9;
 // The garment's top is read this far outside the form's neck (see garment_length).
 constexpr double kOutsideNeckCm = 0.5;
 // Gaps bridged in the garment's cover of a column beside the neck (garmentTopRow).
@@ -1209,7 +1215,8 @@ std::optional<double> legOpeningCm(const Context& c, int side, const std::pair<d
     const double widthCm = widthPx * (at->maxX - at->minX) / here.widthPx();
     const double legDepthCm = at->maxZ - at->minZ;
     const double scaledDepthCm = legDepthCm * widthPx / here.widthPx();
-    double depthCm = widthCm >= legDepthCm ? std::min(scaledDepthCm, widthCm) : scaledDepthCm;
+    double depthCm = widthCm >= legDepthCm ? std::min(scaledDepthCm, kFreeLegDepthShare * widthCm)
+                                           : scaledDepthCm;
     depthCm = std::max(depthCm, *hangDepth);
     if (depthCm != scaledDepthCm)
       return ellipsePerimeter(widthCm, depthCm);
