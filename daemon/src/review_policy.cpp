@@ -16,7 +16,7 @@ struct NotePattern {
 // physical rigs' 92 cases (`garmcap rig eval`; docs/api.md, "checks") 79 have a warning, which
 // held each for review, and 17 a check: 15 an outline found against the bare frame (a garment
 // close to the screen's colour), 2 more a reading not made.
-constexpr std::array<NotePattern, 10> kNotes = {{
+constexpr std::array<NotePattern, 9> kNotes = {{
     // How a reading was made, where it could be made:
     {"read from the sides down to", false},                        // the bust under sleeves
     {"the garment shows a dark slit down from the crotch", true},  // the legs' gap in shadow
@@ -26,8 +26,7 @@ constexpr std::array<NotePattern, 10> kNotes = {{
     // What the station's form cannot show (a torso form has no arms: always, not this item):
     {": the form has no arms", false},
     // What a draft, a size run or the colour's name had to assume (the item's values stand):
-    {"draft: ", true},
-    {"recipe's range", false},
+    {"draft: ", true},  // "draft: ease_bust 6.8 is outside the blouse recipe's range ..."
     {"size run: ", true},
     {"colour not named", true},
 }};
