@@ -144,11 +144,7 @@ void addCalibCommands(CLI::App& app) {
     cmd->callback([=] {
       const fs::path sidecarPath = calib::resolveFormSidecar(*form);
       const auto model = calib::FormModel::load(sidecarPath);
-      if (!fs::exists(*empty))
-        throw drafts::FileError(*empty + ": file not found");
-      cv::Mat frame = cv::imread(*empty, cv::IMREAD_COLOR);
-      if (frame.empty())
-        throw drafts::FileError(*empty + ": cannot read image");
+      cv::Mat frame = readFrameFile(*empty, "bare-form frame");
       std::optional<calib::CameraModel> cam;
       calib::RegistrationOptions options;
       if (!camera->empty()) {

@@ -5,6 +5,9 @@
 // it as "garmcap: error: ..." and exits 1.
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <string>
 
 namespace garmcap::cli {
 
@@ -17,5 +20,10 @@ void addPipelineCommands(CLI::App& app,
                          CLI::App& rig);  // pipeline_commands.cpp: capture, rig eval/crop
 void addTapeCommands(CLI::App& app);      // tape_commands.cpp: tape (the station's catalog)
 void addMarkerCommands(CLI::App& app);    // marker_commands.cpp: marker
+
+// A camera frame file as the station's rigs read it (capture::loadRigImage): a cut JPEG is an
+// error, not a partly grey frame that the pipeline would refuse for another reason ("not a green
+// screen"). Throws drafts::FileError "<what>: <file>: <reason>". Defined in pipeline_commands.cpp.
+cv::Mat readFrameFile(const std::filesystem::path& path, const std::string& what);
 
 }  // namespace garmcap::cli

@@ -28,16 +28,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-cv::Mat readImage(const fs::path& path, const std::string& what) {
-  if (!fs::exists(path))
-    throw drafts::FileError(what + " not found: " + path.string());
-  cv::Mat img = cv::imread(path.string(), cv::IMREAD_COLOR);
-  if (img.empty())
-    throw drafts::FileError(what + " " + path.string() +
-                            " is not a readable image (corrupt or truncated)");
-  return img;
-}
-
 void writeImage(const fs::path& path, const cv::Mat& img) {
   if (img.empty())
     return;
@@ -406,6 +396,14 @@ void rigCrop(const fs::path& rigDir, const fs::path& outDir, double atCm, double
 
 }  // namespace
 
+cv::Mat readFrameFile(const fs::path& path, const std::string& what) {
+  try {
+    return capture::loadRigImage(path);
+  } catch (const capture::RigError& e) {
+    throw drafts::FileError(what + ": " + e.what());
+  }
+}
+
 void addPipelineCommands(CLI::App& app, CLI::App& rigGroup) {
   auto* cap = app.add_subcommand("capture", "Run GarmCap on a bare-form and a dressed frame");
   static fs::path empty, dressed, calibration, out, back;
@@ -426,14 +424,14 @@ void addPipelineCommands(CLI::App& app, CLI::App& rigGroup) {
                 "a soft drop shadow under the garment on the white photos (product, product_4x5; "
                 "as the daemon's [pipeline] product_shadow)");
   cap->callback([] {
-    const cv::Mat e = readImage(empty, "bare-form frame");
-    const cv::Mat d = readImage(dressed, "dressed frame");
+    const cv::Mat e = readFrameFile(empty, "bare-form frame");
+    const cv::Mat d = readFrameFile(dressed, "dressed frame");
     const json cal = drafts::readJsonFile(calibration);
     pipeline::CaptureOptions options;
     options.sizeChart = captureChart;
     options.productShadow = productShadow;
     if (!back.empty())
-      options.backFrame = readImage(back, "back shot");
+      options.backFrame = readFrameFile(back, "back shot");
     const auto r = pipeline::runCapture(e, d, cal, options);
     writeCaptureOutputs(out, r);
     std::cout << r.toJson().dump(2) << "\n";

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -275,6 +276,38 @@ TEST(CaptureCli, BackShotAddsTheBackAndGhostPhotosOrIsRefused) {
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.err.find("the back shot"), std::string::npos) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(refusedOut));
+}
+
+// A frame cut short in transfer (a JPEG without its end marker) is refused by name, with the
+// frame's role, by `capture` and `calibrate`: libjpeg decodes it into a partly grey frame with
+// only a warning, and the pipeline then refused it for a wrong reason ("not a green screen").
+// Nothing is written.
+TEST(CaptureCli, ACutJpegFrameIsRefusedAsTruncated) {
+  const TempDir d("capture_cli_cut");
+  const std::string scene = d / "scene";
+  const CliResult made =
+      runGarmcap("render --type skirt --size 46 --chart french_women --form " + kForm +
+                 " --seed 5 --width 480 --height 640 --image-format jpg --out " + scene);
+  ASSERT_EQ(made.status, 0) << made.err;
+  const std::string whole = readText(scene + "/dressed.jpg");
+  ASSERT_GT(whole.size(), 1000u);
+  const std::string cut = d / "cut.jpg";
+  {
+    std::ofstream f(cut, std::ios::binary);
+    f.write(whole.data(), static_cast<std::streamsize>(whole.size() / 2));
+  }
+  const std::string out = d / "out";
+  expectRefused(runGarmcap("capture --empty " + scene + "/empty.jpg --dressed " + cut +
+                           " --calibration " + scene + "/calibration.json --out " + out),
+                {"dressed frame", cut, "truncated JPEG"});
+  expectRefused(
+      runGarmcap("calibrate --form " + kForm + " --empty " + cut + " --out " + (d / "cal.json")),
+      {"bare-form frame", cut, "truncated JPEG"});
+  expectRefused(runGarmcap("capture --empty " + scene + "/empty.jpg --dressed " + (d / "none.jpg") +
+                           " --calibration " + scene + "/calibration.json --out " + out),
+                {"dressed frame", "none.jpg", "missing"});
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(d / "cal.json"));
 }
 
 // `rig eval` on a torso form: the station reads no sleeve on a form without arms, so a
