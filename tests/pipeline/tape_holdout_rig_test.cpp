@@ -3,8 +3,12 @@
 // measured on the settled 3D cloth) is a rig the method was not tuned on. Its truth plays the
 // shop's tape measure: corrections are fitted on the even cases and applied to the odd ones (the
 // holdout), then the other way round, through the same fitCorrections/applyCorrections the daemon
-// uses. The test fails when, over all held-out readings, the corrected error is larger than the
-// raw one. Label "rig"; the table it prints is the one in docs/measurement_model.md.
+// uses. Two tapes: the rig's truth itself, which the measurer reads without a bias a fit can find
+// since stop 45 (its lengths had read 0.5-0.9 cm short, which the corrections used to fix), so
+// the few corrections a fit lets through by chance must not make the held-out readings worse
+// by more than kNoHarmCm; and a shop whose tape differs from the rig's truth as shops' tapes do,
+// where every split must correct readings and bring the held-out ones closer to that tape.
+// Label "rig"; the table it prints is the one in docs/measurement_model.md.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -96,6 +100,20 @@ void holdoutFold(const std::vector<CaseReading>& cases, FitOn fitOn, ScoreOn sco
   }
 }
 
+// A shop's tape where it differs from the rig's truth: lengths taken along the body over its
+// curves, 3 % longer than the vertical distance the truth takes, and circumferences laid flat and
+// doubled over the seams, 2 cm more than the settled cloth's convex hull.
+std::vector<CaseReading> tapedByAShop(std::vector<CaseReading> cases) {
+  for (auto& c : cases)
+    for (auto& [name, cm] : c.truth)
+      cm = name.size() > 5 && name.substr(name.size() - 5) == "_circ" ? cm + 2.0 : cm * 1.03;
+  return cases;
+}
+
+// How much worse on average the held-out readings may get from corrections fitted on a tape the
+// measurer has no bias against: a fit passes its 5 % significance test by chance now and then.
+constexpr double kNoHarmCm = 0.05;
+
 SplitResult holdout(const std::vector<CaseReading>& cases, std::size_t fitParity) {
   std::printf("corrections fitted on the %s cases (type measurement n kind offset scale LOO):\n",
               fitParity == 0 ? "even" : "odd");
@@ -163,6 +181,7 @@ TEST(TapeHoldout, CorrectionsFittedOnHalfThePhysicalRigHelpTheOtherHalf) {
     }
     cases.push_back(std::move(r));
   }
+  std::printf("the rig's truth as the tape:\n");
   const SplitResult evenFit = holdout(cases, 0);
   const SplitResult oddFit = holdout(cases, 1);
   print("fitted on the even cases, scored on the odd ones:", evenFit);
@@ -171,11 +190,26 @@ TEST(TapeHoldout, CorrectionsFittedOnHalfThePhysicalRigHelpTheOtherHalf) {
   print("each case corrected by the fit on the other 23:", loo);
   for (const auto* s : {&evenFit, &oddFit, &loo}) {
     ASSERT_GT(s->allBefore.n, 0);
+    EXPECT_LE(s->allAfter.mean(), s->allBefore.mean() + kNoHarmCm)
+        << "corrections fitted on a tape the measurer reads without bias made the held-out "
+           "readings worse on average";
+  }
+
+  std::printf("a shop's tape (lengths along the body +3 %%, circumferences flat +2 cm):\n");
+  const auto shop = tapedByAShop(cases);
+  const SplitResult shopEven = holdout(shop, 0);
+  const SplitResult shopOdd = holdout(shop, 1);
+  print("fitted on the even cases, scored on the odd ones:", shopEven);
+  print("fitted on the odd cases, scored on the even ones:", shopOdd);
+  const SplitResult shopLoo = leaveOneCaseOut(shop);
+  print("each case corrected by the fit on the other 23:", shopLoo);
+  for (const auto* s : {&shopEven, &shopOdd, &shopLoo}) {
+    ASSERT_GT(s->allBefore.n, 0);
     int corrected = 0;
     for (const auto& [name, n] : s->corrected)
       corrected += n;
     EXPECT_GT(corrected, 0) << "no held-out reading was corrected: the check checks nothing";
-    EXPECT_LE(s->allAfter.mean(), s->allBefore.mean())
-        << "the corrections made the held-out readings worse on average";
+    EXPECT_LT(s->allAfter.mean(), s->allBefore.mean())
+        << "the corrections did not bring the held-out readings closer to the shop's tape";
   }
 }

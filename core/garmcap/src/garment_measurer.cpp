@@ -39,8 +39,6 @@ constexpr double kAboveHemCm = 1.25;
 // between them is fitted over this height.
 constexpr double kTouchingLegsCm = 5.5;
 constexpr double kGapFitCm = 8.0;
-// The hem's width is read over this height above its centre-front row (frontHemHeightCm).
-constexpr double kHemWidthBandCm = 6.0;
 // Legs narrower than this share of the garment kLegStepCm above where they part are no pants'
 // legs (partedLegsCm).
 constexpr double kLegStepShare = 0.8;
@@ -61,6 +59,12 @@ constexpr double kPressedLegGapCm = 1.0;
 constexpr double kFreeLegDepthShare = 0.9;
 // The garment's top is read this far outside the form's neck (see garment_length).
 constexpr double kOutsideNeckCm = 0.5;
+// A top's hem's width is read over this height above its centre-front row (frontHemHeightCm).
+constexpr double kHemWidthBandCm = 6.0;
+// The form's shoulder ridge beside the neck (shoulderRidgeZ): its surface below the side neck
+// plus kRidgeHeadCm, the highest kRidgeBandCm of it in a column.
+constexpr double kRidgeHeadCm = 2.0;
+constexpr double kRidgeBandCm = 0.5;
 // Gaps bridged in the garment's cover of a column beside the neck (garmentTopRow).
 constexpr double kTopGapCm = 0.5;
 // A skirt's waistband can sit this far below the form's waist at the centre front (the hem is
@@ -975,20 +979,32 @@ std::optional<int> garmentTopRow(const Context& c, int col, int fromRow, int toR
   return std::nullopt;
 }
 
-// The height of a hem whose centre front is seen at image row `hemRow`. In perspective the
-// silhouette's lowest point at the centre is the hem's front, in front of the form's axis
-// plane, which a camera above it sees lower than a point of the same height on the axis (a
-// physical rig's skirts read 1-2 cm long so; 12-15 cm in front of the axis at 3 m moves a hem
-// about 3 cm). The hem section is taken as the form's hip section scaled to the garment's width
-// just above the hem (the similar section; the hem's circumference uses its own depth rule, not
-// carried over here, so that lengths do not move with it), which places its front;
-// the height is then where the camera's ray through the row meets that depth. Orthographic
-// views read the row as it is.
-double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
+// The height of a point seen at image row `row` that lies at depth `zCm` (form coordinates, +z
+// towards the camera) rather than on the form's axis plane, where heightOfRow reads it. In
+// perspective a camera below a point sees it lower the further behind the axis it lies, and a
+// camera above it sees it lower the further in front: at 3 m, 4 cm of depth 50 cm above or below
+// the lens moves a height by 0.7 cm. Orthographic views read the row as it is.
+double heightAtDepthCm(const Context& c, double row, double zCm) {
+  const double onAxis = c.view.heightOfRow(row);
   const calib::FormPose& pose = c.view.pose();
-  const double axisHeight = c.view.heightOfRow(hemRow);
   if (!pose.perspective)
-    return axisHeight;
+    return onAxis;
+  const calib::Intrinsics& k = *pose.perspective;
+  return onAxis + (k.cy - row) * (c.view.form().axisZCm() - zCm) / k.fy;
+}
+
+// The height of a hem whose centre front is seen at image row `hemRow`: the silhouette's lowest
+// point at the centre is the hem's front, and its depth is taken from the form's hip section.
+// A skirt's centre front (a dress's skirt's too) falls straight from the hip's front: it is cut
+// on the straight grain, and an A-line's flare, added at the side seams, shows in a front view
+// as width. So a skirt's or dress's hem front lies at the depth of the hip's front whatever the
+// hem's width: on the physical rigs' settled cloth (seeds 2026 and 2015, full and torso form,
+// their 23 skirts and dresses) it lies 8.1-12.0 cm in front of the axis where the hip's front
+// is 9.9 cm, while the hip section scaled to the hem's width put the A-lines' at 12.9-15.9 cm
+// and their hems read 0.5-1.1 cm high for it. A top's hem hangs from the bust, a knit's close
+// to the form and a woven's further out (10.1-17.9 cm on the same rigs): it keeps the hip section
+// scaled to the garment's widest run in the kHemWidthBandCm above the hem.
+double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
   const calib::FormSection hip = c.view.form().section(c.view.hipCm());
   double minZ = 0, maxZ = 0;
   bool any = false;
@@ -998,23 +1014,45 @@ double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
       maxZ = any ? std::max(maxZ, p.y()) : p.y();
       any = true;
     }
+  if (!any)
+    return c.view.heightOfRow(hemRow);
+  if (c.type != "top")
+    return heightAtDepthCm(c, hemRow, maxZ);
   const auto hipRow = c.view.torsoAtHeight(c.view.hipCm());
-  if (!any || !hipRow || hipRow->widthPx() <= 1)
-    return axisHeight;
-  // The garment's widest run in the kHemWidthBandCm above the hem row.
   double widest = 0;
   const int band = static_cast<int>(std::lround(kHemWidthBandCm * c.s));
   for (int r = static_cast<int>(hemRow) - band; r < static_cast<int>(hemRow); ++r)
     if (const auto run = runAt(c.mask, r, axisCol))
       widest = std::max(widest, run->second - run->first);
-  if (widest <= 0)
-    return axisHeight;
+  if (!hipRow || hipRow->widthPx() <= 1 || widest <= 0)
+    return c.view.heightOfRow(hemRow);
   const double centreZ = 0.5 * (minZ + maxZ);
-  const double frontZ = centreZ + (maxZ - centreZ) * widest / hipRow->widthPx();
-  const calib::Intrinsics& k = *pose.perspective;
-  const double d = *pose.distanceCm();
-  const double cameraY = (pose.offsetPx.y() - k.cy) * d / k.fy;
-  return cameraY + (k.cy - hemRow) * (d - frontZ) / k.fy;
+  return heightAtDepthCm(c, hemRow, centreZ + (maxZ - centreZ) * widest / hipRow->widthPx());
+}
+
+// The depth (form z) of the form's shoulder ridge under image column `col`: the mean depth of the
+// form's highest surface in a 1 cm wide slab there, below the side neck plus kRidgeHeadCm (the
+// head and jaw stand above it). A garment's top beside the neck lies on this ridge, 2-7 cm behind
+// the axis plane on the bundled form (physical rig, seed 2026: its fourteen tops' and dresses'
+// highest cloth lies 1.9-7.2 cm behind the axis).
+std::optional<double> shoulderRidgeZ(const Context& c, int col) {
+  const calib::FormModel& form = c.view.form();
+  const double xCm = form.axisXCm() + (col - c.view.axisXPx()) / c.s;
+  const double ceiling = c.view.neckSideCm() + kRidgeHeadCm;
+  std::optional<double> top;
+  for (const auto& v : form.mesh().vertices)
+    if (std::abs(v.x() - xCm) < 0.5 && v.y() < ceiling)
+      top = std::max(top.value_or(v.y()), v.y());
+  if (!top)
+    return std::nullopt;
+  double sum = 0;
+  int n = 0;
+  for (const auto& v : form.mesh().vertices)
+    if (std::abs(v.x() - xCm) < 0.5 && v.y() < ceiling && v.y() > *top - kRidgeBandCm) {
+      sum += v.z();
+      ++n;
+    }
+  return sum / n;
 }
 
 // The lowest row of one pants leg, going down from `fromRow` along the form's leg: the run
@@ -1476,8 +1514,11 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
     // form's neck on both sides, where the silhouette can only be garment: over the neck itself
     // the form under the chin, shadowed by the head and tinted by light the garment throws back
     // on it, differs from the bare frame and joins the silhouette (a physical rig read
-    // garment lengths 6-14 cm long so). The higher of the two sides' first covered rows: a
-    // garment the colour of the form can lose a notch of its shoulder on one side.
+    // garment lengths 6-14 cm long so). Each side's first covered row is read at the depth of
+    // the form's shoulder ridge beneath it (in perspective a camera below the shoulder sees a
+    // top behind the axis plane lower: lengths read 0.6-0.7 cm short on two physical rigs
+    // before), and the higher side is the top: a garment the colour of the form can lose a
+    // notch of its shoulder on one side.
     const int offset = static_cast<int>(std::ceil(view.neckHalfWidthPx() + kOutsideNeckCm * c.s));
     const int fromRow =
         std::max(0, static_cast<int>(std::lround(view.rowOfHeight(view.neckSideCm() + 15.0))));
@@ -1486,13 +1527,14 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       if (col < 0 || col >= garmentMask.cols)
         continue;
       if (const auto r = garmentTopRow(c, col, fromRow, static_cast<int>(hemEdge))) {
-        tops.push_back(static_cast<double>(*r));
+        const auto ridge = shoulderRidgeZ(c, col);
+        tops.push_back(ridge ? heightAtDepthCm(c, *r, *ridge) : view.heightOfRow(*r));
         out.landmarks.push_back({col < axisCol ? "neck_left" : "neck_right",
                                  {static_cast<double>(col), static_cast<double>(*r)}});
       }
     }
     if (!tops.empty())
-      put("garment_length", view.heightOfRow(*std::min_element(tops.begin(), tops.end())) - hemH);
+      put("garment_length", *std::max_element(tops.begin(), tops.end()) - hemH);
     else
       out.warnings.push_back("garment_length: the garment does not reach the side neck");
   }
