@@ -78,17 +78,41 @@ def skirt_rings(form, top, hem, ease_waist, ease_hip, hem_factor, n=96, step=1.5
     return rings, heights
 
 
-def build_skirt(form, rng, style, length_below_waist):
+def hem_drop(shape, drop, x, z):
+    """How far below the level hem (cm, >= 0) a non-level hem hangs at the direction (x, z) from
+    the skirt's centre (+z the front): a high-low hem's back `drop` longer than its front, rising
+    to the front past the sides; an asymmetric hem's one side (+x) `drop` longer than the other,
+    the centre front half way."""
+    phi = np.arctan2(x, z)  # 0 at the centre front, +pi/2 at +x
+    if shape == "high_low":
+        return drop * (1.0 - np.cos(phi)) / 2.0
+    if shape == "asymmetric":
+        return drop * (1.0 + np.sin(phi)) / 2.0
+    return np.zeros_like(phi)
+
+
+def build_skirt(form, rng, style, length_below_waist, hem_shape="level", drop=0.0):
+    """A skirt from 2 cm above the waist to its hem. A non-level hem (`hem_shape` high_low or
+    asymmetric, `drop` cm; see hem_drop) lengthens each column of the tube below the hip by its
+    own share, so the cloth is cut on that curve; the level hem is at `length_below_waist`."""
     top = form.waist + 2.0
     hem = form.waist - length_below_waist
     factor = {"h_line": rng.uniform(1.0, 1.04), "mid_flare": rng.uniform(1.15, 1.35),
               "a_line": rng.uniform(1.5, 1.9)}[style]
     rings, heights = skirt_rings(form, top, hem, rng.uniform(1.0, 3.0), rng.uniform(3.0, 7.0), factor)
     v, f = tube(rings, heights)
+    if hem_shape != "level" and drop > 0:
+        centre = form.torso_hull(form.hip).mean(0)
+        low = v[:, 1] < form.hip
+        extra = hem_drop(hem_shape, drop, v[low, 0] - centre[0], v[low, 2] - centre[1])
+        v[low, 1] = form.hip - (form.hip - v[low, 1]) * (form.hip - hem + extra) / (form.hip - hem)
     p = Piece()
     pin = v[:, 1] >= top - 1.6  # the waistband: two rings
     p.add(v, f, SKIRT, pin)
-    return p, {"top": top, "hem_start": hem, "hem_factor": factor}
+    desc = {"top": top, "hem_start": hem, "hem_factor": factor}
+    if hem_shape != "level":
+        desc.update({"hem_shape": hem_shape, "hem_drop_cm": drop})
+    return p, desc
 
 
 def leg_rings(form, side, top, hem, thigh_ease, opening_circ, n=64, step=1.5):

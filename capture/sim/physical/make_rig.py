@@ -65,6 +65,10 @@ def parse_args():
                     help="class sleeve cloth for truth.json as rigs made before h/busttruth15 "
                          "did: below the armpit, only cloth more than the waist ease + 1 cm "
                          "beyond the torso's side (a sleeve's inner side counted in the bust)")
+    ap.add_argument("--hem-shape", choices=("level", "high_low", "asymmetric"), default="level",
+                    help="cut every skirt's and dress's hem so: high_low (its back 8-18 cm "
+                         "longer than its front), asymmetric (one side 8-18 cm longer than the "
+                         "other); level as before")
     ap.add_argument("--no-render", action="store_true",
                     help="settle the cloth and write truth.json only (for checking garments)")
     ap.add_argument("--session-size", type=int, default=6,
@@ -548,7 +552,7 @@ def settle_alone(v, f, preset, frames):
     return out
 
 
-def make_garment(form, kind, style, rng, settle_frames=0):
+def make_garment(form, kind, style, rng, settle_frames=0, hem_cut=("level", 0.0)):
     """The garment's starting mesh (cm): a Piece plus a description for truth.json.
 
     With `settle_frames`, a dress's bodice is first settled alone and the skirt's waist seam
@@ -596,7 +600,7 @@ def make_garment(form, kind, style, rng, settle_frames=0):
         if kind == "dress":
             sk = style["skirt"]
             length = rng.uniform(50, 75) if sk != "a_line" else rng.uniform(50, 65)
-            sp, sdesc = gm.build_skirt(form, rng, sk, length)
+            sp, sdesc = gm.build_skirt(form, rng, sk, length, *hem_cut)
             # The skirt hangs from the waist seam, outside the bodice there (not the sleeves,
             # which hang beside it at the same height).
             bodice = tv
@@ -624,7 +628,7 @@ def make_garment(form, kind, style, rng, settle_frames=0):
             desc.update({"skirt_start": sdesc})
     elif kind == "skirt":
         length = rng.uniform(45, 72)
-        sp, sdesc = gm.build_skirt(form, rng, style["skirt"], length)
+        sp, sdesc = gm.build_skirt(form, rng, style["skirt"], length, *hem_cut)
         piece = sp
         desc.update(sdesc)
     elif kind == "pants":
@@ -894,7 +898,12 @@ def make_case(args, form, sidecar_path, index, out_dir):
     k2 = float(srng.uniform(0.0, 0.04))
     empty_seed = int(srng.integers(1 << 30))
 
-    piece, desc = make_garment(form, kind, style, rng, 0 if args.hoop else args.frames)
+    hem = ("level", 0.0)
+    if args.hem_shape != "level" and kind in ("skirt", "dress"):
+        # Its own stream: the case's other draws stay as they are without the option.
+        drop = float(np.random.default_rng([args.seed, index, 7]).uniform(8.0, 18.0))
+        hem = (args.hem_shape, drop)
+    piece, desc = make_garment(form, kind, style, rng, 0 if args.hoop else args.frames, hem)
     if (kind in ("top", "dress") and style["sleeve"] != "none" and not form.torso_form
             and not args.clearance_parts):
         # A sleeveless cut has no sleeve part: its parts stay as the cut classed them, and
