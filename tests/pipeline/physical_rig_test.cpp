@@ -403,6 +403,46 @@ TEST(PhysicalRig, SkirtsShadeOnTheLegsIsNoGarment) {
   }
 }
 
+// A hem that is not level is named, as a check (docs/measurement_model.md, "Hems that are not
+// level"). tests/data/rig_physical_uneven_hem holds a skirt rendered by
+// capture/sim/physical/make_rig.py --hem-shape high_low (--seed 4545 --start 1; its back 17 cm
+// below its front) and a skirt, a skirt and a dress with --hem-shape asymmetric (--seed 4646,
+// --start 5, 9 and 11; one side 8-15 cm below the other), 1224 x 1632, registered by the station
+// from their bare frames. The 4 cm threshold was set from the level hems (41 skirts and dresses
+// and 26 tops of five physical rigs: at most 2.6 cm), not from these. An asymmetric hem's centre
+// front reads as a level one's; a high-low skirt's length is read to its back's edge, which the
+// check says. Not caught (kept out of this rig, docs): a high-low A-line dress whose sides hang
+// as low as its back, so that its outline is level and only the front's edge inside it shows
+// the front's hem. The full rig's level hems raise no such check.
+TEST(PhysicalRig, HemsThatAreNotLevelAreNamed) {
+  const auto notLevel = [](const pipeline::CaptureResult& r) -> std::string {
+    for (const auto& w : r.warnings)
+      if (w.rfind("hem: the hem is not level", 0) == 0)
+        return w;
+    return "";
+  };
+  for (const auto& c : casesOf("rig_physical_uneven_hem", 4)) {
+    const auto& g = c.truth.at("garment");
+    const std::string shape = (g.contains("skirt_start") ? g.at("skirt_start") : g).at("hem_shape");
+    const auto r = runRigCase(c);
+    EXPECT_EQ(r.type, c.truth.at("type").get<std::string>()) << c.id;
+    const std::string w = notLevel(r);
+    EXPECT_NE(w.find(shape == "asymmetric" ? "slants" : "centre hangs"), std::string::npos)
+        << c.id << " (" << shape << "): " << (w.empty() ? "no check" : w);
+    if (shape == "asymmetric") {
+      EXPECT_LE(errorCm(r, c, "skirt_length"), 1.5) << c.id;
+    }
+  }
+  const auto rig = capture::readRig(kRig);
+  for (const auto& info : rig.cases) {
+    const auto c = capture::loadRigCase(info.dir);
+    const std::string type = c.truth.at("type");
+    if (type != "skirt" && type != "dress")
+      continue;
+    EXPECT_EQ(notLevel(runRigCase(c)), "") << c.id << ": a level hem";
+  }
+}
+
 // A knit top's shade on the form under its hem is no garment (docs/measurement_model.md, "A knit
 // top's shade under its hem"). tests/data/rig_physical_hem_shade holds two knit tops rendered
 // by capture/sim/physical/make_rig.py (--seed 1515 --count 1, --start 8: striped,

@@ -5,12 +5,14 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 
 #include "garmcap/calib/slicer.h"
@@ -61,6 +63,16 @@ constexpr double kFreeLegDepthShare = 0.9;
 constexpr double kOutsideNeckCm = 0.5;
 // A top's hem's width is read over this height above its centre-front row (frontHemHeightCm).
 constexpr double kHemWidthBandCm = 6.0;
+// A hem whose cloth goes on more than kHemLevelDropCm below where the garment's full width ends
+// is not level (hemLevel): a check. What hangs below lies to one side when its mean column is
+// more than kHemSlantShare of the hem's width off the centre line (asymmetric: 0.18-0.19 on two
+// physical skirts), else at the centre (high-low: 0.03).
+constexpr double kHemLevelDropCm = 4.0;
+constexpr double kHemSlantShare = 0.1;
+constexpr double kHemFullShare = 0.9;
+constexpr double kHemCoverShare = 0.35;
+constexpr double kHemLevelSearchCm = 10.0;
+constexpr double kHemLevelMinCm = 8.0;
 // The form's shoulder ridge beside the neck (shoulderRidgeZ): its surface below the side neck
 // plus kRidgeHeadCm, the highest kRidgeBandCm of it in a column.
 constexpr double kRidgeHeadCm = 2.0;
@@ -1030,6 +1042,78 @@ double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
   return heightAtDepthCm(c, hemRow, centreZ + (maxZ - centreZ) * widest / hipRow->widthPx());
 }
 
+// How a hem that is not level shows in a front view. Its full width ends at the last row whose
+// run is at least kHemFullShare of the widest in the kHemWidthBandCm-high band from
+// kHemLevelSearchCm above the centre's lowest edge (below the form's waist; a hem less than
+// kHemLevelMinCm below the waist is not judged). Below that row the garment still covers at
+// least kHemCoverShare of that width down to `dropCm` lower (or the centre's lowest edge lies
+// that much lower, whichever is lower), and what covers it there lies
+// `shiftCm` (its mean column; image +x) off the centre line. A level hem's edge runs straight
+// across but for its corners and the perspective of its front: 41 level skirts and dresses and
+// 26 tops of five physical rigs drop at most 2.6 cm; a leg's shade under a skirt's hem, which can
+// join the silhouette, covers less than kHemCoverShare. A high-low hem's back hangs below its
+// front, lowest at the centre; an asymmetric hem slants from one side down to the other, so what
+// lies below the full width lies to one side.
+struct HemLevel {
+  double dropCm = 0;
+  double shiftCm = 0;
+  double widthCm = 0;
+};
+
+HemLevel hemLevel(const Context& c, double hemEdge, int axisCol) {
+  const int hem = static_cast<int>(hemEdge) - 1;  // the centre's last covered row
+  // Not above the form's waist: a cropped top's search would reach its sleeves.
+  const int from =
+      std::max(hem - static_cast<int>(std::lround((kHemLevelSearchCm + kHemWidthBandCm) * c.s)),
+               static_cast<int>(std::lround(c.view.rowOfHeight(c.view.waistCm()))));
+  if (hem - from < static_cast<int>(std::lround(kHemLevelMinCm * c.s)))
+    return {};  // too little below the waist to tell
+  const int bandEnd = hem - static_cast<int>(std::lround(kHemWidthBandCm * c.s));
+  double widest = 0;
+  for (int r = from; r < bandEnd; ++r)
+    if (const auto run = runAt(c.mask, r, axisCol))
+      widest = std::max(widest, run->second - run->first);
+  if (widest <= 0)
+    return {};
+  std::optional<int> full;
+  std::pair<double, double> span;
+  for (int r = from; r <= hem; ++r)
+    if (const auto run = runAt(c.mask, r, axisCol);
+        run && run->second - run->first >= kHemFullShare * widest) {
+      full = r;
+      span = *run;
+    }
+  if (!full)
+    return {};
+  const int left = std::max(0, static_cast<int>(std::floor(span.first)));
+  const int right = std::min(c.mask.cols - 1, static_cast<int>(std::ceil(span.second)));
+  int low = *full;
+  double sumX = 0;
+  long count = 0;
+  for (int r = *full + 1; r < c.mask.rows; ++r) {
+    int covered = 0;
+    double rowX = 0;
+    for (int x = left; x <= right; ++x)
+      if (on(c.mask, r, x)) {
+        ++covered;
+        rowX += x;
+      }
+    if (covered < kHemCoverShare * (right - left + 1))
+      break;
+    low = r;
+    sumX += rowX;
+    count += covered;
+  }
+  HemLevel out;
+  out.widthCm = (span.second - span.first) / c.s;
+  // Or the centre's own lowest edge, when what hangs there is narrow: a high-low dress's back
+  // seen only between the legs of a full form, which hide the rest of it.
+  out.dropCm = (std::max(low, hem) - *full) / c.s;
+  if (count > 0)
+    out.shiftCm = (sumX / static_cast<double>(count) - axisCol) / c.s;
+  return out;
+}
+
 // The depth (form z) of the form's shoulder ridge under image column `col`: the mean depth of the
 // form's highest surface in a 1 cm wide slab there, below the side neck plus kRidgeHeadCm (the
 // head and jaw stand above it). A garment's top beside the neck lies on this ridge, 2-7 cm behind
@@ -1506,6 +1590,20 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
   const double hemEdge = median(lowest) + 1.0;  // lower edge of the last covered row
   const double hemH = frontHemHeightCm(c, hemEdge, axisCol);
   out.landmarks.push_back({"hem_centre", {static_cast<double>(axisCol), hemEdge}});
+  if (const HemLevel level = hemLevel(c, hemEdge, axisCol); level.dropCm > kHemLevelDropCm) {
+    std::ostringstream msg;
+    msg << std::fixed << std::setprecision(1) << "hem: the hem is not level: ";
+    if (std::abs(level.shiftCm) > kHemSlantShare * level.widthCm)
+      msg << "it slants " << level.dropCm << " cm lower toward the image's "
+          << (level.shiftCm < 0 ? "left" : "right")
+          << " (an asymmetric hem?); its length and round are read at the centre line";
+    else
+      msg << "its centre hangs " << level.dropCm
+          << " cm below where its full width ends (a curved hem, or a high-low hem's back "
+             "below its front?); its length and round are read at that lowest edge: for a "
+             "high-low hem the back's, not the front's";
+    out.warnings.push_back(msg.str());
+  }
   if (wants("hem_circ"))
     put("hem_circ", circumferenceAt(c, hemH + kAboveHemCm, "hem_circ"));
   if (wants("skirt_length"))
