@@ -152,6 +152,17 @@ void print(const char* title, const SplitResult& s) {
               s.scaled);
 }
 
+// Fitted on the even half and scored on the odd, the other way round, and each case by the fit on
+// all the others; each printed.
+std::vector<SplitResult> splitsOf(const std::vector<CaseReading>& cases) {
+  std::vector<SplitResult> out = {holdout(cases, 0), holdout(cases, 1)};
+  print("fitted on the even cases, scored on the odd ones:", out[0]);
+  print("fitted on the odd cases, scored on the even ones:", out[1]);
+  out.push_back(leaveOneCaseOut(cases));
+  print("each case corrected by the fit on the other 23:", out[2]);
+  return out;
+}
+
 }  // namespace
 
 TEST(TapeHoldout, CorrectionsFittedOnHalfThePhysicalRigHelpTheOtherHalf) {
@@ -182,34 +193,20 @@ TEST(TapeHoldout, CorrectionsFittedOnHalfThePhysicalRigHelpTheOtherHalf) {
     cases.push_back(std::move(r));
   }
   std::printf("the rig's truth as the tape:\n");
-  const SplitResult evenFit = holdout(cases, 0);
-  const SplitResult oddFit = holdout(cases, 1);
-  print("fitted on the even cases, scored on the odd ones:", evenFit);
-  print("fitted on the odd cases, scored on the even ones:", oddFit);
-  const SplitResult loo = leaveOneCaseOut(cases);
-  print("each case corrected by the fit on the other 23:", loo);
-  for (const auto* s : {&evenFit, &oddFit, &loo}) {
-    ASSERT_GT(s->allBefore.n, 0);
-    EXPECT_LE(s->allAfter.mean(), s->allBefore.mean() + kNoHarmCm)
+  for (const auto& s : splitsOf(cases)) {
+    ASSERT_GT(s.allBefore.n, 0);
+    EXPECT_LE(s.allAfter.mean(), s.allBefore.mean() + kNoHarmCm)
         << "corrections fitted on a tape the measurer reads without bias made the held-out "
            "readings worse on average";
   }
-
   std::printf("a shop's tape (lengths along the body +3 %%, circumferences flat +2 cm):\n");
-  const auto shop = tapedByAShop(cases);
-  const SplitResult shopEven = holdout(shop, 0);
-  const SplitResult shopOdd = holdout(shop, 1);
-  print("fitted on the even cases, scored on the odd ones:", shopEven);
-  print("fitted on the odd cases, scored on the even ones:", shopOdd);
-  const SplitResult shopLoo = leaveOneCaseOut(shop);
-  print("each case corrected by the fit on the other 23:", shopLoo);
-  for (const auto* s : {&shopEven, &shopOdd, &shopLoo}) {
-    ASSERT_GT(s->allBefore.n, 0);
+  for (const auto& s : splitsOf(tapedByAShop(cases))) {
+    ASSERT_GT(s.allBefore.n, 0);
     int corrected = 0;
-    for (const auto& [name, n] : s->corrected)
+    for (const auto& [name, n] : s.corrected)
       corrected += n;
     EXPECT_GT(corrected, 0) << "no held-out reading was corrected: the check checks nothing";
-    EXPECT_LT(s->allAfter.mean(), s->allBefore.mean())
+    EXPECT_LT(s.allAfter.mean(), s.allBefore.mean())
         << "the corrections did not bring the held-out readings closer to the shop's tape";
   }
 }
