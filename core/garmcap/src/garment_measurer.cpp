@@ -1106,8 +1106,8 @@ HemLevel hemLevel(const Context& c, double hemEdge, int axisCol) {
   }
   HemLevel out;
   out.widthCm = (span.second - span.first) / c.s;
-  // Or the centre's own lowest edge, when what hangs there is narrow: a high-low dress's back
-  // seen only between the legs of a full form, which hide the rest of it.
+  // Or the centre's own lowest edge, when what hangs below there is narrower than
+  // kHemCoverShare of the width (a curved hem's tail; no case of the rigs needed it).
   out.dropCm = (std::max(low, hem) - *full) / c.s;
   if (count > 0)
     out.shiftCm = (sumX / static_cast<double>(count) - axisCol) / c.s;
