@@ -82,7 +82,7 @@ CaptureResult runPrepared(const PreparedCapture& prepared, const cv::Mat& dresse
                               fmt1(bestScore) + "); review it by hand");
   } else {
     // 6. Measurements, and the attributes they decide better than shape does.
-    gm = measureCapturedGarment(ctx, garment, options, result);
+    gm = measureCapturedGarment(ctx, dressedFull, garment, options, result);
     timer.done("measure");
     // 7. Pattern.
     draftCapturedGarment(ctx, result);

@@ -12,8 +12,10 @@ namespace garmcap::pipeline {
 
 /// Measures the full-resolution garment mask `garment` as `result.type` and sets `result`'s
 /// measurements, uncertainties, corrections (from `options.corrections`), sleeve and skirt
-/// attributes and warnings. Returns the raw measurement (its landmarks draw the overlay).
-GarmentMeasurement measureCapturedGarment(const CaptureContext& ctx, const cv::Mat& garment,
-                                          const CaptureOptions& options, CaptureResult& result);
+/// attributes and warnings; `frame` is the dressed frame the mask was cut from (a skirt's hem
+/// is looked at in it: hem_band.h). Returns the raw measurement (its landmarks draw the overlay).
+GarmentMeasurement measureCapturedGarment(const CaptureContext& ctx, const cv::Mat& frame,
+                                          const cv::Mat& garment, const CaptureOptions& options,
+                                          CaptureResult& result);
 
 }  // namespace garmcap::pipeline
