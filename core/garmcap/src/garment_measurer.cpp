@@ -1050,7 +1050,7 @@ double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
 // that much lower, whichever is lower), and what covers it there lies
 // `shiftCm` (its mean column; image +x) off the centre line. A level hem's edge runs straight
 // across but for its corners and the perspective of its front: 41 level skirts and dresses and
-// 26 tops of five physical rigs drop at most 2.6 cm; a leg's shade under a skirt's hem, which can
+// 31 tops of five physical rigs drop at most 2.6 cm; a leg's shade under a skirt's hem, which can
 // join the silhouette, covers less than kHemCoverShare. A high-low hem's back hangs below its
 // front, lowest at the centre; an asymmetric hem slants from one side down to the other, so what
 // lies below the full width lies to one side.
