@@ -3,6 +3,7 @@
 // to the rendered truth, and check the skirt-or-pants decision by parted legs. Label "rig".
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -362,6 +363,52 @@ TEST(Measure, AWaistbandDippingBelowTheWaistStillGivesTheHem) {
   ASSERT_TRUE(m.measurements.count("skirt_length")) << "skirt_length missing";
   EXPECT_NEAR(m.measurements.at("hem_circ"), intact.measurements.at("hem_circ"), 0.3);
   EXPECT_NEAR(m.measurements.at("skirt_length"), intact.measurements.at("skirt_length"), 0.3);
+}
+
+// A high-low hem's back shows under its front's hem as a dark band across the middle
+// (docs/measurement_model.md, "Hems that are not level"). Darkening a rendered skirt's lowest
+// 8 cm to a third of its colour makes that picture: the hem is named, and its length and round
+// are read at the band's top, 8 cm higher. A 2 cm band (a level hem's fold and shade read at
+// most 0.6 cm on the physical rigs) changes nothing, and without the frame nothing is looked at.
+TEST(Measure, AHighLowHemsBackIsReadAtItsFront) {
+  const sim::SceneRenderer r = scene("skirt", 3, {720, 960});
+  const auto ctx = pipeline::buildCaptureContext(r.calibration(), pipeline::kDefaultSizeChart);
+  const calib::FormView& view = *ctx->view;
+  const cv::Mat mask = r.garmentCoverage() > 0.5f;
+  const cv::Mat frame = r.renderDressed();
+  const auto plain = pipeline::measureGarment(mask, view, "skirt");
+  const auto looked = pipeline::measureGarment(mask, view, "skirt", frame);
+  ASSERT_TRUE(plain.measurements.count("skirt_length"));
+  EXPECT_EQ(looked.measurements, plain.measurements);
+  EXPECT_EQ(looked.warnings, plain.warnings);
+  const double s = r.calibration().at("pose").at("px_per_cm").get<double>();
+  const int axis = static_cast<int>(std::lround(view.axisXPx()));
+  int hem = mask.rows - 1;
+  while (hem > 0 && mask.at<uchar>(hem, axis) == 0)
+    --hem;
+  const auto banded = [&](double cm) {
+    cv::Mat out = frame.clone();
+    const int from = hem + 1 - static_cast<int>(std::lround(cm * s));
+    for (int y = from; y <= hem; ++y)
+      for (int x = 0; x < out.cols; ++x)
+        if (mask.at<uchar>(y, x) != 0)
+          out.at<cv::Vec3b>(y, x) /= 3;
+    return out;
+  };
+  const auto deep = pipeline::measureGarment(mask, view, "skirt", banded(8.0));
+  const auto named = std::find_if(deep.warnings.begin(), deep.warnings.end(), [](const auto& w) {
+    return w.rfind("hem: the hem is not level: a dark band", 0) == 0;
+  });
+  EXPECT_NE(named, deep.warnings.end());
+  ASSERT_TRUE(deep.measurements.count("skirt_length"));
+  EXPECT_NEAR(deep.measurements.at("skirt_length"), plain.measurements.at("skirt_length") - 8.0,
+              0.3);
+  ASSERT_TRUE(deep.measurements.count("hem_circ"));
+  EXPECT_NE(deep.measurements.at("hem_circ"), plain.measurements.at("hem_circ"));
+  const auto shallow = pipeline::measureGarment(mask, view, "skirt", banded(2.0));
+  EXPECT_EQ(shallow.measurements, plain.measurements);
+  EXPECT_THROW(pipeline::measureGarment(mask, view, "skirt", cv::Mat(10, 10, CV_8UC3)),
+               std::invalid_argument);
 }
 
 // The garment's top beside the neck: a piece of the head the column grazes (the jaw's edge,

@@ -2,6 +2,7 @@
 // Small image operations the capture's stages share (internal to the pipeline).
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -19,6 +20,12 @@ cv::Mat rotateAbout(const cv::Mat& img, const Eigen::Vector2d& centre, double ro
 
 /// The green-screen key of `bgr`, its failures as CaptureError naming `what` (the frame).
 calib::KeyResult keyFrame(const cv::Mat& bgr, const std::string& what);
+
+/// Whether `mask` (CV_8UC1) is set at (row, col); false outside the image.
+inline bool maskCovers(const cv::Mat& mask, int row, int col) {
+  return row >= 0 && row < mask.rows && col >= 0 && col < mask.cols &&
+         mask.at<std::uint8_t>(row, col) != 0;
+}
 
 /// The largest 8-connected piece of a mask; empty when the mask is.
 cv::Mat largestComponent(const cv::Mat& mask);

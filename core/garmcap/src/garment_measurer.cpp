@@ -15,9 +15,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "frame_ops.h"
 #include "garmcap/calib/slicer.h"
 #include "garmcap/drafts/garment_vocabulary.h"
 #include "garmcap/pipeline/section_perimeter.h"
+#include "hem_band.h"
 
 namespace garmcap::pipeline {
 namespace {
@@ -73,6 +75,9 @@ constexpr double kHemFullShare = 0.9;
 constexpr double kHemCoverShare = 0.35;
 constexpr double kHemLevelSearchCm = 10.0;
 constexpr double kHemLevelMinCm = 8.0;
+// A dark band deeper than this above a skirt's or dress's lowest edge is a high-low hem's back
+// seen under its front (darkBandAboveHem; see the hem in measureGarment).
+constexpr double kHemBandCheckCm = 3.0;
 // The form's shoulder ridge beside the neck (shoulderRidgeZ): its surface below the side neck
 // plus kRidgeHeadCm, the highest kRidgeBandCm of it in a column.
 constexpr double kRidgeHeadCm = 2.0;
@@ -88,24 +93,19 @@ constexpr int kMaxGapPx = 2;
 // pattern square the segmentation took for screen (readRow).
 constexpr double kSidePieceGapCm = 0.75;
 
-bool on(const cv::Mat& mask, int row, int col) {
-  return row >= 0 && row < mask.rows && col >= 0 && col < mask.cols &&
-         mask.at<uchar>(row, col) != 0;
-}
-
 // The run of set pixels in `row` that contains `col` (gaps of kMaxGapPx bridged), as
 // [left edge, right edge] in pixel-edge coordinates; nullopt when `col` is not set.
 std::optional<std::pair<double, double>> runAt(const cv::Mat& mask, int row, int col,
                                                int limitLeft = -1, int limitRight = -1) {
   if (row < 0 || row >= mask.rows)
     return std::nullopt;
-  if (!on(mask, row, col)) {
+  if (!maskCovers(mask, row, col)) {
     // Allow the centre to sit in a tiny gap.
     int c = -1;
     for (int d = 1; d <= kMaxGapPx && c < 0; ++d) {
-      if (on(mask, row, col - d))
+      if (maskCovers(mask, row, col - d))
         c = col - d;
-      else if (on(mask, row, col + d))
+      else if (maskCovers(mask, row, col + d))
         c = col + d;
     }
     if (c < 0)
@@ -116,13 +116,13 @@ std::optional<std::pair<double, double>> runAt(const cv::Mat& mask, int row, int
   const int hi = limitRight >= 0 ? std::min(limitRight, mask.cols - 1) : mask.cols - 1;
   int l = col, r = col;
   for (int x = col - 1; x >= lo; --x) {
-    if (on(mask, row, x))
+    if (maskCovers(mask, row, x))
       l = x;
     else if (col - x > 0 && l - x > kMaxGapPx)
       break;
   }
   for (int x = col + 1; x <= hi; ++x) {
-    if (on(mask, row, x))
+    if (maskCovers(mask, row, x))
       r = x;
     else if (x - r > kMaxGapPx)
       break;
@@ -484,13 +484,13 @@ std::optional<RowValue> readRow(const Context& c, int row, bool& hidden) {
       const double l0 = run->first, r0 = run->second;
       const int l = static_cast<int>(l0), r = static_cast<int>(r0) - 1;
       for (int x = l - 1; x >= std::max(lo, l - 1 - gap); --x)
-        if (on(c.mask, row, x)) {
+        if (maskCovers(c.mask, row, x)) {
           if (const auto piece = runAt(c.mask, row, x, limL, limR))
             run->first = std::min(run->first, piece->first);
           break;
         }
       for (int x = r + 1; x <= std::min(hi, r + 1 + gap); ++x)
-        if (on(c.mask, row, x)) {
+        if (maskCovers(c.mask, row, x)) {
           if (const auto piece = runAt(c.mask, row, x, limL, limR))
             run->second = std::max(run->second, piece->second);
           break;
@@ -801,12 +801,12 @@ std::optional<double> circumferenceAt(Context& c, double heightCm, const std::st
 
 // Lowest garment row below `fromRow` along column `col` (following the run down).
 std::optional<int> lowestRow(const cv::Mat& mask, int col, int fromRow) {
-  if (!on(mask, fromRow, col))
+  if (!maskCovers(mask, fromRow, col))
     return std::nullopt;
   int row = fromRow;
   int gap = 0;
   for (int r = fromRow + 1; r < mask.rows; ++r) {
-    if (on(mask, r, col)) {
+    if (maskCovers(mask, r, col)) {
       row = r;
       gap = 0;
     } else if (++gap > kMaxGapPx) {
@@ -857,7 +857,8 @@ bool endsInArmhole(const Context& c, const calib::ArmAxis& arm, double outerSign
     for (double t = 0, gap = 0; t <= tMax && gap <= c.s; t += step) {
       const Eigen::Vector2d p = arm.originPx + arm.dir * t +
                                 normal * (arm.centreAt(t) + outerSign * f * arm.halfWidthAt(t));
-      if (on(c.mask, static_cast<int>(std::lround(p.y())), static_cast<int>(std::lround(p.x())))) {
+      if (maskCovers(c.mask, static_cast<int>(std::lround(p.y())),
+                     static_cast<int>(std::lround(p.x())))) {
         last = t;
         gap = 0;
       } else {
@@ -921,7 +922,7 @@ std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
       if (x < 0 || y < 0 || x >= c.mask.cols || y >= c.mask.rows)
         continue;
       ++total;
-      set += on(c.mask, y, x) ? 1 : 0;
+      set += maskCovers(c.mask, y, x) ? 1 : 0;
     }
     if (total > 0 && set * 2 > total) {
       lastCovered = t;
@@ -947,7 +948,8 @@ std::optional<SleeveEnd> sleeveOnArm(Context& c, int side) {
     bool any = false;
     for (double f = -0.8; f <= 0.8; f += 0.2) {
       const Eigen::Vector2d p = arm->originPx + arm->dir * t + normal * (arm->centreAt(t) + f * hw);
-      if (on(c.mask, static_cast<int>(std::lround(p.y())), static_cast<int>(std::lround(p.x()))))
+      if (maskCovers(c.mask, static_cast<int>(std::lround(p.y())),
+                     static_cast<int>(std::lround(p.x()))))
         any = true;
     }
     if (any)
@@ -971,13 +973,13 @@ std::optional<int> garmentTopRow(const Context& c, int col, int fromRow, int toR
                            : -1;
   const int maxGap = std::max(kMaxGapPx, static_cast<int>(std::lround(kTopGapCm * c.s)));
   for (int r = fromRow; r < toRow; ++r) {
-    if (!on(c.mask, r, col))
+    if (!maskCovers(c.mask, r, col))
       continue;
     if (shoulder < 0 || r >= shoulder)
       return r;
     int last = r, gap = 0;
     for (int k = r + 1; k < toRow && k <= shoulder && gap <= maxGap; ++k) {
-      if (on(c.mask, k, col)) {
+      if (maskCovers(c.mask, k, col)) {
         last = k;
         gap = 0;
       } else {
@@ -1094,7 +1096,7 @@ HemLevel hemLevel(const Context& c, double hemEdge, int axisCol) {
     int covered = 0;
     double rowX = 0;
     for (int x = left; x <= right; ++x)
-      if (on(c.mask, r, x)) {
+      if (maskCovers(c.mask, r, x)) {
         ++covered;
         rowX += x;
       }
@@ -1367,15 +1369,15 @@ std::optional<double> outerWidthPx(const cv::Mat& mask, int row, int axis, int r
 // axis column, between the nearest garment pixels on either side; nullopt when the axis is
 // covered or a side has no garment within 25 cm.
 std::optional<double> gapBetweenLegsPx(const Context& c, int row, int axisCol) {
-  if (row < 0 || row >= c.mask.rows || on(c.mask, row, axisCol))
+  if (row < 0 || row >= c.mask.rows || maskCovers(c.mask, row, axisCol))
     return std::nullopt;
   const int reach = static_cast<int>(std::lround(25.0 * c.s));
   int left = -1, right = -1;
   for (int x = axisCol - 1; x >= std::max(0, axisCol - reach) && left < 0; --x)
-    if (on(c.mask, row, x))
+    if (maskCovers(c.mask, row, x))
       left = x;
   for (int x = axisCol + 1; x <= std::min(c.mask.cols - 1, axisCol + reach) && right < 0; ++x)
-    if (on(c.mask, row, x))
+    if (maskCovers(c.mask, row, x))
       right = x;
   if (left < 0 || right < 0)
     return std::nullopt;
@@ -1459,10 +1461,12 @@ std::optional<double> measurementUncertaintyCm(const std::string& name) {
 }
 
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
-                                  const std::string& type) {
+                                  const std::string& type, const cv::Mat& frameBgr) {
   const auto& names = drafts::garmentMeasurementNames(type);
   if (garmentMask.size() != view.size() || garmentMask.type() != CV_8UC1)
     throw std::invalid_argument("measure: the garment mask must be CV_8UC1 of the frame's size");
+  if (!frameBgr.empty() && (frameBgr.size() != view.size() || frameBgr.type() != CV_8UC3))
+    throw std::invalid_argument("measure: the frame must be CV_8UC3 of the mask's size");
   GarmentMeasurement out;
   Context c{garmentMask, view, view.pose().pxPerCm, out, type};
   auto wants = [&](const std::string& n) {
@@ -1509,7 +1513,7 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
     // Crotch: going down the axis from the hip, the first row where the legs part.
     std::optional<int> crotchRow;
     for (int r = hipRow; r < garmentMask.rows; ++r)
-      if (!on(garmentMask, r, axisCol) && !on(garmentMask, r + 1, axisCol)) {
+      if (!maskCovers(garmentMask, r, axisCol) && !maskCovers(garmentMask, r + 1, axisCol)) {
         crotchRow = r;
         break;
       }
@@ -1573,9 +1577,9 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
   const int drop = static_cast<int>(std::lround(kWaistbandDropCm * c.s));
   int fromRow = std::min(waistRow, garmentMask.rows - 1);
   while (fromRow < std::min(waistRow + drop, garmentMask.rows - 1) &&
-         !on(garmentMask, fromRow, axisCol))
+         !maskCovers(garmentMask, fromRow, axisCol))
     ++fromRow;
-  if (!on(garmentMask, fromRow, axisCol)) {
+  if (!maskCovers(garmentMask, fromRow, axisCol)) {
     out.warnings.push_back("the garment does not cover the centre front at the waist");
     return out;
   }
@@ -1588,9 +1592,29 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
       lowest.push_back(static_cast<double>(*low));
   }
   const double hemEdge = median(lowest) + 1.0;  // lower edge of the last covered row
-  const double hemH = frontHemHeightCm(c, hemEdge, axisCol);
-  out.landmarks.push_back({"hem_centre", {static_cast<double>(axisCol), hemEdge}});
-  if (const HemLevel level = hemLevel(c, hemEdge, axisCol); level.dropCm > kHemLevelDropCm) {
+  // A high-low hem's back, seen under its front's hem, shows as a dark band (its inside) across
+  // the middle down to the outline's lowest edge. Its top is the front's hem edge, where the
+  // centre-front lengths and the hem are read (docs/measurement_model.md, "Hems that are not
+  // level": two high-low dresses on the full form, bands of 7.1 and 8.3 cm; 43 level skirts and
+  // dresses of five physical rigs, at most 0.6 cm).
+  std::optional<HemBand> band;
+  if (!frameBgr.empty() && (type == "skirt" || type == "dress"))
+    band = darkBandAboveHem(frameBgr, garmentMask, {static_cast<double>(axisCol), hemEdge},
+                            view.rowOfHeight(view.hipCm()), c.s);
+  if (band && band->depthCm <= kHemBandCheckCm)
+    band.reset();
+  const double frontEdge = band ? band->topRow : hemEdge;
+  const double hemH = frontHemHeightCm(c, frontEdge, axisCol);
+  out.landmarks.push_back({"hem_centre", {static_cast<double>(axisCol), frontEdge}});
+  if (band) {
+    std::ostringstream msg;
+    msg << std::fixed << std::setprecision(1) << "hem: the hem is not level: a dark band "
+        << band->depthCm
+        << " cm deep lies across its middle just above its lowest edge (the inside of a "
+           "high-low hem's back, below its front?); its length and round are read at the band's "
+           "top, the front's hem";
+    out.warnings.push_back(msg.str());
+  } else if (const HemLevel level = hemLevel(c, hemEdge, axisCol); level.dropCm > kHemLevelDropCm) {
     std::ostringstream msg;
     msg << std::fixed << std::setprecision(1) << "hem: the hem is not level: ";
     if (std::abs(level.shiftCm) > kHemSlantShare * level.widthCm)
@@ -1714,7 +1738,7 @@ double coveredBelowCrotchCm(const cv::Mat& garmentMask, const FormView& view) {
     return 0.0;
   int last = -1, gap = 0;
   for (int r = crotchRow; r < garmentMask.rows; ++r) {
-    if (on(garmentMask, r, axis)) {
+    if (maskCovers(garmentMask, r, axis)) {
       last = r;
       gap = 0;
     } else if (++gap > maxGap) {

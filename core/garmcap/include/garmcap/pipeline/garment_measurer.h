@@ -48,10 +48,13 @@ constexpr double kSleevelessBelowCm = 2.0;
 /// Measures a garment of `type` from its mask (CV_8U, non-zero = garment, the frame's size and
 /// without camera roll) on the form seen through `view`. A measurement that cannot be taken (the
 /// garment does not reach the height, no sleeve on a form without arms) is left out and a
-/// warning says why: nothing is invented. Throws std::invalid_argument for an unknown type or a
-/// mask whose size differs from the view's.
+/// warning says why: nothing is invented. `frameBgr`, when given, is the frame the mask was cut
+/// from (CV_8UC3, the mask's size): a skirt's or dress's hem whose outline ends level is then
+/// also looked at inside (a high-low hem's back shows as a dark band under its front's hem; its
+/// lengths and hem are read at the front's). Throws std::invalid_argument for an unknown type, or
+/// a mask or frame whose size differs from the view's.
 GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& view,
-                                  const std::string& type);
+                                  const std::string& type, const cv::Mat& frameBgr = cv::Mat());
 
 /// The form's torso sections the hanging-depth section model reads (docs/measurement_model.md,
 /// "Section depth"): slicing the mesh costs about a millisecond a section (7 ms for the physical
