@@ -448,6 +448,29 @@ TEST(PhysicalRig, HemsThatAreNotLevelAreNamed) {
   }
 }
 
+// A near-black skirt's shade on the thighs is no garment (docs/measurement_model.md, "A dark
+// skirt's shade on the thighs"). tests/data/rig_physical_dark_skirt holds one near-black A-line
+// skirt rendered by capture/sim/physical/make_rig.py --seed 9494 --start 5 (1224 x 1632) twice:
+// level, and with --hem-shape high_low, registered by the station from their bare frames. A dark
+// neutral skirt over the ivory form looks like the form's shade to the chroma test, which was
+// then turned off: the thighs' shade joined the skirt 7 cm down, the level hem was checked as
+// "centre hangs 8.3 cm" and the high-low one, whose back hangs between the shaded thighs, read as
+// pants. Now both are skirts, and the level one is measured without a check. The high-low one's
+// length still reads to its back's edge between the legs (+5.0 cm): its back is as dark as its
+// front, so there is no band to read its front by, and nothing names it (not asserted).
+TEST(PhysicalRig, ADarkSkirtsShadeOnTheThighsIsNoGarment) {
+  for (const auto& c : casesOf("rig_physical_dark_skirt", 2)) {
+    const auto r = runRigCase(c);
+    EXPECT_EQ(r.type, "skirt") << c.id;
+    if (c.id != "case_005_level")
+      continue;
+    for (const auto& w : r.warnings)
+      EXPECT_NE(w.rfind("hem: the hem is not level", 0), 0u) << c.id << ": " << w;
+    EXPECT_LE(errorCm(r, c, "skirt_length"), 1.0) << c.id;
+    EXPECT_LE(errorCm(r, c, "hem_circ"), 2.5) << c.id;
+  }
+}
+
 // A knit top's shade on the form under its hem is no garment (docs/measurement_model.md, "A knit
 // top's shade under its hem"). tests/data/rig_physical_hem_shade holds two knit tops rendered
 // by capture/sim/physical/make_rig.py (--seed 1515 --count 1, --start 8: striped,
