@@ -413,7 +413,9 @@ TEST(PhysicalRig, SkirtsShadeOnTheLegsIsNoGarment) {
 // most 0.6): it is named, and the centre-front lengths and the hem are read at the band's top,
 // the front's hem (before stop 46 they were read to the back's edge, 7-12 cm long). The
 // measurer's outline names an asymmetric hem's slant (threshold 4 cm from the level hems of five
-// physical rigs, at most 2.6 cm); its centre front reads as a level one's. The full rig's level
+// physical rigs, at most 2.6 cm); its centre front reads as a level one's, and its skirt
+// attribute is read where its full width ends (three of the four read h_line for a_line before
+// stop 46, from the round at the centre's hem, where one side has ended). The full rig's level
 // hems raise no such check.
 TEST(PhysicalRig, HemsThatAreNotLevelAreNamed) {
   const auto notLevel = [](const pipeline::CaptureResult& r) -> std::string {
@@ -431,6 +433,9 @@ TEST(PhysicalRig, HemsThatAreNotLevelAreNamed) {
     const bool named = w.find(shape == "asymmetric" ? "slants" : "dark band") != std::string::npos;
     EXPECT_TRUE(named) << c.id << " (" << shape << "): " << (w.empty() ? "no check" : w);
     EXPECT_LE(errorCm(r, c, "skirt_length"), 1.0) << c.id;
+    ASSERT_TRUE(r.attributes.count("skirt")) << c.id;
+    EXPECT_EQ(r.attributes.at("skirt"), c.truth.at("attributes").at("skirt").get<std::string>())
+        << c.id;
     if (r.type == "dress") {
       EXPECT_LE(errorCm(r, c, "garment_length"), 1.0) << c.id;
     }

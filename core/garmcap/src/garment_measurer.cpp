@@ -1060,6 +1060,7 @@ struct HemLevel {
   double dropCm = 0;
   double shiftCm = 0;
   double widthCm = 0;
+  double fullEdge = 0;  // the lower edge of the last row the full width covers
 };
 
 HemLevel hemLevel(const Context& c, double hemEdge, int axisCol) {
@@ -1108,6 +1109,7 @@ HemLevel hemLevel(const Context& c, double hemEdge, int axisCol) {
   }
   HemLevel out;
   out.widthCm = (span.second - span.first) / c.s;
+  out.fullEdge = *full + 1.0;
   // Or the centre's own lowest edge, when what hangs below there is narrower than
   // kHemCoverShare of the width (a curved hem's tail; no case of the rigs needed it).
   out.dropCm = (std::max(low, hem) - *full) / c.s;
@@ -1627,6 +1629,12 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
              "below its front?); its length and round are read at that lowest edge: for a "
              "high-low hem the back's, not the front's";
     out.warnings.push_back(msg.str());
+    // The skirt's flare is read where its full width ends: at the centre's hem one side of an
+    // asymmetric hem has ended (three of four asymmetric hems read h_line so; stop 46).
+    GarmentMeasurement scratch;
+    Context quiet{c.mask, c.view, c.s, scratch, c.type};
+    out.flareHemCircCm =
+        circumferenceAt(quiet, view.heightOfRow(level.fullEdge) + kAboveHemCm, "hem_circ");
   }
   if (wants("hem_circ"))
     put("hem_circ", circumferenceAt(c, hemH + kAboveHemCm, "hem_circ"));

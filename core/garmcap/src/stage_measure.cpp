@@ -29,11 +29,12 @@ GarmentMeasurement measureCapturedGarment(const CaptureContext& ctx, const cv::M
     for (const auto& w : applied["warnings"])
       result.warnings.push_back(w.get<std::string>());
   }
-  if (gm.measurements.count("hem_circ") && gm.measurements.count("hip_circ") &&
-      result.attributes.count("skirt"))
-    result.attributes["skirt"] =
-        gm.measurements.at("hem_circ") > gm.measurements.at("hip_circ") + 12.0 ? "a_line"
-                                                                               : "h_line";
+  const auto hem = gm.flareHemCircCm ? gm.flareHemCircCm
+                   : gm.measurements.count("hem_circ")
+                       ? std::optional<double>(gm.measurements.at("hem_circ"))
+                       : std::nullopt;
+  if (hem && gm.measurements.count("hip_circ") && result.attributes.count("skirt"))
+    result.attributes["skirt"] = *hem > gm.measurements.at("hip_circ") + 12.0 ? "a_line" : "h_line";
   return gm;
 }
 

@@ -31,6 +31,10 @@ struct GarmentMeasurement {
   std::map<std::string, double> measurements;  // cm; only those the type has
   std::vector<GarmentLandmark> landmarks;      // for the review overlay
   std::vector<std::string> warnings;           // measured, but with a caveat
+  // A skirt's or dress's hem round where its full width ends, when its outline's hem is not
+  // level (an asymmetric hem's short side ends above the centre's hem): what the skirt attribute
+  // reads instead of hem_circ. nullopt for a level hem.
+  std::optional<double> flareHemCircCm;
 };
 
 /// How far (cm) a reported measurement may be off: the 95th percentile (nearest rank) of the
