@@ -1597,8 +1597,9 @@ GarmentMeasurement measureGarment(const cv::Mat& garmentMask, const FormView& vi
   // A high-low hem's back, seen under its front's hem, shows as a dark band (its inside) across
   // the middle down to the outline's lowest edge. Its top is the front's hem edge, where the
   // centre-front lengths and the hem are read (docs/measurement_model.md, "Hems that are not
-  // level": two high-low dresses on the full form, bands of 7.1 and 8.3 cm; 43 level skirts and
-  // dresses of five physical rigs, at most 0.6 cm).
+  // level" and "A high-low hem read at its front": four high-low skirts and dresses on the full
+  // form, bands of 8.3-13.4 cm, their lengths then within 0.35 cm; 43 level skirts and dresses of
+  // five physical rigs, at most 0.6 cm). A back as dark as its front gives no band.
   std::optional<HemBand> band;
   if (!frameBgr.empty() && (type == "skirt" || type == "dress"))
     band = darkBandAboveHem(frameBgr, garmentMask, {static_cast<double>(axisCol), hemEdge},
