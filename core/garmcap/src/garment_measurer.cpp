@@ -1018,33 +1018,6 @@ double heightAtDepthCm(const Context& c, double row, double zCm) {
 // and their hems read 0.5-1.1 cm high for it. A top's hem hangs from the bust, a knit's close
 // to the form and a woven's further out (10.1-17.9 cm on the same rigs): it keeps the hip section
 // scaled to the garment's widest run in the kHemWidthBandCm above the hem.
-// On a form without legs (a torso on a stand) a skirt's hem below the torso's end hangs free:
-// straight down from the form's front-most point below the waist, its belly, with no thigh under
-// it to draw it back as on a full form (the committed torso rig's skirts and dresses read 0.13-0.68
-// cm long with their hems at the hip's front; the depth that would read each right averages
-// 15.2 cm, the belly 14.3, the hip's front 9.9). The torso ends at its lowest section at least
-// half as wide as the hip's (below it: the stand's pole). nullopt: the form has legs, or the hem
-// lies over the torso. `hipFrontZ` reads the hem's height for that test.
-std::optional<double> freeHemFrontZ(const Context& c, double hemRow, double hipFrontZ) {
-  if (c.view.crotchCm())
-    return std::nullopt;
-  const auto table = depthTable(c.view);
-  const double hipWidth = sectionOf(*table, c.view.hipCm()).widthCm;
-  std::optional<double> torsoEnd, belly;
-  for (std::size_t i = 0; i < table->hulls.size(); ++i) {
-    const double h = table->firstCm + static_cast<double>(i) * kDepthStepCm;
-    const auto& hull = table->hulls[i];
-    if (hull.empty() || h > c.view.waistCm() || shapeOf(hull).widthCm < 0.5 * hipWidth)
-      continue;
-    torsoEnd = std::min(torsoEnd.value_or(h), h);
-    for (const auto& p : hull)
-      belly = std::max(belly.value_or(p.y()), p.y());
-  }
-  if (!torsoEnd || !belly || heightAtDepthCm(c, hemRow, hipFrontZ) >= *torsoEnd)
-    return std::nullopt;
-  return std::max(*belly, hipFrontZ);
-}
-
 double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
   const calib::FormSection hip = c.view.form().section(c.view.hipCm());
   double minZ = 0, maxZ = 0;
@@ -1058,7 +1031,7 @@ double frontHemHeightCm(const Context& c, double hemRow, int axisCol) {
   if (!any)
     return c.view.heightOfRow(hemRow);
   if (c.type != "top")
-    return heightAtDepthCm(c, hemRow, freeHemFrontZ(c, hemRow, maxZ).value_or(maxZ));
+    return heightAtDepthCm(c, hemRow, maxZ);
   const auto hipRow = c.view.torsoAtHeight(c.view.hipCm());
   double widest = 0;
   const int band = static_cast<int>(std::lround(kHemWidthBandCm * c.s));
